@@ -1,0 +1,98 @@
+#ifndef OPENMMDPD_DPDTHERMOSTATINTEGRATOR_H_
+#define OPENMMDPD_DPDTHERMOSTATINTEGRATOR_H_
+
+#include "openmm/Integrator.h"
+#include <map>
+#include <vector>
+
+namespace DPDPlugin {
+
+/**
+ * The parameters every DPD-style pair thermostat shares: temperature, the per-type-pair
+ * friction and cutoff table, particle types and the random number seed.  Concrete
+ * integrators (DPDVVIntegrator, ...) add their own update rule on top.
+ *
+ * The parameter model mirrors OpenMM 8.3's DPDIntegrator so that scripts can switch by
+ * class name.  A pair (i, j) with types (ti, tj) uses the parameters given to
+ * addTypePair(ti, tj, ...) if such an entry exists, and the defaults otherwise.
+ *
+ * Friction is a rate in 1/ps.  The pair friction coefficient of the DPD equations is
+ * gamma_ij = 2 mu_ij friction (amu/ps), with mu_ij = m_i m_j / (m_i + m_j) the pair's
+ * reduced mass, so friction = gamma for unit masses; the noise amplitude follows from
+ * fluctuation-dissipation: sigma_ij^2 = 2 gamma_ij kT.
+ */
+class DPDThermostatIntegrator : public OpenMM::Integrator {
+public:
+    /**
+     * @param temperature      the temperature of the heat bath (K)
+     * @param defaultFriction  the friction rate of pairs without a type-pair entry (1/ps)
+     * @param defaultCutoff    the thermostat cutoff of pairs without a type-pair entry (nm)
+     * @param stepSize         the step size (ps)
+     */
+    DPDThermostatIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize);
+    /** Get the temperature of the heat bath (K). */
+    double getTemperature() const { return temperature; }
+    /** Set the temperature of the heat bath (K); must be >= 0. */
+    void setTemperature(double temp);
+    /** Get the default friction rate (1/ps). */
+    double getDefaultFriction() const { return defaultFriction; }
+    /** Set the default friction rate (1/ps); must be >= 0. */
+    void setDefaultFriction(double friction);
+    /** Get the default thermostat cutoff (nm). */
+    double getDefaultCutoff() const { return defaultCutoff; }
+    /** Set the default thermostat cutoff (nm); must be > 0. */
+    void setDefaultCutoff(double cutoff);
+    /** Set the step size (ps); must be > 0. */
+    void setStepSize(double size) override;
+    /** Get the type of a particle (0 unless set). */
+    int getParticleType(int index) const;
+    /** Set the type of a particle; types are integers >= 0. */
+    void setParticleType(int index, int type);
+    /** Get every particle type that was set explicitly, by particle index. */
+    const std::map<int, int>& getParticleTypes() const { return particleType; }
+    /**
+     * Add parameters for pairs of particles with types type1 and type2 (in either order).
+     *
+     * @param friction  the friction rate of such pairs (1/ps), >= 0
+     * @param cutoff    the thermostat cutoff of such pairs (nm), > 0
+     * @return the index of the type pair
+     */
+    int addTypePair(int type1, int type2, double friction, double cutoff);
+    /** Get the number of type pairs that were added. */
+    int getNumTypePairs() const { return (int) typePairs.size(); }
+    /** Get the parameters of a type pair (friction in 1/ps, cutoff in nm). */
+    void getTypePairParameters(int pairIndex, int& type1, int& type2, double& friction, double& cutoff) const;
+    /** Set the parameters of a type pair (friction in 1/ps, cutoff in nm). */
+    void setTypePairParameters(int pairIndex, int type1, int type2, double friction, double cutoff);
+    /**
+     * Get the random number seed.  0 (the default) means that a new seed is chosen each
+     * time a Context is created; it is then kept in checkpoints.
+     */
+    int getRandomNumberSeed() const { return randomNumberSeed; }
+    /** Set the random number seed (see getRandomNumberSeed()). */
+    void setRandomNumberSeed(int seed) { randomNumberSeed = seed; }
+    /** The largest thermostat cutoff over the defaults and all type pairs (nm). */
+    double getMaxCutoff() const;
+
+protected:
+    /** The name used in error messages, e.g. "DPDVVIntegrator". */
+    virtual const char* className() const = 0;
+    /** Throw an OpenMMException unless the type-pair table is consistent with the System. */
+    void validateAgainstSystem(const OpenMM::System& system) const;
+    void checkTypePair(int type1, int type2, double friction, double cutoff) const;
+    std::vector<std::string> getKernelNames() override = 0;
+
+private:
+    struct TypePair {
+        int type1, type2;
+        double friction, cutoff;
+    };
+    double temperature, defaultFriction, defaultCutoff;
+    int randomNumberSeed;
+    std::map<int, int> particleType;
+    std::vector<TypePair> typePairs;
+};
+
+} // namespace DPDPlugin
+
+#endif

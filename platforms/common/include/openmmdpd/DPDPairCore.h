@@ -1,0 +1,100 @@
+#ifndef OPENMMDPD_DPDPAIRCORE_H_
+#define OPENMMDPD_DPDPAIRCORE_H_
+
+#include "openmmdpd/DPDThermostatIntegrator.h"
+#include "openmmdpd/PairRandom.h"
+#include "openmmdpd/PairSearch.h"
+#include "openmm/System.h"
+#include "openmm/Vec3.h"
+#include <vector>
+
+namespace DPDPlugin {
+
+/** Boltzmann's constant in kJ/mol/K (OpenMM's value). */
+constexpr double BOLTZMANN_KJ_PER_MOL_K = 0.00831446261815324;
+
+/**
+ * One pair within its thermostat cutoff, with everything the pair rules need at the
+ * current positions: the unit vector e = r_ij / r (minimum image), the weight
+ * wR = 1 - r/rc, and the pair's friction gamma_ij and noise amplitude sigma_ij.
+ */
+struct PairGeometry {
+    int i, j;
+    OpenMM::Vec3 e;
+    double wR, gamma, sigma;
+};
+
+/**
+ * The thermostat parameters of a System resolved per particle and per pair: dense type
+ * indices, the type-pair friction/cutoff table, masses and kT.  Built once per Context
+ * from any DPDThermostatIntegrator.
+ */
+class DPDPairParameters {
+public:
+    DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
+    int getNumParticles() const { return (int) mass.size(); }
+    double getMaxCutoff() const { return maxCutoff; }
+    /** Particles that move and take part in the thermostat (mass > 0). */
+    const std::vector<bool>& getActive() const { return active; }
+    const std::vector<double>& getMasses() const { return mass; }
+    const std::vector<double>& getInverseMasses() const { return invMass; }
+    double getKT() const { return kT; }
+    /**
+     * The geometry of a candidate pair at these positions; returns false if the pair is
+     * beyond its own type-pair cutoff.
+     */
+    bool pairGeometry(int i, int j, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
+                      bool periodic, PairGeometry& out) const {
+        const int t = typeIndex[i] * numTypes + typeIndex[j];
+        OpenMM::Vec3 d = minimumImage(positions[i] - positions[j], box, periodic);
+        const double r2 = d.dot(d);
+        if (r2 >= cutoff2[t] || r2 == 0)
+            return false;
+        const double r = std::sqrt(r2);
+        const double mu = mass[i] * mass[j] / (mass[i] + mass[j]);
+        out.i = i;
+        out.j = j;
+        out.e = d / r;
+        out.wR = 1 - r / cutoff[t];
+        out.gamma = 2 * mu * friction[t];
+        out.sigma = std::sqrt(2 * out.gamma * kT);
+        return true;
+    }
+
+private:
+    int numTypes;
+    double kT, maxCutoff;
+    std::vector<int> typeIndex;
+    std::vector<double> friction, cutoff, cutoff2, mass, invMass;
+    std::vector<bool> active;
+};
+
+/**
+ * The DPD pair forces (algorithms.md, Notation), as small evaluators of one pair: the force
+ * on i (j gets the opposite).  Every integrator and platform calls these and nothing else.
+ */
+struct DPDPairForce {
+    /** FD_ij = -gamma wD(r) (e . v_ij) e, wD = wR^2. */
+    static OpenMM::Vec3 dissipative(const PairGeometry& p, const OpenMM::Vec3& vij) {
+        return p.e * (-p.gamma * p.wR * p.wR * p.e.dot(vij));
+    }
+    /** FR_ij = sigma wR xi e / sqrt(dt). */
+    static OpenMM::Vec3 random(const PairGeometry& p, double xi, double invSqrtDt) {
+        return p.e * (p.sigma * p.wR * xi * invSqrtDt);
+    }
+};
+
+/** What a pass over the pairs adds to the per-particle forces. */
+enum PairTerms { DissipativeTerm = 1, RandomTerm = 2 };
+
+/**
+ * Adds the dissipative and/or random pair forces of pairs [begin, end) to `dissipative`
+ * and `random` (per-particle arrays).  The random numbers are keyed by `step`.
+ */
+void accumulateDPDForces(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, int terms,
+                         const std::vector<OpenMM::Vec3>& velocities, const PairRandom& random, long long step,
+                         double dt, std::vector<OpenMM::Vec3>& dissipative, std::vector<OpenMM::Vec3>& randomForce);
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,57 @@
+#ifndef OPENMMDPD_PAIRRANDOM_H_
+#define OPENMMDPD_PAIRRANDOM_H_
+
+#include <Random123/philox.h>
+#include <cmath>
+#include <cstdint>
+
+namespace DPDPlugin {
+
+/**
+ * Per-pair random numbers from a counter-based generator (Philox4x32-10, Random123).
+ *
+ * A draw is a pure function of (seed, stream, step, min(i,j), max(i,j)): it is symmetric
+ * in i and j, does not depend on the order in which pairs are visited or on the number of
+ * threads, and is the same on every platform that includes this header.  `stream`
+ * separates independent uses within one step (e.g. the random force and a Lowe-Andersen
+ * acceptance test).
+ */
+class PairRandom {
+public:
+    enum Stream : uint32_t { RandomForce = 0, PairThermalisation = 1 };
+
+    explicit PairRandom(uint32_t seed = 0) : seed(seed) {}
+    uint32_t getSeed() const { return seed; }
+
+    /** Four independent 32-bit words for the pair (i, j) at a step. */
+    r123::Philox4x32::ctr_type bits(Stream stream, long long step, int i, int j) const {
+        if (i > j) {
+            int t = i; i = j; j = t;
+        }
+        const uint64_t s = (uint64_t) step;
+        r123::Philox4x32::ctr_type counter = {{(uint32_t) s, (uint32_t) (s >> 32), (uint32_t) i, (uint32_t) j}};
+        r123::Philox4x32::key_type key = {{seed, (uint32_t) stream}};
+        return r123::Philox4x32()(counter, key);
+    }
+
+    /** A standard normal number for the pair (Box-Muller on two of the words). */
+    double gaussian(Stream stream, long long step, int i, int j) const {
+        r123::Philox4x32::ctr_type r = bits(stream, step, i, j);
+        // (x + 1) / 2^32 lies in (0, 1], so the logarithm is finite.
+        const double u1 = ((double) r[0] + 1.0) * (1.0 / 4294967296.0);
+        const double u2 = (double) r[1] * (1.0 / 4294967296.0);
+        return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+    }
+
+    /** A uniform number in [0, 1) for the pair (from the third word). */
+    double uniform(Stream stream, long long step, int i, int j) const {
+        return (double) bits(stream, step, i, j)[2] * (1.0 / 4294967296.0);
+    }
+
+private:
+    uint32_t seed;
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,36 @@
+#ifndef OPENMMDPD_PARALLELEXECUTOR_H_
+#define OPENMMDPD_PARALLELEXECUTOR_H_
+
+#include <functional>
+
+namespace DPDPlugin {
+
+/**
+ * Runs a task once per worker.  The Reference platform has one worker that runs in the
+ * calling thread; the CPU platform runs its workers on OpenMM's ThreadPool.  Work is
+ * split by fixed index ranges (see range()), never by whichever thread is free first.
+ */
+class ParallelExecutor {
+public:
+    virtual ~ParallelExecutor() {}
+    virtual int getNumWorkers() const = 0;
+    /** Run task(worker) for every worker and wait for all of them. */
+    virtual void execute(const std::function<void(int worker)>& task) = 0;
+    /** The half-open range [begin, end) of n items that a worker handles. */
+    void range(int worker, size_t n, size_t& begin, size_t& end) const {
+        const size_t w = getNumWorkers();
+        begin = n * worker / w;
+        end = n * (worker + 1) / w;
+    }
+};
+
+/** One worker, in the calling thread. */
+class SerialExecutor : public ParallelExecutor {
+public:
+    int getNumWorkers() const override { return 1; }
+    void execute(const std::function<void(int worker)>& task) override { task(0); }
+};
+
+} // namespace DPDPlugin
+
+#endif

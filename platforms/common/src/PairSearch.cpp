@@ -1,0 +1,153 @@
+#include "openmmdpd/PairSearch.h"
+#include <algorithm>
+#include <cmath>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+PairSearch::PairSearch(const std::vector<bool>& active, double cutoff, double skin, bool periodic) :
+        active(active), cutoff(cutoff), skin(skin), periodic(periodic), numBuilds(0) {
+    numCells[0] = numCells[1] = numCells[2] = 0;
+}
+
+bool PairSearch::needsRebuild(const std::vector<Vec3>& positions, const Vec3* newBox) {
+    if (numBuilds == 0 || skin <= 0)
+        return true;
+    if (periodic)
+        for (int k = 0; k < 3; k++)
+            if (newBox[k] != box[k])
+                return true;
+    const double limit2 = 0.25 * skin * skin;
+    for (size_t i = 0; i < positions.size(); i++) {
+        Vec3 d = positions[i] - positionsAtBuild[i];
+        if (d.dot(d) > limit2)
+            return true;
+    }
+    return false;
+}
+
+void PairSearch::buildCells(const std::vector<Vec3>& positions, const Vec3* newBox) {
+    const int n = (int) positions.size();
+    const double radius = cutoff + skin;
+    numBuilds++;
+    positionsAtBuild = positions;
+    // Fractional coordinate s_d of a particle, and the fractional distance R_d that a
+    // displacement of length `radius` can span along d.  A cell at least R_d wide means
+    // that pairs within the radius sit in the same or adjacent cells.
+    std::vector<Vec3> frac(n);
+    double reach[3];
+    for (int k = 0; k < 3; k++)
+        box[k] = newBox[k];
+    if (periodic) {
+        const Vec3 &a = box[0], &b = box[1], &c = box[2];
+        // Rows of the inverse of the upper-triangular box matrix [a b c].
+        const Vec3 rowZ(0, 0, 1 / c[2]);
+        const Vec3 rowY(0, 1 / b[1], -c[1] / (b[1] * c[2]));
+        const Vec3 rowX(1 / a[0], -b[0] / (a[0] * b[1]), (b[0] * c[1] / b[1] - c[0]) / (a[0] * c[2]));
+        const Vec3 rows[3] = {rowX, rowY, rowZ};
+        for (int k = 0; k < 3; k++)
+            reach[k] = radius * std::sqrt(rows[k].dot(rows[k]));
+        for (int i = 0; i < n; i++)
+            for (int k = 0; k < 3; k++) {
+                double s = rows[k].dot(positions[i]);
+                frac[i][k] = s - std::floor(s);
+            }
+    }
+    else {
+        Vec3 lo(0, 0, 0), hi(0, 0, 0);
+        bool first = true;
+        for (int i = 0; i < n; i++) {
+            if (!active[i])
+                continue;
+            for (int k = 0; k < 3; k++) {
+                lo[k] = first ? positions[i][k] : std::min(lo[k], positions[i][k]);
+                hi[k] = first ? positions[i][k] : std::max(hi[k], positions[i][k]);
+            }
+            first = false;
+        }
+        for (int k = 0; k < 3; k++) {
+            double extent = std::max(hi[k] - lo[k], radius) * (1 + 1e-12);
+            reach[k] = radius / extent;
+            for (int i = 0; i < n; i++)
+                frac[i][k] = (positions[i][k] - lo[k]) / extent;
+        }
+    }
+    int total = 1;
+    for (int k = 0; k < 3; k++) {
+        numCells[k] = std::max(1, (int) std::floor(1.0 / reach[k]));
+        total *= numCells[k];
+    }
+    // Counting sort of the active particles by cell; within a cell, by particle index.
+    std::vector<int> cellOf(n, -1);
+    cellStart.assign(total + 1, 0);
+    for (int i = 0; i < n; i++) {
+        if (!active[i])
+            continue;
+        int idx[3];
+        for (int k = 0; k < 3; k++)
+            idx[k] = std::min(numCells[k] - 1, std::max(0, (int) (frac[i][k] * numCells[k])));
+        cellOf[i] = (idx[2] * numCells[1] + idx[1]) * numCells[0] + idx[0];
+        cellStart[cellOf[i] + 1]++;
+    }
+    for (int c = 0; c < total; c++)
+        cellStart[c + 1] += cellStart[c];
+    sortedIndex.resize(cellStart[total]);
+    sortedPositions.resize(cellStart[total]);
+    std::vector<int> fill(cellStart.begin(), cellStart.end() - 1);
+    for (int i = 0; i < n; i++)
+        if (cellOf[i] >= 0) {
+            sortedIndex[fill[cellOf[i]]] = i;
+            sortedPositions[fill[cellOf[i]]++] = positions[i];
+        }
+}
+
+void PairSearch::neighbourCells(int cell, std::vector<int>& out) const {
+    out.clear();
+    const int cx = cell % numCells[0], cy = (cell / numCells[0]) % numCells[1], cz = cell / (numCells[0] * numCells[1]);
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                int idx[3] = {cx + dx, cy + dy, cz + dz};
+                bool inside = true;
+                for (int k = 0; k < 3; k++) {
+                    if (periodic)
+                        idx[k] = (idx[k] + numCells[k]) % numCells[k];
+                    else if (idx[k] < 0 || idx[k] >= numCells[k])
+                        inside = false;
+                }
+                int other = (idx[2] * numCells[1] + idx[1]) * numCells[0] + idx[0];
+                // Each unordered pair of cells is searched once, from its lower cell.
+                if (inside && other >= cell)
+                    out.push_back(other);
+            }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+void PairSearch::findPairsInCells(int begin, int end, std::vector<Pair>& out) const {
+    const double radius2 = (cutoff + skin) * (cutoff + skin);
+    std::vector<int> neighbours;
+    neighbours.reserve(27);
+    for (int cell = begin; cell < end; cell++) {
+        neighbourCells(cell, neighbours);
+        for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
+            const Vec3 rp = sortedPositions[p];
+            for (int other : neighbours) {
+                const int first = (other == cell ? p + 1 : cellStart[other]);
+                for (int q = first; q < cellStart[other + 1]; q++) {
+                    Vec3 d = minimumImage(rp - sortedPositions[q], box, periodic);
+                    if (d.dot(d) < radius2)
+                        out.push_back({sortedIndex[p], sortedIndex[q]});
+                }
+            }
+        }
+    }
+}
+
+void PairSearch::update(const std::vector<Vec3>& positions, const Vec3* newBox) {
+    if (!needsRebuild(positions, newBox))
+        return;
+    buildCells(positions, newBox);
+    pairs.clear();
+    findPairsInCells(0, getNumCells(), pairs);
+}

@@ -1,0 +1,353 @@
+#include "openmmdpd/DPDVVIntegrator.h"
+#include "openmm/Context.h"
+#include "openmm/CustomBondForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/Platform.h"
+#include "openmm/State.h"
+#include "openmm/System.h"
+#include "openmm/serialization/XmlSerializer.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <sstream>
+
+using namespace DPDPlugin;
+using namespace OpenMM;
+
+namespace {
+
+const double KT_KELVIN = 120.27236;  // kT = 1 kJ/mol
+
+// A DPD fluid at density 4 in a cubic box: soft repulsion a (0 = ideal gas, no force).
+System* makeFluid(int n, double a, std::vector<Vec3>& positions, unsigned seed = 5) {
+    System* system = new System();
+    const double box = std::cbrt(n / 4.0);
+    system->setDefaultPeriodicBoxVectors(Vec3(box, 0, 0), Vec3(0, box, 0), Vec3(0, 0, box));
+    for (int i = 0; i < n; i++)
+        system->addParticle(1.0);
+    if (a > 0) {
+        CustomNonbondedForce* soft = new CustomNonbondedForce("a*(1-r)^2/2");
+        soft->addGlobalParameter("a", a);
+        soft->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+        soft->setCutoffDistance(1.0);
+        for (int i = 0; i < n; i++)
+            soft->addParticle({});
+        system->addForce(soft);
+    }
+    else {
+        // No conservative force, but the System must still say it is periodic.
+        CustomBondForce* none = new CustomBondForce("0");
+        none->setUsesPeriodicBoundaryConditions(true);
+        system->addForce(none);
+    }
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uniform(0, box);
+    positions.resize(n);
+    for (Vec3& r : positions)
+        r = Vec3(uniform(rng), uniform(rng), uniform(rng));
+    return system;
+}
+
+std::unique_ptr<Context> makeContext(System& system, Integrator& integrator, const std::string& platform,
+                                     const std::vector<Vec3>& positions, int threads = 0) {
+    std::map<std::string, std::string> properties;
+    if (platform == "CPU" && threads > 0)
+        properties["Threads"] = std::to_string(threads);
+    std::unique_ptr<Context> context(new Context(system, integrator, Platform::getPlatformByName(platform), properties));
+    context->setPositions(positions);
+    context->setVelocitiesToTemperature(KT_KELVIN, 11);
+    return context;
+}
+
+DPDVVIntegrator makeIntegrator(DPDVVIntegrator::Variant variant, double dt, int seed = 42) {
+    DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, dt);
+    integrator.setVariant(variant);
+    integrator.setRandomNumberSeed(seed);
+    return integrator;
+}
+
+std::vector<std::string> platforms() {
+    std::vector<std::string> names = {"Reference"};
+#if OPENMMDPD_HAVE_CPU
+    names.push_back("CPU");
+#endif
+    return names;
+}
+
+const DPDVVIntegrator::Variant VARIANTS[] = {DPDVVIntegrator::GrootWarren, DPDVVIntegrator::DPDVV, DPDVVIntegrator::SelfConsistent};
+
+void expectErrorNaming(const std::function<void()>& action, const std::string& name) {
+    try {
+        action();
+        ADD_FAILURE() << "no exception for " << name;
+    }
+    catch (const OpenMMException& e) {
+        EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+}
+
+} // namespace
+
+TEST(DPDVVIntegrator, InvalidParametersNameThemselves) {
+    expectErrorNaming([] { DPDVVIntegrator(-1, 4.5, 1, 0.01); }, "temperature");
+    expectErrorNaming([] { DPDVVIntegrator(300, -1, 1, 0.01); }, "defaultFriction");
+    expectErrorNaming([] { DPDVVIntegrator(300, 4.5, 0, 0.01); }, "defaultCutoff");
+    expectErrorNaming([] { DPDVVIntegrator(300, 4.5, 1, -0.01); }, "stepSize");
+    DPDVVIntegrator integrator(300, 4.5, 1, 0.01);
+    expectErrorNaming([&] { integrator.setLambda(1.2); }, "lambda");
+    expectErrorNaming([&] { integrator.setLambda(-0.1); }, "lambda");
+    expectErrorNaming([&] { integrator.setMaxIterations(0); }, "maxIterations");
+    expectErrorNaming([&] { integrator.setStepSize(0); }, "stepSize");
+    expectErrorNaming([&] { integrator.setParticleType(0, -2); }, "type");
+    expectErrorNaming([&] { integrator.addTypePair(0, 1, 4.5, -1); }, "cutoff");
+    expectErrorNaming([&] { integrator.addTypePair(0, 1, -4.5, 1); }, "friction");
+    expectErrorNaming([&] { integrator.setTypePairParameters(0, 0, 1, 1, 1); }, "pairIndex");
+    // Nothing was changed by the failed calls.
+    EXPECT_EQ(integrator.getLambda(), 0.5);
+    EXPECT_EQ(integrator.getNumTypePairs(), 0);
+    EXPECT_EQ(integrator.getStepSize(), 0.01);
+
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(64, 25, positions));  // box 2.52 nm
+    DPDVVIntegrator wide(KT_KELVIN, 4.5, 1.5, 0.01);
+    expectErrorNaming([&] { Context c(*system, wide, Platform::getPlatformByName("Reference")); }, "half the periodic box");
+    DPDVVIntegrator unknown(KT_KELVIN, 4.5, 1.0, 0.01);
+    unknown.addTypePair(0, 3, 1.0, 1.0);
+    expectErrorNaming([&] { Context c(*system, unknown, Platform::getPlatformByName("Reference")); }, "unknown particle type");
+    DPDVVIntegrator outside(KT_KELVIN, 4.5, 1.0, 0.01);
+    outside.setParticleType(1000, 1);
+    expectErrorNaming([&] { Context c(*system, outside, Platform::getPlatformByName("Reference")); }, "particle index 1000");
+}
+
+TEST(DPDVVIntegrator, MomentumConservedToRounding) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(500, 25, positions));
+    for (auto variant : VARIANTS) {
+        DPDVVIntegrator integrator = makeIntegrator(variant, 0.04);
+        // Reference: double-precision forces, so the total momentum only sees rounding.
+        auto context = makeContext(*system, integrator, "Reference", positions);
+        std::vector<Vec3> v = context->getState(State::Velocities).getVelocities();
+        Vec3 p0;
+        for (const Vec3& vi : v)
+            p0 += vi;
+
+        for (int step = 0; step < 50; step++) {
+            integrator.step(1);
+            Vec3 p;
+            const State state = context->getState(State::Velocities);
+            for (const Vec3& vi : state.getVelocities())
+                p += vi;
+            // One particle's thermal momentum is ~1; rounding of 500 of them is ~1e-13.
+            ASSERT_LT(std::sqrt((p - p0).dot(p - p0)), 1e-11) << "variant " << variant << " step " << step;
+        }
+    }
+}
+
+TEST(DPDVVIntegrator, RandomForceFollowsPairsNotPlatforms) {
+    // Ideal gas: only the thermostat acts, so Reference and CPU (1 and 2 threads) must draw
+    // the same numbers and agree to double rounding.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(1000, 0, positions));
+    for (auto variant : VARIANTS) {
+        std::vector<std::vector<Vec3>> results;
+        for (auto& setup : std::vector<std::pair<std::string, int>>{{"Reference", 0}, {"CPU", 1}, {"CPU", 2}}) {
+            if (setup.first == "CPU" && platforms().size() == 1)
+                continue;
+            DPDVVIntegrator integrator = makeIntegrator(variant, 0.05);
+            auto context = makeContext(*system, integrator, setup.first, positions, setup.second);
+            integrator.step(20);
+            results.push_back(context->getState(State::Velocities).getVelocities());
+        }
+        for (size_t k = 1; k < results.size(); k++)
+            for (size_t i = 0; i < results[0].size(); i++) {
+                Vec3 d = results[k][i] - results[0][i];
+                ASSERT_LT(std::sqrt(d.dot(d)), 1e-11) << "variant " << variant << " run " << k << " particle " << i;
+            }
+    }
+}
+
+#if OPENMMDPD_HAVE_CPU
+TEST(DPDVVIntegrator, CpuMatchesReference) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(1000, 25, positions));
+    for (auto variant : VARIANTS) {
+        DPDVVIntegrator refIntegrator = makeIntegrator(variant, 0.04), cpuIntegrator = makeIntegrator(variant, 0.04);
+        auto ref = makeContext(*system, refIntegrator, "Reference", positions);
+        auto cpu = makeContext(*system, cpuIntegrator, "CPU", positions, 2);
+        double worst1 = 0, worst20 = 0;
+        for (int step = 1; step <= 20; step++) {
+            refIntegrator.step(1);
+            cpuIntegrator.step(1);
+            State a = ref->getState(State::Positions | State::Velocities), b = cpu->getState(State::Positions | State::Velocities);
+            double worst = 0;
+            for (size_t i = 0; i < positions.size(); i++) {
+                Vec3 dv = a.getVelocities()[i] - b.getVelocities()[i];
+                worst = std::max(worst, std::sqrt(dv.dot(dv) / a.getVelocities()[i].dot(a.getVelocities()[i])));
+            }
+            if (step == 1)
+                worst1 = worst;
+            worst20 = worst;
+        }
+        // The CPU platform's conservative forces are single precision.
+        EXPECT_LT(worst1, 1e-5) << "variant " << variant;
+        // Trajectories diverge (chaos) from there; measured ~1e-4 after 20 steps at dt 0.04.
+        EXPECT_LT(worst20, 1e-2) << "variant " << variant;
+        std::cout << "variant " << variant << ": max relative velocity difference CPU vs Reference after 1 step "
+                  << worst1 << ", after 20 steps " << worst20 << std::endl;
+    }
+}
+
+TEST(DPDVVIntegrator, OneAndTwoThreadsAgree) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(2000, 25, positions));
+    DPDVVIntegrator one = makeIntegrator(DPDVVIntegrator::GrootWarren, 0.04), two = makeIntegrator(DPDVVIntegrator::GrootWarren, 0.04);
+    auto c1 = makeContext(*system, one, "CPU", positions, 1);
+    auto c2 = makeContext(*system, two, "CPU", positions, 2);
+    one.step(5);
+    two.step(5);
+    std::vector<Vec3> v1 = c1->getState(State::Velocities).getVelocities(), v2 = c2->getState(State::Velocities).getVelocities();
+    for (size_t i = 0; i < v1.size(); i++) {
+        Vec3 d = v1[i] - v2[i];
+        // Float rounding of the CPU platform's conservative force sums, nothing more.
+        ASSERT_LT(std::sqrt(d.dot(d)), 1e-4) << "particle " << i;
+    }
+}
+#endif
+
+TEST(DPDVVIntegrator, CheckpointContinuesBitForBit) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> soft(makeFluid(500, 25, positions)), ideal(makeFluid(500, 0, positions));
+    for (const std::string& platform : platforms())
+        for (auto variant : VARIANTS) {
+            // The CPU platform's own nonbonded forces are summed in an order that depends on
+            // when its neighbour list was built, which a checkpoint does not record; so there
+            // our half of the step is checked bit for bit on the ideal gas.
+            System* system = (platform == "CPU" ? ideal.get() : soft.get());
+            DPDVVIntegrator integrator = makeIntegrator(variant, 0.04);
+            integrator.setRandomNumberSeed(0);  // a seed drawn at context creation must be checkpointed too
+            // The CPU platform sums its own forces in an order that varies between calls
+            // unless asked not to: bit-exact continuation needs DeterministicForces there.
+            std::map<std::string, std::string> properties;
+            if (platform == "CPU")
+                properties["DeterministicForces"] = "true";
+            auto context = std::unique_ptr<Context>(new Context(*system, integrator, Platform::getPlatformByName(platform), properties));
+            context->setPositions(positions);
+            context->setVelocitiesToTemperature(KT_KELVIN, 11);
+            integrator.step(10);
+            std::stringstream checkpoint;
+            context->createCheckpoint(checkpoint);
+            integrator.step(10);
+            State first = context->getState(State::Positions | State::Velocities);
+            // Disturb the state, then restore it.
+            context->setVelocitiesToTemperature(KT_KELVIN, 99);
+            integrator.step(3);
+            context->loadCheckpoint(checkpoint);
+            EXPECT_EQ(context->getState(0).getStepCount(), 10);
+            integrator.step(10);
+            State second = context->getState(State::Positions | State::Velocities);
+            EXPECT_EQ(second.getStepCount(), 20);
+            for (size_t i = 0; i < positions.size(); i++) {
+                ASSERT_EQ(first.getPositions()[i], second.getPositions()[i]) << platform << " variant " << variant;
+                ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << platform << " variant " << variant;
+            }
+        }
+}
+
+TEST(DPDVVIntegrator, XmlRoundTrip) {
+    DPDVVIntegrator integrator(250.0, 3.5, 1.1, 0.02);
+    integrator.setVariant(DPDVVIntegrator::SelfConsistent);
+    integrator.setLambda(0.65);
+    integrator.setMaxIterations(9);
+    integrator.setTolerance(1e-4);
+    integrator.setRandomNumberSeed(17);
+    integrator.setIntegrationForceGroups(5);
+    integrator.setParticleType(3, 2);
+    integrator.setParticleType(7, 1);
+    integrator.addTypePair(1, 2, 2.5, 0.9);
+    integrator.addTypePair(2, 2, 1.5, 1.2);
+    std::stringstream buffer;
+    XmlSerializer::serialize<Integrator>(&integrator, "Integrator", buffer);
+    std::unique_ptr<Integrator> copy(XmlSerializer::deserialize<Integrator>(buffer));
+    DPDVVIntegrator* c = dynamic_cast<DPDVVIntegrator*>(copy.get());
+    ASSERT_NE(c, nullptr);
+    EXPECT_EQ(c->getTemperature(), 250.0);
+    EXPECT_EQ(c->getDefaultFriction(), 3.5);
+    EXPECT_EQ(c->getDefaultCutoff(), 1.1);
+    EXPECT_EQ(c->getStepSize(), 0.02);
+    EXPECT_EQ(c->getVariant(), DPDVVIntegrator::SelfConsistent);
+    EXPECT_EQ(c->getLambda(), 0.65);
+    EXPECT_EQ(c->getMaxIterations(), 9);
+    EXPECT_EQ(c->getTolerance(), 1e-4);
+    EXPECT_EQ(c->getRandomNumberSeed(), 17);
+    EXPECT_EQ(c->getIntegrationForceGroups(), 5);
+    EXPECT_EQ(c->getParticleTypes(), integrator.getParticleTypes());
+    ASSERT_EQ(c->getNumTypePairs(), 2);
+    for (int k = 0; k < 2; k++) {
+        int a1, a2, b1, b2;
+        double fa, ca, fb, cb;
+        integrator.getTypePairParameters(k, a1, a2, fa, ca);
+        c->getTypePairParameters(k, b1, b2, fb, cb);
+        EXPECT_EQ(a1, b1);
+        EXPECT_EQ(a2, b2);
+        EXPECT_EQ(fa, fb);
+        EXPECT_EQ(ca, cb);
+    }
+}
+
+TEST(DPDVVIntegrator, BlowUpStopsWithTheStep) {
+    // A stiff bond and a huge step: the run diverges within a few steps.  (Bonds through
+    // the minimum image would cap the force at k L/2, so these are not periodic.)
+    System system;
+    system.setDefaultPeriodicBoxVectors(Vec3(5, 0, 0), Vec3(0, 5, 0), Vec3(0, 0, 5));
+    for (int i = 0; i < 4; i++)
+        system.addParticle(1.0);
+    HarmonicBondForce* bonds = new HarmonicBondForce();
+    for (int i = 0; i < 3; i++)
+        bonds->addBond(i, i + 1, 0.0, 1e4);
+    system.addForce(bonds);
+    for (const std::string& platform : platforms()) {
+        DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 1.0);
+        Context context(system, integrator, Platform::getPlatformByName(platform));
+        context.setPositions({Vec3(1, 1, 1), Vec3(1.5, 1, 1), Vec3(1.5, 1.5, 1), Vec3(2, 1.5, 1.2)});
+        try {
+            integrator.step(1000);
+            FAIL() << "no error on " << platform;
+        }
+        catch (const OpenMMException& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find("blew up at step"), std::string::npos) << message;
+            // Nothing non-finite was handed to the caller as a valid state.
+            EXPECT_LT(context.getState(0).getStepCount(), 1000);
+        }
+    }
+}
+
+TEST(DPDVVIntegrator, ParticleTypesSelectPairParameters) {
+    // Two particles of type 1 with zero friction between them: no thermostat force, so
+    // their relative velocity is conserved exactly (no conservative force either).
+    System system;
+    system.setDefaultPeriodicBoxVectors(Vec3(4, 0, 0), Vec3(0, 4, 0), Vec3(0, 0, 4));
+    system.addParticle(1.0);
+    system.addParticle(1.0);
+    CustomBondForce* none = new CustomBondForce("0");
+    none->setUsesPeriodicBoundaryConditions(true);
+    system.addForce(none);
+    for (double friction : {0.0, 4.5}) {
+        DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01);
+        integrator.setParticleType(0, 1);
+        integrator.setParticleType(1, 1);
+        integrator.addTypePair(1, 1, friction, 1.5);
+        Context context(system, integrator, Platform::getPlatformByName("Reference"));
+        context.setPositions({Vec3(1, 1, 1), Vec3(2.2, 1, 1)});  // 1.2 apart: beyond the default cutoff, within the pair's
+        context.setVelocities({Vec3(0.1, 0, 0), Vec3(-0.1, 0, 0)});
+        integrator.step(1);
+        Vec3 v0 = context.getState(State::Velocities).getVelocities()[0];
+        if (friction == 0)
+            EXPECT_EQ(v0, Vec3(0.1, 0, 0));
+        else
+            EXPECT_NE(v0, Vec3(0.1, 0, 0));
+    }
+}

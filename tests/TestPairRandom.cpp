@@ -1,0 +1,52 @@
+#include "openmmdpd/PairRandom.h"
+#include <gtest/gtest.h>
+#include <cmath>
+
+using namespace DPDPlugin;
+
+TEST(PairRandom, SymmetricInThePair) {
+    PairRandom random(1234);
+    for (int i = 0; i < 50; i++)
+        for (int j = 0; j < 50; j++)
+            EXPECT_EQ(random.gaussian(PairRandom::RandomForce, 17, i, j), random.gaussian(PairRandom::RandomForce, 17, j, i));
+}
+
+TEST(PairRandom, DependsOnEveryKey) {
+    PairRandom a(1), b(2);
+    const double x = a.gaussian(PairRandom::RandomForce, 5, 3, 9);
+    EXPECT_NE(x, b.gaussian(PairRandom::RandomForce, 5, 3, 9));
+    EXPECT_NE(x, a.gaussian(PairRandom::RandomForce, 6, 3, 9));
+    EXPECT_NE(x, a.gaussian(PairRandom::RandomForce, 5, 4, 9));
+    EXPECT_NE(x, a.gaussian(PairRandom::PairThermalisation, 5, 3, 9));
+    EXPECT_NE(x, a.gaussian(PairRandom::RandomForce, 5LL + (1LL << 32), 3, 9));
+}
+
+TEST(PairRandom, GaussianMeanAndVariance) {
+    PairRandom random(99);
+    const int n = 400000;
+    double sum = 0, sum2 = 0, sum4 = 0;
+    for (int k = 0; k < n; k++) {
+        double x = random.gaussian(PairRandom::RandomForce, k / 1000, k % 1000, 1000 + k % 7);
+        sum += x;
+        sum2 += x * x;
+        sum4 += x * x * x * x;
+    }
+    const double mean = sum / n, var = sum2 / n - mean * mean;
+    // Standard errors: 1/sqrt(n) for the mean, sqrt(2/n) for the variance; 4 of them.
+    EXPECT_NEAR(mean, 0.0, 4 / std::sqrt(n));
+    EXPECT_NEAR(var, 1.0, 4 * std::sqrt(2.0 / n));
+    EXPECT_NEAR(sum4 / n, 3.0, 4 * std::sqrt(96.0 / n));
+}
+
+TEST(PairRandom, UniformInUnitInterval) {
+    PairRandom random(7);
+    const int n = 200000;
+    double sum = 0;
+    for (int k = 0; k < n; k++) {
+        double u = random.uniform(PairRandom::PairThermalisation, k, 1, 2);
+        ASSERT_GE(u, 0.0);
+        ASSERT_LT(u, 1.0);
+        sum += u;
+    }
+    EXPECT_NEAR(sum / n, 0.5, 4 * std::sqrt(1.0 / 12 / n));
+}

@@ -1,0 +1,125 @@
+"""Steps per second of the DPD-VV family against OpenMM's LangevinMiddleIntegrator.
+
+Scene `soft` on the CPU platform; every integrator runs the same System. Measurements of
+one (size, threads) are interleaved and the best of --repeats kept, because a shared
+machine's noise only ever slows a run down.
+
+    /usr/bin/python3 -m openmmdpd.bench [--sizes 4000 32000] [--threads 1 2] [--dt 0.04]
+"""
+import argparse
+import sys
+import time
+
+import openmm
+from openmm import unit
+
+from .scenes import soft_scene
+from .units import KT_TEMPERATURE
+
+FRICTION = 4.5  # 1/ps for Langevin, amu/ps (gamma) for DPD: the papers' gamma = 4.5
+CUTOFF = 1.0    # nm, the DPD rc
+
+
+def integrator_factories(dt, gw_lambda):
+    """(label, factory) for each integrator benchmarked; DPD ones only if the extension loads."""
+    temperature = KT_TEMPERATURE.value_in_unit(unit.kelvin)
+    factories = [("Langevin", lambda: openmm.LangevinMiddleIntegrator(
+        KT_TEMPERATURE, FRICTION / unit.picosecond, dt * unit.picosecond))]
+    try:
+        from . import DPDVVIntegrator
+    except ImportError as error:
+        print(f"note: openmmdpd.DPDVVIntegrator is not importable ({error}); "
+              "is the C++ extension built? Timing Langevin only.")
+        return factories
+
+    def dpd(variant, lambda_=None):
+        def make():
+            integrator = DPDVVIntegrator(temperature, FRICTION, CUTOFF, dt)
+            integrator.setVariant(variant)
+            if lambda_ is not None:
+                integrator.setLambda(lambda_)
+            return integrator
+        return make
+
+    return factories + [
+        (f"GW lambda={gw_lambda:g}", dpd(DPDVVIntegrator.GrootWarren, gw_lambda)),
+        ("DPD-VV", dpd(DPDVVIntegrator.DPDVV)),
+        ("SC-VV", dpd(DPDVVIntegrator.SelfConsistent)),
+    ]
+
+
+def steps_per_second(integrator, steps):
+    start = time.perf_counter()
+    integrator.step(steps)
+    return steps / (time.perf_counter() - start)
+
+
+def measure(scene, factories, threads, args):
+    """{label: best steps/s, or the error that stopped it} for one system and thread count."""
+    platform = openmm.Platform.getPlatformByName("CPU")
+    runs, results = {}, {}
+    for label, make in factories:
+        try:
+            context = openmm.Context(scene.system, make(), platform, {"Threads": str(threads)})
+            context.setPositions(scene.positions)
+            context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+            rate = steps_per_second(context.getIntegrator(), args.warmup)
+        except openmm.OpenMMException as error:
+            results[label] = f"failed: {error}"
+            continue
+        runs[label] = (context, args.steps or max(5, round(rate * args.seconds)))
+        results[label] = 0.0
+    for _ in range(args.repeats):
+        for label, (context, steps) in list(runs.items()):
+            try:
+                results[label] = max(results[label],
+                                     steps_per_second(context.getIntegrator(), steps))
+            except openmm.OpenMMException as error:
+                results[label] = f"failed: {error}"
+                del runs[label]
+    return results
+
+
+def print_table(rows):
+    print(f"{'N':>6} {'threads':>7}  {'integrator':<16} {'steps/s':>9}  "
+          f"{'time/step vs Langevin':>21}")
+    for n, threads, results in rows:
+        reference = results.get("Langevin")
+        for label, rate in results.items():
+            if isinstance(rate, str):
+                print(f"{n:>6} {threads:>7}  {label:<16} {rate}")
+                continue
+            ratio = f"{reference / rate:.2f}" if isinstance(reference, float) else "-"
+            print(f"{n:>6} {threads:>7}  {label:<16} {rate:>9.1f}  {ratio:>21}")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[4000, 32000])
+    parser.add_argument("--threads", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--dt", type=float, default=0.04, help="time step (ps = reduced units)")
+    parser.add_argument("--gw-lambda", type=float, default=0.65,
+                        help="Groot-Warren lambda (0.65 is their choice)")
+    parser.add_argument("--warmup", type=int, default=10, help="untimed steps per integrator")
+    parser.add_argument("--steps", type=int, default=None,
+                        help="timed steps per measurement (default: about --seconds worth)")
+    parser.add_argument("--seconds", type=float, default=1.0,
+                        help="target length of one measurement when --steps is not given")
+    parser.add_argument("--repeats", type=int, default=3,
+                        help="interleaved measurements; best kept")
+    args = parser.parse_args(argv)
+
+    factories = integrator_factories(args.dt, args.gw_lambda)
+    rows = []
+    for n in args.sizes:
+        scene = soft_scene(num_particles=n)
+        for threads in args.threads:
+            print(f"measuring N={n} threads={threads} ...", file=sys.stderr, flush=True)
+            rows.append((n, threads, measure(scene, factories, threads, args)))
+    print(f"scene soft (rho=4, a=25), CPU platform, dt={args.dt:g}, gamma={FRICTION:g}, "
+          f"best of {args.repeats}")
+    print_table(rows)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,243 @@
+"""The standard DPD scenes (design/scenes.md), built from OpenMM's own Forces.
+
+Everything is in reduced units (rc = 1 nm, m = 1 amu, kT = 1 kJ/mol; see units.py).
+A scene carries no thermostat: the integrator supplies the dissipative and random forces.
+"""
+from collections import namedtuple
+
+import numpy as np
+import openmm
+from openmm import app, unit
+
+__all__ = ["Scene", "SCENES", "build_scene", "ideal_scene", "soft_scene", "polymer_scene",
+           "soft_repulsion_force", "harmonic_bond_force", "wca_force", "fene_bond_force",
+           "wlc_bond_force", "periodic_marker_force", "random_positions", "random_walk"]
+
+Scene = namedtuple("Scene", "topology system positions name chain_particles")
+Scene.__doc__ = """A ready-to-simulate system.
+
+chain_particles: tuple of chains, each a tuple of particle indices in bond order
+(empty for scenes without chains)."""
+
+SCENES = ("ideal", "soft", "polymer")
+
+
+def soft_repulsion_force(num_particles, a, types=None, cutoff=1.0):
+    """Groot–Warren soft repulsion, energy a_ij*rc*(1 - r/rc)^2/2 with rc = cutoff.
+
+    a: a number (one type) or a symmetric n x n matrix of a_ij (kJ/mol/nm);
+    types: per-particle type indices into that matrix (default: all type 0).
+    """
+    table = np.atleast_2d(np.asarray(a, dtype=float))
+    ntypes = table.shape[0]
+    if table.shape != (ntypes, ntypes) or not np.allclose(table, table.T):
+        raise ValueError(f"a must be a number or a symmetric square matrix, "
+                         f"got shape {table.shape}")
+    types = np.zeros(num_particles, dtype=int) if types is None else np.asarray(types, dtype=int)
+    if types.shape != (num_particles,) or types.min() < 0 or types.max() >= ntypes:
+        raise ValueError(f"types must be {num_particles} indices in [0, {ntypes})")
+    force = openmm.CustomNonbondedForce(f"0.5*aij(type1, type2)*rc*(1 - r/rc)^2; rc={cutoff!r}")
+    force.setName("SoftRepulsion")
+    # Discrete2DFunction is indexed i + n*j; the table is symmetric so the order is moot.
+    force.addTabulatedFunction("aij", openmm.Discrete2DFunction(ntypes, ntypes,
+                                                                table.ravel().tolist()))
+    force.addPerParticleParameter("type")
+    for t in types:
+        force.addParticle([float(t)])
+    force.setNonbondedMethod(openmm.CustomNonbondedForce.CutoffPeriodic)
+    force.setCutoffDistance(cutoff)
+    return force
+
+
+def harmonic_bond_force(bonds, k=7.0, length=0.0):
+    """Harmonic springs k/2 (r - length)^2 (paper 000: k = 7, rest length 0)."""
+    force = openmm.HarmonicBondForce()
+    force.setName("HarmonicBond")
+    for i, j in bonds:
+        force.addBond(i, j, length, k)
+    force.setUsesPeriodicBoundaryConditions(True)
+    return force
+
+
+def wca_force(num_particles, particles, bonds=(), epsilon=1.0):
+    """Truncated-shifted LJ 4 eps [(l/r)^12 - (l/r)^6 + 1/4], l = 2^(-1/6), cutoff 1.
+
+    Acts only between `particles` (the chain beads); directly bonded pairs are excluded.
+    """
+    force = openmm.CustomNonbondedForce(
+        f"4*eps*((l/r)^12 - (l/r)^6 + 0.25); eps={epsilon!r}; l={2 ** (-1 / 6)!r}")
+    force.setName("WCA")
+    for _ in range(num_particles):
+        force.addParticle([])
+    force.addInteractionGroup(particles, particles)
+    force.createExclusionsFromBonds([tuple(b) for b in bonds], 1)
+    force.setNonbondedMethod(openmm.CustomNonbondedForce.CutoffPeriodic)
+    force.setCutoffDistance(1.0)
+    return force
+
+
+def fene_bond_force(bonds, k=7.0, rmax=3.0):
+    """FENE springs -k/2 rmax^2 ln(1 - r^2/rmax^2) (paper 002: k = 7, rmax = 3).
+
+    Written with log(sqrt(...)) so that r >= rmax gives NaN energy and forces, which an
+    integrator can detect, rather than the finite wrong force of ln|1 - r^2/rmax^2|.
+    """
+    force = openmm.CustomBondForce(f"-k*rmax^2*log(sqrt(1 - (r/rmax)^2)); k={k!r}; rmax={rmax!r}")
+    force.setName("FENE")
+    for i, j in bonds:
+        force.addBond(i, j, [])
+    force.setUsesPeriodicBoundaryConditions(True)
+    return force
+
+
+def wlc_bond_force(bonds, lp, l_spring, kT=1.0):
+    """Marko–Siggia worm-like springs, F(r) = kT/lp [1/(4(1-R)^2) - 1/4 + R], R = r/l_spring.
+
+    Energy (zero at r = 0): kT/lp l_spring [1/(4(1-R)) - 1/4 - R/4 + R^2/2].
+    1/(1-R) is written exp(-log(1-R)) so that R > 1 gives NaN energy and forces, as for
+    FENE; Lepton simplifies the sqrt forms (sqrt(x)^2, x - x) away.
+    """
+    force = openmm.CustomBondForce(
+        "kT/lp*L*(0.25*exp(-log(1 - R)) - 0.25 - 0.25*R + 0.5*R^2); R=r/L; "
+        f"kT={kT!r}; lp={lp!r}; L={l_spring!r}")
+    force.setName("WormLikeChain")
+    for i, j in bonds:
+        force.addBond(i, j, [])
+    force.setUsesPeriodicBoundaryConditions(True)
+    return force
+
+
+def periodic_marker_force():
+    """An empty force that makes System.usesPeriodicBoundaryConditions() true at no cost.
+
+    Integrators decide periodicity from the System, and a scene without conservative
+    forces would otherwise report a non-periodic one.
+    """
+    force = openmm.CustomBondForce("0")
+    force.setName("PeriodicMarker")
+    force.setUsesPeriodicBoundaryConditions(True)
+    return force
+
+
+def random_positions(rng, num_particles, box_length):
+    """Uniform positions in the cubic box [0, L)^3, an (n, 3) array in nm."""
+    return rng.uniform(0.0, box_length, size=(num_particles, 3))
+
+
+def random_walk(rng, num_beads, start, box_length, bond_length=0.5, min_distance=0.9):
+    """A chain as a random walk of fixed step length from `start` (unwrapped), (n, 3) in nm.
+
+    Steps that bring a bead closer than min_distance (minimum image) to any bead but its
+    predecessor are redrawn: the WCA energy of a random walk's overlaps would blow up the
+    first steps, while at 0.9 it is below 1 kT.
+    """
+    beads = [np.asarray(start, dtype=float)]
+    for _ in range(num_beads - 1):
+        for _attempt in range(1000):
+            step = rng.normal(size=3)
+            candidate = beads[-1] + bond_length * step / np.linalg.norm(step)
+            d = candidate - np.array(beads[:-1]).reshape(-1, 3)
+            d -= box_length * np.round(d / box_length)
+            if np.all(np.sum(d * d, axis=1) >= min_distance ** 2):
+                break
+        else:
+            raise RuntimeError(f"random walk stuck after {len(beads)} beads; "
+                               "lower min_distance or raise bond_length")
+        beads.append(candidate)
+    return np.array(beads)
+
+
+def _box_length(num_particles, density):
+    return (num_particles / density) ** (1 / 3)
+
+
+def _make_scene(name, num_particles, density, positions, chains):
+    """System with unit masses in a cubic box, and its Topology (one residue per bead).
+
+    The chains must be the leading particles, in order, so that Topology atom indices
+    equal particle indices.
+    """
+    flat = [i for chain in chains for i in chain]
+    if flat != list(range(len(flat))):
+        raise ValueError("chain particles must come first and in order")
+    box_length = _box_length(num_particles, density)
+    system = openmm.System()
+    for _ in range(num_particles):
+        system.addParticle(1.0)
+    box = [openmm.Vec3(box_length, 0, 0), openmm.Vec3(0, box_length, 0),
+           openmm.Vec3(0, 0, box_length)]
+    system.setDefaultPeriodicBoxVectors(*box)
+
+    topology = app.Topology()
+    topology.setPeriodicBoxVectors(box * unit.nanometer)
+    for chain in chains:
+        top_chain = topology.addChain()
+        beads = [topology.addAtom("B", None, topology.addResidue("MON", top_chain))
+                 for _ in chain]
+        for bead1, bead2 in zip(beads[:-1], beads[1:]):
+            topology.addBond(bead1, bead2)
+    solvent = topology.addChain()
+    for _ in range(num_particles - len(flat)):
+        topology.addAtom("S", None, topology.addResidue("SOL", solvent))
+    return Scene(topology, system, positions * unit.nanometer, name,
+                 tuple(tuple(chain) for chain in chains))
+
+
+def ideal_scene(num_particles=4000, density=4.0, seed=1):
+    """Model A: no conservative force (paper 000 §II.C.1)."""
+    rng = np.random.default_rng(seed)
+    positions = random_positions(rng, num_particles, _box_length(num_particles, density))
+    scene = _make_scene("ideal", num_particles, density, positions, ())
+    scene.system.addForce(periodic_marker_force())
+    return scene
+
+
+def soft_scene(num_particles=4000, density=4.0, a=25.0, seed=1, soft_repulsion_types=None):
+    """Model B: soft repulsion a (paper 000 §II.C.2).
+
+    a may be an n x n a_ij matrix, with soft_repulsion_types the per-particle type indices.
+    """
+    rng = np.random.default_rng(seed)
+    positions = random_positions(rng, num_particles, _box_length(num_particles, density))
+    scene = _make_scene("soft", num_particles, density, positions, ())
+    scene.system.addForce(soft_repulsion_force(num_particles, a, soft_repulsion_types))
+    return scene
+
+
+def polymer_scene(num_particles=4000, density=4.0, chain_length=20, a=0.0, seed=1,
+                  soft_repulsion_types=None):
+    """Ideal solvent plus one chain (paper 000 §II.C.3): harmonic bonds k = 7, rest length 0,
+    WCA between beads. Particles 0..chain_length-1 are the chain.
+
+    a = 0 (the paper's case) adds no soft repulsion; otherwise it is added to all particles
+    as in soft_scene. An a_ij matrix without soft_repulsion_types makes the solvent type 0
+    and the chain beads type 1.
+    """
+    rng = np.random.default_rng(seed)
+    box_length = _box_length(num_particles, density)
+    chain = list(range(chain_length))
+    positions = np.vstack([
+        random_walk(rng, chain_length, rng.uniform(0, box_length, 3), box_length),
+        random_positions(rng, num_particles - chain_length, box_length)])
+    scene = _make_scene("polymer", num_particles, density, positions, (chain,))
+    bonds = list(zip(chain[:-1], chain[1:]))
+    system = scene.system
+    system.addForce(harmonic_bond_force(bonds))
+    system.addForce(wca_force(num_particles, chain, bonds))
+    if np.any(np.asarray(a) != 0):
+        if soft_repulsion_types is None and np.ndim(a) == 2:
+            soft_repulsion_types = [1] * chain_length + [0] * (num_particles - chain_length)
+        system.addForce(soft_repulsion_force(num_particles, a, soft_repulsion_types))
+    return scene
+
+
+_BUILDERS = {"ideal": ideal_scene, "soft": soft_scene, "polymer": polymer_scene}
+
+
+def build_scene(name, **kwargs):
+    """Build the scene called `name` (one of SCENES) with the builder's keyword arguments."""
+    try:
+        builder = _BUILDERS[name]
+    except KeyError:
+        raise ValueError(f"unknown scene {name!r}; known: {', '.join(SCENES)}") from None
+    return builder(**kwargs)
