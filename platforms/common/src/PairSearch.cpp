@@ -97,48 +97,77 @@ void PairSearch::buildCells(const std::vector<Vec3>& positions, const Vec3* newB
     for (int i = 0; i < n; i++)
         if (cellOf[i] >= 0) {
             sortedIndex[fill[cellOf[i]]] = i;
-            sortedPositions[fill[cellOf[i]]++] = positions[i];
+            // Periodic: the image inside the box, so a neighbour cell's particles need only
+            // that cell's fixed shift (see neighbourCells), not a rounding per pair.
+            sortedPositions[fill[cellOf[i]]++] = periodic ? box[0] * frac[i][0] + box[1] * frac[i][1] + box[2] * frac[i][2] : positions[i];
         }
 }
 
-void PairSearch::neighbourCells(int cell, std::vector<int>& out) const {
+void PairSearch::neighbourCells(int cell, std::vector<Neighbour>& out) const {
     out.clear();
-    const int cx = cell % numCells[0], cy = (cell / numCells[0]) % numCells[1], cz = cell / (numCells[0] * numCells[1]);
+    const int c[3] = {cell % numCells[0], (cell / numCells[0]) % numCells[1], cell / (numCells[0] * numCells[1])};
+    // With three or more cells along every axis each offset reaches a distinct cell through
+    // exactly one image; otherwise several offsets reach one cell, which is then searched
+    // once with a full minimum-image test.
+    const bool distinct = numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3;
     for (int dz = -1; dz <= 1; dz++)
         for (int dy = -1; dy <= 1; dy++)
             for (int dx = -1; dx <= 1; dx++) {
-                int idx[3] = {cx + dx, cy + dy, cz + dz};
+                const int d[3] = {dx, dy, dz};
+                int idx[3], wrap[3];
                 bool inside = true;
                 for (int k = 0; k < 3; k++) {
-                    if (periodic)
-                        idx[k] = (idx[k] + numCells[k]) % numCells[k];
-                    else if (idx[k] < 0 || idx[k] >= numCells[k])
-                        inside = false;
+                    idx[k] = c[k] + d[k];
+                    wrap[k] = 0;
+                    if (idx[k] < 0 || idx[k] >= numCells[k]) {
+                        if (!periodic)
+                            inside = false;
+                        wrap[k] = (idx[k] < 0 ? -1 : 1);
+                        idx[k] -= wrap[k] * numCells[k];
+                    }
                 }
-                int other = (idx[2] * numCells[1] + idx[1]) * numCells[0] + idx[0];
+                const int other = (idx[2] * numCells[1] + idx[1]) * numCells[0] + idx[0];
                 // Each unordered pair of cells is searched once, from its lower cell.
-                if (inside && other >= cell)
-                    out.push_back(other);
+                if (inside && other >= cell) {
+                    Neighbour n;
+                    n.cell = other;
+                    n.exactShift = distinct;
+                    // The other cell's image next to this one lies `wrap` boxes away.
+                    n.shift = box[0] * wrap[0] + box[1] * wrap[1] + box[2] * wrap[2];
+                    out.push_back(n);
+                }
             }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+    if (!distinct) {
+        std::sort(out.begin(), out.end(), [](const Neighbour& a, const Neighbour& b) { return a.cell < b.cell; });
+        out.erase(std::unique(out.begin(), out.end(), [](const Neighbour& a, const Neighbour& b) { return a.cell == b.cell; }), out.end());
+    }
 }
 
 void PairSearch::findPairsInCells(int begin, int end, std::vector<Pair>& out) const {
     const double radius2 = (cutoff + skin) * (cutoff + skin);
-    std::vector<int> neighbours;
+    std::vector<Neighbour> neighbours;
     neighbours.reserve(27);
     for (int cell = begin; cell < end; cell++) {
         neighbourCells(cell, neighbours);
         for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
             const Vec3 rp = sortedPositions[p];
-            for (int other : neighbours) {
-                const int first = (other == cell ? p + 1 : cellStart[other]);
-                for (int q = first; q < cellStart[other + 1]; q++) {
-                    Vec3 d = minimumImage(rp - sortedPositions[q], box, periodic);
-                    if (d.dot(d) < radius2)
-                        out.push_back({sortedIndex[p], sortedIndex[q]});
+            for (const Neighbour& other : neighbours) {
+                const int first = (other.cell == cell ? p + 1 : cellStart[other.cell]);
+                const int last = cellStart[other.cell + 1];
+                if (other.exactShift) {
+                    const Vec3 rpShifted = rp - other.shift;
+                    for (int q = first; q < last; q++) {
+                        const Vec3 d = rpShifted - sortedPositions[q];
+                        if (d.dot(d) < radius2)
+                            out.push_back({sortedIndex[p], sortedIndex[q]});
+                    }
                 }
+                else
+                    for (int q = first; q < last; q++) {
+                        const Vec3 d = minimumImage(rp - sortedPositions[q], box, periodic);
+                        if (d.dot(d) < radius2)
+                            out.push_back({sortedIndex[p], sortedIndex[q]});
+                    }
             }
         }
     }

@@ -1,8 +1,13 @@
-"""Import openmmdpd from the source tree only when no built copy is on the path."""
+"""Tests run against a built package: PYTHONPATH first, else the repository's build/python."""
 import os
 import sys
 
 try:
-    import openmmdpd  # noqa: F401  (a build tree on PYTHONPATH wins)
+    import openmmdpd  # noqa: F401
 except ImportError:
-    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+    sys.path.insert(0, os.path.join(root, "build", "python"))
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow: long statistical runs (used by the benchmark tool, not CI)")

@@ -1,0 +1,120 @@
+%module(package="openmmdpd") dpdplugin
+
+%import(module="openmm.openmm") "openmm_stub.i"
+
+%{
+#include "openmmdpd/DPDThermostatIntegrator.h"
+#include "openmmdpd/DPDVVIntegrator.h"
+#include "openmm/OpenMMException.h"
+#include <exception>
+%}
+
+%include "typemaps.i"
+%include "std_map.i"
+%include "std_string.i"
+%include "std_vector.i"
+%template(ParticleTypeMap) std::map<int, int>;
+
+// Errors reach Python as openmm.OpenMMException, as OpenMM's own do.
+%exception {
+    try {
+        $action
+    }
+    catch (std::exception& e) {
+        PyObject* module = PyImport_ImportModule("openmm");
+        PyObject* type = module ? PyObject_GetAttrString(module, "OpenMMException") : NULL;
+        Py_XDECREF(module);
+        PyErr_SetString(type ? type : PyExc_Exception, e.what());
+        Py_XDECREF(type);
+        SWIG_fail;
+    }
+}
+
+%pythonbegin %{
+import openmm as _mm
+from openmm import unit as _unit
+from openmmdpd.units import strip_units as _strip
+%}
+
+// --- units in: every dimensioned argument accepts a Quantity or a number in OpenMM units ---
+%pythonprepend DPDPlugin::DPDVVIntegrator::DPDVVIntegrator %{
+    temperature = _strip(temperature, _unit.kelvin)
+    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
+    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
+    stepSize = _strip(stepSize, _unit.picosecond)
+%}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::setTemperature %{
+    temp = _strip(temp, _unit.kelvin)
+%}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::setDefaultFriction %{
+    friction = _strip(friction, _unit.picosecond**-1)
+%}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::setDefaultCutoff %{
+    cutoff = _strip(cutoff, _unit.nanometer)
+%}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::setStepSize %{
+    size = _strip(size, _unit.picosecond)
+%}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::addTypePair %{
+    friction = _strip(friction, _unit.picosecond**-1)
+    cutoff = _strip(cutoff, _unit.nanometer)
+%}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::setTypePairParameters %{
+    friction = _strip(friction, _unit.picosecond**-1)
+    cutoff = _strip(cutoff, _unit.nanometer)
+%}
+
+// --- units out: getters return Quantities, like OpenMM's ---
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getTemperature %{
+    val = _unit.Quantity(val, _unit.kelvin)
+%}
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getDefaultFriction %{
+    val = _unit.Quantity(val, _unit.picosecond**-1)
+%}
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getDefaultCutoff %{
+    val = _unit.Quantity(val, _unit.nanometer)
+%}
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getMaxCutoff %{
+    val = _unit.Quantity(val, _unit.nanometer)
+%}
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getTypePairParameters %{
+    val = [val[0], val[1], _unit.Quantity(val[2], _unit.picosecond**-1), _unit.Quantity(val[3], _unit.nanometer)]
+%}
+
+%apply int& OUTPUT { int& type1, int& type2 };
+%apply double& OUTPUT { double& friction, double& cutoff };
+
+// Only the public interface: the protected Integrator hooks are for OpenMM.
+%ignore DPDPlugin::DPDThermostatIntegrator::validateAgainstSystem;
+%ignore DPDPlugin::DPDThermostatIntegrator::checkTypePair;
+
+%include "openmmdpd/DPDThermostatIntegrator.h"
+%include "openmmdpd/DPDVVIntegrator.h"
+
+%clear int& type1, int& type2;
+%clear double& friction, double& cutoff;
+
+%extend DPDPlugin::DPDVVIntegrator {
+    /** The DPDVVIntegrator behind a base Integrator proxy (e.g. from XmlSerializer), or None. */
+    static DPDPlugin::DPDVVIntegrator* cast(OpenMM::Integrator* integrator) {
+        return dynamic_cast<DPDPlugin::DPDVVIntegrator*>(integrator);
+    }
+    %pythoncode %{
+    def __getstate__(self):
+        return _mm.XmlSerializer.serialize(self)
+
+    def __setstate__(self, state):
+        base = _mm.XmlSerializer.deserialize(state)
+        base.thisown = False
+        self.this = DPDVVIntegrator.cast(base).this
+        self.thisown = True
+
+    def __copy__(self):
+        copy = DPDVVIntegrator.__new__(DPDVVIntegrator)
+        copy.__setstate__(self.__getstate__())
+        return copy
+
+    def __deepcopy__(self, memo):
+        return self.__copy__()
+    %}
+}
