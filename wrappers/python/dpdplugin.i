@@ -95,18 +95,28 @@ from openmmdpd.units import strip_units as _strip
 %clear double& friction, double& cutoff;
 
 %extend DPDPlugin::DPDVVIntegrator {
-    /** The DPDVVIntegrator behind a base Integrator proxy (e.g. from XmlSerializer), or None. */
-    static DPDPlugin::DPDVVIntegrator* cast(OpenMM::Integrator* integrator) {
+    static DPDPlugin::DPDVVIntegrator* _cast(OpenMM::Integrator* integrator) {
         return dynamic_cast<DPDPlugin::DPDVVIntegrator*>(integrator);
     }
     %pythoncode %{
+    @staticmethod
+    def cast(integrator):
+        """The DPDVVIntegrator behind a base Integrator proxy (e.g. from XmlSerializer), or None.
+
+        The result keeps `integrator` alive, which owns the C++ object, so
+        `DPDVVIntegrator.cast(XmlSerializer.deserialize(xml))` is safe."""
+        result = DPDVVIntegrator._cast(integrator)
+        if result is not None:
+            result._owner = integrator
+        return result
+
     def __getstate__(self):
         return _mm.XmlSerializer.serialize(self)
 
     def __setstate__(self, state):
         base = _mm.XmlSerializer.deserialize(state)
-        base.thisown = False
-        self.this = DPDVVIntegrator.cast(base).this
+        base.thisown = False  # this proxy takes over the C++ object
+        self.this = DPDVVIntegrator._cast(base).this
         self.thisown = True
 
     def __copy__(self):

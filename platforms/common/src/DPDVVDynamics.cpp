@@ -1,6 +1,5 @@
 #include "openmmdpd/DPDVVDynamics.h"
 #include "openmm/OpenMMException.h"
-#include "openmm/internal/OSRngSeed.h"
 #include "ReferencePlatform.h"
 #include <algorithm>
 #include <cmath>
@@ -17,132 +16,10 @@ OpenMM::ReferencePlatform::PlatformData& platformData(OpenMM::ContextImpl& conte
     return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
 }
 
-void zero(std::vector<Vec3>& v, size_t begin, size_t end) {
-    for (size_t i = begin; i < end; i++)
-        v[i] = Vec3();
-}
-
 } // namespace
 
-DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
-                                         ParallelExecutor& executor, double skin) :
-        parameters(system, integrator), executor(executor),
-        search(parameters.getActive(), parameters.getMaxCutoff(), skin, system.usesPeriodicBoundaryConditions()),
-        random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
-    const int workers = executor.getNumWorkers();
-    workerCandidates.resize(workers);
-    workerPairs.resize(workers);
-    if (workers > 1) {
-        workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
-        workerRandom.assign(workers, std::vector<Vec3>(system.getNumParticles()));
-    }
-}
-
-void DPDThermostatForces::buildSearch(const std::vector<Vec3>& positions, const Vec3* box) {
-    search.buildCells(positions, box);
-    // Cell ranges in order, concatenated in order: the same list for any worker count.
-    executor.execute([&](int w) {
-        size_t begin, end;
-        executor.range(w, search.getNumCells(), begin, end);
-        workerCandidates[w].clear();
-        search.findPairsInCells((int) begin, (int) end, workerCandidates[w]);
-    });
-    std::vector<PairSearch::Pair>& all = search.getPairs();
-    all.clear();
-    for (auto& part : workerCandidates)
-        all.insert(all.end(), part.begin(), part.end());
-}
-
-void DPDThermostatForces::writeSearchState(std::ostream& stream) const {
-    const char built = search.hasList() ? 1 : 0;
-    stream.write(&built, 1);
-    if (built) {
-        stream.write((const char*) search.getBuildBox(), 3 * sizeof(Vec3));
-        stream.write((const char*) search.getBuildPositions().data(), search.getBuildPositions().size() * sizeof(Vec3));
-    }
-}
-
-void DPDThermostatForces::readSearchState(std::istream& stream) {
-    char built;
-    stream.read(&built, 1);
-    if (built) {
-        Vec3 box[3];
-        std::vector<Vec3> positions(parameters.getNumParticles());
-        stream.read((char*) box, 3 * sizeof(Vec3));
-        stream.read((char*) positions.data(), positions.size() * sizeof(Vec3));
-        buildSearch(positions, box);
-    }
-}
-
-void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
-    const bool periodic = search.isPeriodic();
-    if (periodic) {
-        const double halfWidth = 0.5 * std::min(box[0][0], std::min(box[1][1], box[2][2]));
-        if (parameters.getMaxCutoff() > halfWidth) {
-            std::ostringstream message;
-            message << "the thermostat cutoff (" << parameters.getMaxCutoff() << " nm) must not exceed half the periodic box width ("
-                    << halfWidth << " nm)";
-            throw OpenMM::OpenMMException(message.str());
-        }
-    }
-    if (search.needsRebuild(positions, box))
-        buildSearch(positions, box);
-    const std::vector<PairSearch::Pair>& candidates = search.getPairs();
-    executor.execute([&](int w) {
-        size_t begin, end;
-        executor.range(w, candidates.size(), begin, end);
-        std::vector<PairGeometry>& out = workerPairs[w];
-        out.clear();
-        PairGeometry g;
-        for (size_t k = begin; k < end; k++)
-            if (parameters.pairGeometry(candidates[k].i, candidates[k].j, positions, box, periodic, g))
-                out.push_back(g);
-    });
-    pairs.clear();
-    for (auto& part : workerPairs)
-        pairs.insert(pairs.end(), part.begin(), part.end());
-}
-
-void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
-                                  std::vector<Vec3>& dissipative, std::vector<Vec3>& randomForce) {
-    const int workers = executor.getNumWorkers();
-    const size_t n = velocities.size();
-    if (workers == 1) {
-        if (terms & DissipativeTerm)
-            zero(dissipative, 0, n);
-        if (terms & RandomTerm)
-            zero(randomForce, 0, n);
-        accumulateDPDForces(pairs, 0, pairs.size(), terms, velocities, random, step, dt, dissipative, randomForce);
-        return;
-    }
-    // Each worker sums its pair range into its own buffers; then each worker reduces a
-    // particle range over all buffers, always in worker order.
-    executor.execute([&](int w) {
-        zero(workerDissipative[w], 0, n);
-        zero(workerRandom[w], 0, n);
-        size_t begin, end;
-        executor.range(w, pairs.size(), begin, end);
-        accumulateDPDForces(pairs, begin, end, terms, velocities, random, step, dt, workerDissipative[w], workerRandom[w]);
-    });
-    executor.execute([&](int w) {
-        size_t begin, end;
-        executor.range(w, n, begin, end);
-        for (size_t i = begin; i < end; i++) {
-            Vec3 fd, fr;
-            for (int k = 0; k < workers; k++) {
-                fd += workerDissipative[k][i];
-                fr += workerRandom[k][i];
-            }
-            if (terms & DissipativeTerm)
-                dissipative[i] = fd;
-            if (terms & RandomTerm)
-                randomForce[i] = fr;
-        }
-    });
-}
-
-DPDVVDynamics::DPDVVDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator, ParallelExecutor& executor, double skin) :
-        executor(executor), thermostat(system, integrator, executor, skin), forcesValid(false), verifyRestoredState(false) {
+DPDVVDynamics::DPDVVDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator, ParallelExecutor& executor) :
+        executor(executor), thermostat(system, integrator, executor), forcesValid(false), verifyRestoredState(false) {
     const int n = system.getNumParticles();
     for (auto* v : {&force, &conservative, &dissipative, &random, &predicted, &velocityNoFD})
         v->resize(n);
@@ -321,6 +198,7 @@ void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDVVIntegrator& in
 
 // The checkpoint holds what the platform's own checkpoint does not: the seed actually in
 // use and the force carried into the next step, in binary so a continuation is bit-exact.
+// (The pair list is a function of the positions alone, so it needs no saving.)
 void DPDVVDynamics::createCheckpoint(std::ostream& stream) const {
     const uint32_t seed = thermostat.getSeed();
     const char valid = forcesValid ? 1 : 0;
@@ -329,7 +207,6 @@ void DPDVVDynamics::createCheckpoint(std::ostream& stream) const {
     stream.write(&valid, 1);
     stream.write((const char*) &n, sizeof(n));
     stream.write((const char*) force.data(), n * sizeof(Vec3));
-    thermostat.writeSearchState(stream);
 }
 
 void DPDVVDynamics::invalidateForces() {
@@ -349,7 +226,6 @@ void DPDVVDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& s
     if (!stream || n != force.size())
         throw OpenMM::OpenMMException("DPDVVIntegrator: the checkpoint does not match this System");
     stream.read((char*) force.data(), n * sizeof(Vec3));
-    thermostat.readSearchState(stream);
     if (!stream)
         throw OpenMM::OpenMMException("DPDVVIntegrator: the checkpoint is truncated");
     thermostat.setSeed(seed);

@@ -5,35 +5,16 @@
 using namespace DPDPlugin;
 using OpenMM::Vec3;
 
-PairSearch::PairSearch(const std::vector<bool>& active, double cutoff, double skin, bool periodic) :
-        active(active), cutoff(cutoff), skin(skin), periodic(periodic), numBuilds(0) {
+PairSearch::PairSearch(const std::vector<bool>& active, double cutoff, bool periodic) :
+        active(active), cutoff(cutoff), periodic(periodic) {
     numCells[0] = numCells[1] = numCells[2] = 0;
 }
 
-bool PairSearch::needsRebuild(const std::vector<Vec3>& positions, const Vec3* newBox) {
-    if (numBuilds == 0 || skin <= 0)
-        return true;
-    if (periodic)
-        for (int k = 0; k < 3; k++)
-            if (newBox[k] != box[k])
-                return true;
-    const double limit2 = 0.25 * skin * skin;
-    for (size_t i = 0; i < positions.size(); i++) {
-        Vec3 d = positions[i] - positionsAtBuild[i];
-        if (d.dot(d) > limit2)
-            return true;
-    }
-    return false;
-}
-
-void PairSearch::buildCells(const std::vector<Vec3>& positions, const Vec3* newBox) {
+void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
     const int n = (int) positions.size();
-    const double radius = cutoff + skin;
-    numBuilds++;
-    positionsAtBuild = positions;
     // Fractional coordinate s_d of a particle, and the fractional distance R_d that a
-    // displacement of length `radius` can span along d.  A cell at least R_d wide means
-    // that pairs within the radius sit in the same or adjacent cells.
+    // displacement as long as the cutoff can span along d.  A cell at least R_d wide means
+    // that pairs within the cutoff sit in the same or adjacent cells.
     std::vector<Vec3> frac(n);
     double reach[3];
     for (int k = 0; k < 3; k++)
@@ -46,7 +27,7 @@ void PairSearch::buildCells(const std::vector<Vec3>& positions, const Vec3* newB
         const Vec3 rowX(1 / a[0], -b[0] / (a[0] * b[1]), (b[0] * c[1] / b[1] - c[0]) / (a[0] * c[2]));
         const Vec3 rows[3] = {rowX, rowY, rowZ};
         for (int k = 0; k < 3; k++)
-            reach[k] = radius * std::sqrt(rows[k].dot(rows[k]));
+            reach[k] = cutoff * std::sqrt(rows[k].dot(rows[k]));
         for (int i = 0; i < n; i++)
             for (int k = 0; k < 3; k++) {
                 double s = rows[k].dot(positions[i]);
@@ -66,8 +47,8 @@ void PairSearch::buildCells(const std::vector<Vec3>& positions, const Vec3* newB
             first = false;
         }
         for (int k = 0; k < 3; k++) {
-            double extent = std::max(hi[k] - lo[k], radius) * (1 + 1e-12);
-            reach[k] = radius / extent;
+            double extent = std::max(hi[k] - lo[k], cutoff) * (1 + 1e-12);
+            reach[k] = cutoff / extent;
             for (int i = 0; i < n; i++)
                 frac[i][k] = (positions[i][k] - lo[k]) / extent;
         }
@@ -141,42 +122,4 @@ void PairSearch::neighbourCells(int cell, std::vector<Neighbour>& out) const {
         std::sort(out.begin(), out.end(), [](const Neighbour& a, const Neighbour& b) { return a.cell < b.cell; });
         out.erase(std::unique(out.begin(), out.end(), [](const Neighbour& a, const Neighbour& b) { return a.cell == b.cell; }), out.end());
     }
-}
-
-void PairSearch::findPairsInCells(int begin, int end, std::vector<Pair>& out) const {
-    const double radius2 = (cutoff + skin) * (cutoff + skin);
-    std::vector<Neighbour> neighbours;
-    neighbours.reserve(27);
-    for (int cell = begin; cell < end; cell++) {
-        neighbourCells(cell, neighbours);
-        for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
-            const Vec3 rp = sortedPositions[p];
-            for (const Neighbour& other : neighbours) {
-                const int first = (other.cell == cell ? p + 1 : cellStart[other.cell]);
-                const int last = cellStart[other.cell + 1];
-                if (other.exactShift) {
-                    const Vec3 rpShifted = rp - other.shift;
-                    for (int q = first; q < last; q++) {
-                        const Vec3 d = rpShifted - sortedPositions[q];
-                        if (d.dot(d) < radius2)
-                            out.push_back({sortedIndex[p], sortedIndex[q]});
-                    }
-                }
-                else
-                    for (int q = first; q < last; q++) {
-                        const Vec3 d = minimumImage(rp - sortedPositions[q], box, periodic);
-                        if (d.dot(d) < radius2)
-                            out.push_back({sortedIndex[p], sortedIndex[q]});
-                    }
-            }
-        }
-    }
-}
-
-void PairSearch::update(const std::vector<Vec3>& positions, const Vec3* newBox) {
-    if (!needsRebuild(positions, newBox))
-        return;
-    buildCells(positions, newBox);
-    pairs.clear();
-    findPairsInCells(0, getNumCells(), pairs);
 }

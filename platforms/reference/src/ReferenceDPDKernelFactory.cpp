@@ -1,4 +1,4 @@
-#include "ReferenceDPDKernels.h"
+#include "openmmdpd/DPDVVStepKernel.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
@@ -13,7 +13,7 @@ class ReferenceDPDKernelFactory : public KernelFactory {
 public:
     KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
         if (name == IntegrateDPDVVStepKernel::Name())
-            return new ReferenceIntegrateDPDVVStepKernel(name, platform);
+            return new DPDVVStepKernel(name, platform, std::unique_ptr<ParallelExecutor>(new SerialExecutor()));
         throw OpenMMException("openmm-dpd Reference plugin: unknown kernel '" + name + "'");
     }
 };

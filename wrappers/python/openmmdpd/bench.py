@@ -13,24 +13,19 @@ import time
 import openmm
 from openmm import unit
 
+from . import DPDVVIntegrator
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
 
-FRICTION = 4.5  # 1/ps for Langevin, amu/ps (gamma) for DPD: the papers' gamma = 4.5
+FRICTION = 4.5  # 1/ps for both; for DPD with unit masses this is the papers' gamma = 4.5
 CUTOFF = 1.0    # nm, the DPD rc
 
 
 def integrator_factories(dt, gw_lambda):
-    """(label, factory) for each integrator benchmarked; DPD ones only if the extension loads."""
+    """(label, factory) for each integrator benchmarked."""
     temperature = KT_TEMPERATURE.value_in_unit(unit.kelvin)
     factories = [("Langevin", lambda: openmm.LangevinMiddleIntegrator(
         KT_TEMPERATURE, FRICTION / unit.picosecond, dt * unit.picosecond))]
-    try:
-        from . import DPDVVIntegrator
-    except ImportError as error:
-        print(f"note: openmmdpd.DPDVVIntegrator is not importable ({error}); "
-              "is the C++ extension built? Timing Langevin only.")
-        return factories
 
     def dpd(variant, lambda_=None):
         def make():

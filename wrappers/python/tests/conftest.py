@@ -7,7 +7,3 @@ try:
 except ImportError:
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
     sys.path.insert(0, os.path.join(root, "build", "python"))
-
-
-def pytest_configure(config):
-    config.addinivalue_line("markers", "slow: long statistical runs (used by the benchmark tool, not CI)")

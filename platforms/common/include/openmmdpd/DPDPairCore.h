@@ -40,13 +40,11 @@ public:
     const std::vector<double>& getInverseMasses() const { return invMass; }
     double getKT() const { return kT; }
     /**
-     * The geometry of a candidate pair at these positions; returns false if the pair is
-     * beyond its own type-pair cutoff.
+     * The geometry of a pair at displacement d = r_i - r_j (nearest image); returns false
+     * if the pair is beyond its own type-pair cutoff.
      */
-    bool pairGeometry(int i, int j, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
-                      bool periodic, PairGeometry& out) const {
+    bool pairGeometry(int i, int j, const OpenMM::Vec3& d, PairGeometry& out) const {
         const int t = typeIndex[i] * numTypes + typeIndex[j];
-        OpenMM::Vec3 d = minimumImage(positions[i] - positions[j], box, periodic);
         const double r2 = d.dot(d);
         if (r2 >= cutoff2[t] || r2 == 0)
             return false;

@@ -26,69 +26,79 @@ inline OpenMM::Vec3 minimumImage(OpenMM::Vec3 d, const OpenMM::Vec3* box, bool p
 }
 
 /**
- * Finds every pair of particles closer than a search radius: a cell list over the box in
- * its own (fractional) coordinates, so rectangular and triclinic periodic boxes and
- * non-periodic systems are handled alike, in O(N).
+ * Finds every pair of particles closer than a cutoff: a cell list over the box in its own
+ * (fractional) coordinates, so rectangular and triclinic periodic boxes and non-periodic
+ * systems are handled alike, in O(N).  Rebuilt at every evaluation, so pairs are found at
+ * the positions where they are used (a Verlet list with a skin measured slower; README).
  *
- * With a skin > 0 this is a Verlet list: pairs within cutoff + skin are kept and the list
- * is rebuilt only once some particle has moved more than skin/2 since the last build (or
- * the box changed).  Callers must still test each pair's distance at the positions they
- * evaluate it at.
- *
- * The pair order is fixed by the geometry (cell by cell), and the cells can be searched
- * in independent ranges (findPairsInCells) whose outputs, concatenated in range order,
- * give the same list whatever the number of ranges: this is how the CPU platform builds
- * it in parallel and still gets the Reference platform's list.
+ * Pairs are visited cell by cell in a fixed order, and ranges of cells can be visited
+ * independently: visiting [0, n) in consecutive ranges and concatenating the results in
+ * range order gives the same sequence whatever the number of ranges.  That is how the CPU
+ * platform searches in parallel and still gets the Reference platform's pair order.
  */
 class PairSearch {
 public:
-    struct Pair {
-        int i, j;
-    };
     /**
      * @param active  particles that take part (e.g. those with non-zero mass)
      */
-    PairSearch(const std::vector<bool>& active, double cutoff, double skin, bool periodic);
-    /**
-     * Prepare a search at these positions.  Returns false if the current list is still
-     * valid (nothing to do); otherwise the cells are rebuilt and the caller must refill the
-     * pair list with findPairsInCells over [0, getNumCells()) followed by setPairs().
-     */
-    bool needsRebuild(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
-    /** Bin the particles into cells (serial, O(N)); call after needsRebuild() returned true. */
-    void buildCells(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    PairSearch(const std::vector<bool>& active, double cutoff, bool periodic);
+    /** Bin the particles into cells (serial, O(N)). */
+    void build(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     int getNumCells() const { return (int) cellStart.size() - 1; }
-    /** Append the pairs whose lower cell is in [begin, end) to out (thread safe). */
-    void findPairsInCells(int begin, int end, std::vector<Pair>& out) const;
-    /** Serial convenience: needsRebuild + buildCells + findPairsInCells over all cells. */
-    void update(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
-    std::vector<Pair>& getPairs() { return pairs; }
-    const std::vector<Pair>& getPairs() const { return pairs; }
-    double getSearchRadius() const { return cutoff + skin; }
     bool isPeriodic() const { return periodic; }
-    int getNumBuilds() const { return numBuilds; }
-    /** Whether a list was built, and at which positions and box (for checkpoints). */
-    bool hasList() const { return numBuilds > 0; }
-    const std::vector<OpenMM::Vec3>& getBuildPositions() const { return positionsAtBuild; }
-    const OpenMM::Vec3* getBuildBox() const { return box; }
+    /**
+     * Call visit(i, j, d) for every pair closer than the cutoff whose lower cell is in
+     * [begin, end); d = r_i - r_j for the nearest image.  Thread safe.
+     */
+    template <class Visitor>
+    void forEachPair(int begin, int end, Visitor&& visit) const;
 
 private:
     struct Neighbour {
         int cell;
-        bool exactShift;     // shift is the image (else test every pair by minimum image)
-        OpenMM::Vec3 shift;  // added to this cell's positions to meet the other cell's
+        bool exactShift;     // shift gives the image (else each pair gets a minimum-image test)
+        OpenMM::Vec3 shift;  // the other cell's image lies at its positions + shift
     };
     void neighbourCells(int cell, std::vector<Neighbour>& out) const;
     std::vector<bool> active;
-    double cutoff, skin;
+    double cutoff;
     bool periodic;
-    int numBuilds;
     int numCells[3];
-    OpenMM::Vec3 box[3], origin, cellScale;
+    OpenMM::Vec3 box[3];
     std::vector<int> cellStart, sortedIndex;
-    std::vector<OpenMM::Vec3> sortedPositions, positionsAtBuild;
-    std::vector<Pair> pairs;
+    std::vector<OpenMM::Vec3> sortedPositions;
 };
+
+template <class Visitor>
+void PairSearch::forEachPair(int begin, int end, Visitor&& visit) const {
+    const double cutoff2 = cutoff * cutoff;
+    std::vector<Neighbour> neighbours;
+    neighbours.reserve(27);
+    for (int cell = begin; cell < end; cell++) {
+        neighbourCells(cell, neighbours);
+        for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
+            const OpenMM::Vec3 rp = sortedPositions[p];
+            for (const Neighbour& other : neighbours) {
+                const int first = (other.cell == cell ? p + 1 : cellStart[other.cell]);
+                const int last = cellStart[other.cell + 1];
+                if (other.exactShift) {
+                    const OpenMM::Vec3 rpShifted = rp - other.shift;
+                    for (int q = first; q < last; q++) {
+                        const OpenMM::Vec3 d = rpShifted - sortedPositions[q];
+                        if (d.dot(d) < cutoff2)
+                            visit(sortedIndex[p], sortedIndex[q], d);
+                    }
+                }
+                else
+                    for (int q = first; q < last; q++) {
+                        const OpenMM::Vec3 d = minimumImage(rp - sortedPositions[q], box, periodic);
+                        if (d.dot(d) < cutoff2)
+                            visit(sortedIndex[p], sortedIndex[q], d);
+                    }
+            }
+        }
+    }
+}
 
 } // namespace DPDPlugin
 

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_PARALLELEXECUTOR_H_
 #define OPENMMDPD_PARALLELEXECUTOR_H_
 
+#include <cstddef>
 #include <functional>
 
 namespace DPDPlugin {

@@ -1,4 +1,5 @@
-#include "CpuDPDKernels.h"
+#include "ThreadPoolExecutor.h"
+#include "openmmdpd/DPDVVStepKernel.h"
 #include "CpuPlatform.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
@@ -7,17 +8,14 @@
 using namespace DPDPlugin;
 using namespace OpenMM;
 
-CpuIntegrateDPDVVStepKernel::CpuIntegrateDPDVVStepKernel(std::string name, const Platform& platform, ContextImpl& context) :
-        IntegrateDPDVVStepKernel(name, platform), executor(CpuPlatform::getPlatformData(context).threads) {
-}
-
 namespace {
 
 class CpuDPDKernelFactory : public KernelFactory {
 public:
     KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
         if (name == IntegrateDPDVVStepKernel::Name())
-            return new CpuIntegrateDPDVVStepKernel(name, platform, context);
+            return new DPDVVStepKernel(name, platform,
+                                       std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(CpuPlatform::getPlatformData(context).threads)));
         throw OpenMMException("openmm-dpd CPU plugin: unknown kernel '" + name + "'");
     }
 };

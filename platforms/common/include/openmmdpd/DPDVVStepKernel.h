@@ -1,5 +1,5 @@
-#ifndef OPENMMDPD_REFERENCEDPDKERNELS_H_
-#define OPENMMDPD_REFERENCEDPDKERNELS_H_
+#ifndef OPENMMDPD_DPDVVSTEPKERNEL_H_
+#define OPENMMDPD_DPDVVSTEPKERNEL_H_
 
 #include "openmmdpd/DPDKernels.h"
 #include "openmmdpd/DPDVVDynamics.h"
@@ -7,12 +7,16 @@
 
 namespace DPDPlugin {
 
-/** The Reference platform's DPD-VV step: the common update rule run serially. */
-class ReferenceIntegrateDPDVVStepKernel : public IntegrateDPDVVStepKernel {
+/**
+ * The DPD-VV step kernel of every platform: the common update rule run on the executor the
+ * platform supplies (serial on Reference, OpenMM's ThreadPool on CPU).
+ */
+class DPDVVStepKernel : public IntegrateDPDVVStepKernel {
 public:
-    ReferenceIntegrateDPDVVStepKernel(std::string name, const OpenMM::Platform& platform) : IntegrateDPDVVStepKernel(name, platform) {}
+    DPDVVStepKernel(std::string name, const OpenMM::Platform& platform, std::unique_ptr<ParallelExecutor> executor) :
+            IntegrateDPDVVStepKernel(name, platform), executor(std::move(executor)) {}
     void initialize(const OpenMM::System& system, const DPDVVIntegrator& integrator) override {
-        dynamics.reset(new DPDVVDynamics(system, integrator, executor, DEFAULT_PAIR_SKIN));
+        dynamics.reset(new DPDVVDynamics(system, integrator, *executor));
     }
     void execute(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) override { dynamics->step(context, integrator); }
     double computeKineticEnergy(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) override {
@@ -23,7 +27,7 @@ public:
     void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) override { dynamics->loadCheckpoint(context, stream); }
 
 private:
-    SerialExecutor executor;
+    std::unique_ptr<ParallelExecutor> executor;
     std::unique_ptr<DPDVVDynamics> dynamics;
 };
 

@@ -1,0 +1,41 @@
+#ifndef OPENMMDPD_DPDTHERMOSTATFORCES_H_
+#define OPENMMDPD_DPDTHERMOSTATFORCES_H_
+
+#include "openmmdpd/DPDPairCore.h"
+#include "openmmdpd/ParallelExecutor.h"
+#include <vector>
+
+namespace DPDPlugin {
+
+/**
+ * The thermostat half of every pair-force DPD step: the pair list at the current
+ * positions and the dissipative/random per-particle forces from it, computed over a
+ * ParallelExecutor.  Integrators with a pair-force update rule (DPD-VV family, the
+ * staggered scheme) call this; pairwise-sequential rules use the same pair list.
+ */
+class DPDThermostatForces {
+public:
+    DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor);
+    const DPDPairParameters& getParameters() const { return parameters; }
+    /** Find the pairs within their cutoffs at these positions. */
+    void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    const std::vector<PairGeometry>& getPairs() const { return pairs; }
+    /** Overwrite dissipative and/or random (per `terms`) with the pair forces. */
+    void compute(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
+                 std::vector<OpenMM::Vec3>& dissipative, std::vector<OpenMM::Vec3>& random);
+    void setSeed(uint32_t seed) { random = PairRandom(seed); }
+    uint32_t getSeed() const { return random.getSeed(); }
+
+private:
+    DPDPairParameters parameters;
+    ParallelExecutor& executor;
+    PairSearch search;
+    PairRandom random;
+    std::vector<PairGeometry> pairs;
+    std::vector<std::vector<PairGeometry>> workerPairs;
+    std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
+};
+
+} // namespace DPDPlugin
+
+#endif

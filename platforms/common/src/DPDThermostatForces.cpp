@@ -1,0 +1,98 @@
+#include "openmmdpd/DPDThermostatForces.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/internal/OSRngSeed.h"
+#include <algorithm>
+#include <sstream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+namespace {
+
+void zero(std::vector<Vec3>& v, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; i++)
+        v[i] = Vec3();
+}
+
+} // namespace
+
+DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
+                                         ParallelExecutor& executor) :
+        parameters(system, integrator), executor(executor),
+        search(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions()),
+        random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
+    const int workers = executor.getNumWorkers();
+    workerPairs.resize(workers);
+    if (workers > 1) {
+        workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
+        workerRandom.assign(workers, std::vector<Vec3>(system.getNumParticles()));
+    }
+}
+
+void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
+    if (search.isPeriodic()) {
+        const double halfWidth = 0.5 * std::min(box[0][0], std::min(box[1][1], box[2][2]));
+        if (parameters.getMaxCutoff() > halfWidth) {
+            std::ostringstream message;
+            message << "the thermostat cutoff (" << parameters.getMaxCutoff() << " nm) must not exceed half the periodic box width ("
+                    << halfWidth << " nm)";
+            throw OpenMM::OpenMMException(message.str());
+        }
+    }
+    search.build(positions, box);
+    // Cell ranges in order, concatenated in order: the same pairs in the same order for any
+    // number of workers.
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, search.getNumCells(), begin, end);
+        std::vector<PairGeometry>& out = workerPairs[w];
+        out.clear();
+        PairGeometry g;
+        search.forEachPair((int) begin, (int) end, [&](int i, int j, const Vec3& d) {
+            if (parameters.pairGeometry(i, j, d, g))
+                out.push_back(g);
+        });
+    });
+    pairs.clear();
+    for (auto& part : workerPairs)
+        pairs.insert(pairs.end(), part.begin(), part.end());
+}
+
+void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
+                                  std::vector<Vec3>& dissipative, std::vector<Vec3>& randomForce) {
+    const int workers = executor.getNumWorkers();
+    const size_t n = velocities.size();
+    if (workers == 1) {
+        if (terms & DissipativeTerm)
+            zero(dissipative, 0, n);
+        if (terms & RandomTerm)
+            zero(randomForce, 0, n);
+        accumulateDPDForces(pairs, 0, pairs.size(), terms, velocities, random, step, dt, dissipative, randomForce);
+        return;
+    }
+    // Each worker sums its pair range into its own buffers; then each worker reduces a
+    // particle range over all buffers, always in worker order.
+    executor.execute([&](int w) {
+        zero(workerDissipative[w], 0, n);
+        zero(workerRandom[w], 0, n);
+        size_t begin, end;
+        executor.range(w, pairs.size(), begin, end);
+        accumulateDPDForces(pairs, begin, end, terms, velocities, random, step, dt, workerDissipative[w], workerRandom[w]);
+    });
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, n, begin, end);
+        for (size_t i = begin; i < end; i++) {
+            Vec3 fd, fr;
+            for (int k = 0; k < workers; k++) {
+                fd += workerDissipative[k][i];
+                fr += workerRandom[k][i];
+            }
+            if (terms & DissipativeTerm)
+                dissipative[i] = fd;
+            if (terms & RandomTerm)
+                randomForce[i] = fr;
+        }
+    });
+}
+
