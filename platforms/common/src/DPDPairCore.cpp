@@ -44,21 +44,49 @@ DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDTher
     }
 }
 
+namespace {
+
+template <bool Dissipative, bool Random, bool Sum>
+void accumulate(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, const std::vector<Vec3>& velocities,
+                const PairRandom& random, long long step, double invSqrtDt, std::vector<Vec3>& dissipative,
+                std::vector<Vec3>& randomForce) {
+    for (size_t k = begin; k < end; k++) {
+        const PairGeometry& p = pairs[k];
+        Vec3 fd, fr;
+        if (Dissipative)
+            fd = DPDPairForce::dissipative(p, velocities[p.i] - velocities[p.j]);
+        if (Random)
+            fr = DPDPairForce::random(p, random.gaussian(PairRandom::RandomForce, step, p.i, p.j), invSqrtDt);
+        if (Sum) {
+            const Vec3 f = fd + fr;
+            dissipative[p.i] += f;
+            dissipative[p.j] -= f;
+            continue;
+        }
+        if (Dissipative) {
+            dissipative[p.i] += fd;
+            dissipative[p.j] -= fd;
+        }
+        if (Random) {
+            randomForce[p.i] += fr;
+            randomForce[p.j] -= fr;
+        }
+    }
+}
+
+} // namespace
+
 void DPDPlugin::accumulateDPDForces(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, int terms,
                                     const std::vector<Vec3>& velocities, const PairRandom& random, long long step,
                                     double dt, std::vector<Vec3>& dissipative, std::vector<Vec3>& randomForce) {
     const double invSqrtDt = 1 / std::sqrt(dt);
-    for (size_t k = begin; k < end; k++) {
-        const PairGeometry& p = pairs[k];
-        if (terms & DissipativeTerm) {
-            Vec3 f = DPDPairForce::dissipative(p, velocities[p.i] - velocities[p.j]);
-            dissipative[p.i] += f;
-            dissipative[p.j] -= f;
-        }
-        if (terms & RandomTerm) {
-            Vec3 f = DPDPairForce::random(p, random.gaussian(PairRandom::RandomForce, step, p.i, p.j), invSqrtDt);
-            randomForce[p.i] += f;
-            randomForce[p.j] -= f;
-        }
-    }
+    const bool both = (terms & DissipativeTerm) && (terms & RandomTerm);
+    if (both && &dissipative == &randomForce)
+        accumulate<true, true, true>(pairs, begin, end, velocities, random, step, invSqrtDt, dissipative, randomForce);
+    else if (both)
+        accumulate<true, true, false>(pairs, begin, end, velocities, random, step, invSqrtDt, dissipative, randomForce);
+    else if (terms & DissipativeTerm)
+        accumulate<true, false, false>(pairs, begin, end, velocities, random, step, invSqrtDt, dissipative, randomForce);
+    else if (terms & RandomTerm)
+        accumulate<false, true, false>(pairs, begin, end, velocities, random, step, invSqrtDt, dissipative, randomForce);
 }

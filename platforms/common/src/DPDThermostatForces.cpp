@@ -62,10 +62,12 @@ void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities
                                   std::vector<Vec3>& dissipative, std::vector<Vec3>& randomForce) {
     const int workers = executor.getNumWorkers();
     const size_t n = velocities.size();
+    const bool sum = (&dissipative == &randomForce);
+    const bool writeDissipative = sum || (terms & DissipativeTerm), writeRandom = !sum && (terms & RandomTerm);
     if (workers == 1) {
-        if (terms & DissipativeTerm)
+        if (writeDissipative)
             zero(dissipative, 0, n);
-        if (terms & RandomTerm)
+        if (writeRandom)
             zero(randomForce, 0, n);
         accumulateDPDForces(pairs, 0, pairs.size(), terms, velocities, random, step, dt, dissipative, randomForce);
         return;
@@ -73,26 +75,32 @@ void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities
     // Each worker sums its pair range into its own buffers; then each worker reduces a
     // particle range over all buffers, always in worker order.
     executor.execute([&](int w) {
-        zero(workerDissipative[w], 0, n);
-        zero(workerRandom[w], 0, n);
+        std::vector<Vec3>& ownDissipative = workerDissipative[w];
+        std::vector<Vec3>& ownRandom = sum ? workerDissipative[w] : workerRandom[w];
+        if (writeDissipative)
+            zero(ownDissipative, 0, n);
+        if (writeRandom)
+            zero(ownRandom, 0, n);
         size_t begin, end;
         executor.range(w, pairs.size(), begin, end);
-        accumulateDPDForces(pairs, begin, end, terms, velocities, random, step, dt, workerDissipative[w], workerRandom[w]);
+        accumulateDPDForces(pairs, begin, end, terms, velocities, random, step, dt, ownDissipative, ownRandom);
     });
     executor.execute([&](int w) {
         size_t begin, end;
         executor.range(w, n, begin, end);
         for (size_t i = begin; i < end; i++) {
-            Vec3 fd, fr;
-            for (int k = 0; k < workers; k++) {
-                fd += workerDissipative[k][i];
-                fr += workerRandom[k][i];
+            if (writeDissipative) {
+                Vec3 f;
+                for (int k = 0; k < workers; k++)
+                    f += workerDissipative[k][i];
+                dissipative[i] = f;
             }
-            if (terms & DissipativeTerm)
-                dissipative[i] = fd;
-            if (terms & RandomTerm)
-                randomForce[i] = fr;
+            if (writeRandom) {
+                Vec3 f;
+                for (int k = 0; k < workers; k++)
+                    f += workerRandom[k][i];
+                randomForce[i] = f;
+            }
         }
     });
 }
-

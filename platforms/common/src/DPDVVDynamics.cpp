@@ -88,9 +88,9 @@ void DPDVVDynamics::computeInitialForce(OpenMM::ContextImpl& context, const DPDV
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     const long long step = data.stepCount;
     computeConservativeAndPairs(context, integrator, step);
-    thermostat.compute(DissipativeTerm | RandomTerm, *data.velocities, step, integrator.getStepSize(), dissipative, random);
+    thermostat.compute(DissipativeTerm | RandomTerm, *data.velocities, step, integrator.getStepSize(), dissipative, dissipative);
     for (size_t i = 0; i < force.size(); i++)
-        force[i] = conservative[i] + dissipative[i] + random[i];
+        force[i] = conservative[i] + dissipative[i];
     forcesValid = true;
 }
 
@@ -129,13 +129,13 @@ void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDVVIntegrator& in
         checkPositions(r, next);
         // F(t+dt) = FC(r) + FD(r, v~) + FR(r)
         computeConservativeAndPairs(context, integrator, next);
-        thermostat.compute(DissipativeTerm | RandomTerm, predicted, next, dt, dissipative, random);
+        thermostat.compute(DissipativeTerm | RandomTerm, predicted, next, dt, dissipative, dissipative);
         // v += dt/(2m) [F + F(t+dt)]
         executor.execute([&](int w) {
             size_t begin, end;
             executor.range(w, n, begin, end);
             for (size_t i = begin; i < end; i++) {
-                Vec3 newForce = conservative[i] + dissipative[i] + random[i];
+                Vec3 newForce = conservative[i] + dissipative[i];
                 v[i] += (force[i] + newForce) * (0.5 * dt * invMass[i]);
                 force[i] = newForce;
             }

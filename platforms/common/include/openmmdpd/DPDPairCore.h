@@ -15,13 +15,14 @@ constexpr double BOLTZMANN_KJ_PER_MOL_K = 0.00831446261815324;
 
 /**
  * One pair within its thermostat cutoff, with everything the pair rules need at the
- * current positions: the unit vector e = r_ij / r (minimum image), the weight
- * wR = 1 - r/rc, and the pair's friction gamma_ij and noise amplitude sigma_ij.
+ * current positions: the unit vector e = r_ij / r (minimum image) and, with the weight
+ * wR = 1 - r/rc, the pair's weighted friction gamma_ij wD = gamma_ij wR^2 and weighted
+ * noise amplitude sigma_ij wR.
  */
 struct PairGeometry {
     int i, j;
     OpenMM::Vec3 e;
-    double wR, gamma, sigma;
+    double gammaWD, sigmaWR;
 };
 
 /**
@@ -50,12 +51,13 @@ public:
             return false;
         const double r = std::sqrt(r2);
         const double mu = mass[i] * mass[j] / (mass[i] + mass[j]);
+        const double wR = 1 - r / cutoff[t];
+        const double gamma = 2 * mu * friction[t];
         out.i = i;
         out.j = j;
         out.e = d / r;
-        out.wR = 1 - r / cutoff[t];
-        out.gamma = 2 * mu * friction[t];
-        out.sigma = std::sqrt(2 * out.gamma * kT);
+        out.gammaWD = gamma * wR * wR;
+        out.sigmaWR = std::sqrt(2 * gamma * kT) * wR;
         return true;
     }
 
@@ -74,11 +76,11 @@ private:
 struct DPDPairForce {
     /** FD_ij = -gamma wD(r) (e . v_ij) e, wD = wR^2. */
     static OpenMM::Vec3 dissipative(const PairGeometry& p, const OpenMM::Vec3& vij) {
-        return p.e * (-p.gamma * p.wR * p.wR * p.e.dot(vij));
+        return p.e * (-p.gammaWD * p.e.dot(vij));
     }
     /** FR_ij = sigma wR xi e / sqrt(dt). */
     static OpenMM::Vec3 random(const PairGeometry& p, double xi, double invSqrtDt) {
-        return p.e * (p.sigma * p.wR * xi * invSqrtDt);
+        return p.e * (p.sigmaWR * xi * invSqrtDt);
     }
 };
 
@@ -87,7 +89,8 @@ enum PairTerms { DissipativeTerm = 1, RandomTerm = 2 };
 
 /**
  * Adds the dissipative and/or random pair forces of pairs [begin, end) to `dissipative`
- * and `random` (per-particle arrays).  The random numbers are keyed by `step`.
+ * and `random` (per-particle arrays).  The random numbers are keyed by `step`.  Passing
+ * the same array for both adds their sum (one scattered write per pair instead of two).
  */
 void accumulateDPDForces(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, int terms,
                          const std::vector<OpenMM::Vec3>& velocities, const PairRandom& random, long long step,

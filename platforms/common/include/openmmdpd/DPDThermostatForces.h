@@ -20,7 +20,10 @@ public:
     /** Find the pairs within their cutoffs at these positions. */
     void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     const std::vector<PairGeometry>& getPairs() const { return pairs; }
-    /** Overwrite dissipative and/or random (per `terms`) with the pair forces. */
+    /**
+     * Overwrite dissipative and/or random (per `terms`) with the pair forces; given the
+     * same array for both, it receives their sum.
+     */
     void compute(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
                  std::vector<OpenMM::Vec3>& dissipative, std::vector<OpenMM::Vec3>& random);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
