@@ -1,4 +1,7 @@
 #include "openmmdpd/DPDThermostatIntegrator.h"
+#include "openmmdpd/DPDKernels.h"
+#include "openmm/Context.h"
+#include "openmm/internal/ContextImpl.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/System.h"
 #include <algorithm>
@@ -115,7 +118,14 @@ double DPDThermostatIntegrator::getMaxCutoff() const {
     return c;
 }
 
-void DPDThermostatIntegrator::validateAgainstSystem(const OpenMM::System& system) const {
+double DPDThermostatIntegrator::getMaxFriction() const {
+    double f = defaultFriction;
+    for (const TypePair& p : typePairs)
+        f = std::max(f, p.friction);
+    return f;
+}
+
+void DPDThermostatIntegrator::validate(const OpenMM::System& system) const {
     const std::string name = className();
     int n = system.getNumParticles();
     std::set<int> usedTypes = {0};
@@ -137,4 +147,53 @@ void DPDThermostatIntegrator::validateAgainstSystem(const OpenMM::System& system
         require(getMaxCutoff() <= halfWidth, name + ": the thermostat cutoff (" + str(getMaxCutoff()) +
                 " nm) must not exceed half the periodic box width (" + str(halfWidth) + " nm)");
     }
+}
+
+void DPDThermostatIntegrator::initialize(OpenMM::ContextImpl& contextRef) {
+    if (owner != nullptr && &contextRef.getOwner() != owner)
+        throw OpenMMException("This Integrator is already bound to a context");
+    validate(contextRef.getSystem());
+    kernel = contextRef.getPlatform().createKernel(kernelName(), contextRef);
+    kernel.getAs<IntegrateDPDStepKernel>().initialize(contextRef.getSystem(), *this);
+    context = &contextRef;
+    owner = &contextRef.getOwner();
+}
+
+void DPDThermostatIntegrator::cleanup() {
+    kernel = OpenMM::Kernel();
+    context = nullptr;
+}
+
+std::vector<std::string> DPDThermostatIntegrator::getKernelNames() {
+    return {kernelName()};
+}
+
+void DPDThermostatIntegrator::stateChanged(OpenMM::State::DataType changed) {
+    if (context != nullptr)
+        kernel.getAs<IntegrateDPDStepKernel>().invalidateForces();
+}
+
+double DPDThermostatIntegrator::computeKineticEnergy() {
+    return kernel.getAs<IntegrateDPDStepKernel>().computeKineticEnergy(*context);
+}
+
+void DPDThermostatIntegrator::step(int steps) {
+    if (context == nullptr)
+        throw OpenMMException("This Integrator is not bound to a context!");
+    // Parameters may have been changed since the Context was created.
+    validate(context->getSystem());
+    IntegrateDPDStepKernel& stepKernel = kernel.getAs<IntegrateDPDStepKernel>();
+    for (int i = 0; i < steps; i++) {
+        if (context->updateContextState())
+            stepKernel.invalidateForces();
+        stepKernel.execute(*context, *this);
+    }
+}
+
+void DPDThermostatIntegrator::createCheckpoint(std::ostream& stream) const {
+    kernel.getAs<const IntegrateDPDStepKernel>().createCheckpoint(*context, stream);
+}
+
+void DPDThermostatIntegrator::loadCheckpoint(std::istream& stream) {
+    kernel.getAs<IntegrateDPDStepKernel>().loadCheckpoint(*context, stream);
 }

@@ -1,8 +1,6 @@
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/DPDKernels.h"
-#include "openmm/Context.h"
 #include "openmm/OpenMMException.h"
-#include "openmm/internal/ContextImpl.h"
 #include <cmath>
 #include <string>
 
@@ -38,48 +36,6 @@ void DPDVVIntegrator::setTolerance(double tol) {
     tolerance = tol;
 }
 
-void DPDVVIntegrator::initialize(OpenMM::ContextImpl& contextRef) {
-    if (owner != nullptr && &contextRef.getOwner() != owner)
-        throw OpenMMException("This Integrator is already bound to a context");
-    validateAgainstSystem(contextRef.getSystem());
-    kernel = contextRef.getPlatform().createKernel(IntegrateDPDVVStepKernel::Name(), contextRef);
-    kernel.getAs<IntegrateDPDVVStepKernel>().initialize(contextRef.getSystem(), *this);
-    context = &contextRef;
-    owner = &contextRef.getOwner();
-}
-
-void DPDVVIntegrator::cleanup() {
-    kernel = OpenMM::Kernel();
-    context = nullptr;
-}
-
-std::vector<std::string> DPDVVIntegrator::getKernelNames() {
-    return {IntegrateDPDVVStepKernel::Name()};
-}
-
-void DPDVVIntegrator::stateChanged(OpenMM::State::DataType changed) {
-    if (context != nullptr)
-        kernel.getAs<IntegrateDPDVVStepKernel>().invalidateForces();
-}
-
-double DPDVVIntegrator::computeKineticEnergy() {
-    return kernel.getAs<IntegrateDPDVVStepKernel>().computeKineticEnergy(*context, *this);
-}
-
-void DPDVVIntegrator::step(int steps) {
-    if (context == nullptr)
-        throw OpenMMException("This Integrator is not bound to a context!");
-    for (int i = 0; i < steps; i++) {
-        if (context->updateContextState())
-            kernel.getAs<IntegrateDPDVVStepKernel>().invalidateForces();
-        kernel.getAs<IntegrateDPDVVStepKernel>().execute(*context, *this);
-    }
-}
-
-void DPDVVIntegrator::createCheckpoint(std::ostream& stream) const {
-    kernel.getAs<const IntegrateDPDVVStepKernel>().createCheckpoint(*context, stream);
-}
-
-void DPDVVIntegrator::loadCheckpoint(std::istream& stream) {
-    kernel.getAs<IntegrateDPDVVStepKernel>().loadCheckpoint(*context, stream);
+std::string DPDVVIntegrator::kernelName() const {
+    return IntegrateDPDStepKernel::DPDVVName();
 }

@@ -1,9 +1,14 @@
+#include "openmmdpd/DPDSerializationHelpers.h"
 #include "openmmdpd/DPDVVIntegrator.h"
-#include "openmmdpd/DPDVVIntegratorProxy.h"
-#include "openmm/serialization/SerializationProxy.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/ShardlowIntegrator.h"
+
+using namespace DPDPlugin;
 
 // Registered when the library is loaded, so that XmlSerializer knows our classes as soon
 // as the plugin (or the Python module) is.
 extern "C" void __attribute__((constructor)) registerDPDSerializationProxies() {
-    OpenMM::SerializationProxy::registerProxy(typeid(DPDPlugin::DPDVVIntegrator), new DPDPlugin::DPDVVIntegratorProxy());
+    OpenMM::SerializationProxy::registerProxy(typeid(DPDVVIntegrator), new DPDIntegratorProxy<DPDVVIntegrator>());
+    OpenMM::SerializationProxy::registerProxy(typeid(ShardlowIntegrator), new DPDIntegratorProxy<ShardlowIntegrator>());
+    OpenMM::SerializationProxy::registerProxy(typeid(LoweAndersenIntegrator), new DPDIntegratorProxy<LoweAndersenIntegrator>());
 }

@@ -5,6 +5,8 @@
 %{
 #include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/ShardlowIntegrator.h"
 #include "openmm/OpenMMException.h"
 #include <exception>
 %}
@@ -40,6 +42,18 @@ from openmmdpd.units import strip_units as _strip
 %pythonprepend DPDPlugin::DPDVVIntegrator::DPDVVIntegrator %{
     temperature = _strip(temperature, _unit.kelvin)
     defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
+    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
+    stepSize = _strip(stepSize, _unit.picosecond)
+%}
+%pythonprepend DPDPlugin::ShardlowIntegrator::ShardlowIntegrator %{
+    temperature = _strip(temperature, _unit.kelvin)
+    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
+    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
+    stepSize = _strip(stepSize, _unit.picosecond)
+%}
+%pythonprepend DPDPlugin::LoweAndersenIntegrator::LoweAndersenIntegrator %{
+    temperature = _strip(temperature, _unit.kelvin)
+    defaultGamma = _strip(defaultGamma, _unit.picosecond**-1)
     defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
     stepSize = _strip(stepSize, _unit.picosecond)
 %}
@@ -85,27 +99,33 @@ from openmmdpd.units import strip_units as _strip
 %apply double& OUTPUT { double& friction, double& cutoff };
 
 // Only the public interface: the protected Integrator hooks are for OpenMM.
-%ignore DPDPlugin::DPDThermostatIntegrator::validateAgainstSystem;
+%ignore DPDPlugin::DPDThermostatIntegrator::validate;
+%ignore DPDPlugin::LoweAndersenIntegrator::validate;
 %ignore DPDPlugin::DPDThermostatIntegrator::checkTypePair;
 
 %include "openmmdpd/DPDThermostatIntegrator.h"
 %include "openmmdpd/DPDVVIntegrator.h"
+%include "openmmdpd/ShardlowIntegrator.h"
+%include "openmmdpd/LoweAndersenIntegrator.h"
 
 %clear int& type1, int& type2;
 %clear double& friction, double& cutoff;
 
-%extend DPDPlugin::DPDVVIntegrator {
-    static DPDPlugin::DPDVVIntegrator* _cast(OpenMM::Integrator* integrator) {
-        return dynamic_cast<DPDPlugin::DPDVVIntegrator*>(integrator);
+// Every integrator class gets cast() (from a base Integrator proxy, e.g. what
+// XmlSerializer.deserialize returns), pickling and copying that keep its own class.
+%define DPD_INTEGRATOR_EXTRAS(CLASS)
+%extend DPDPlugin::CLASS {
+    static DPDPlugin::CLASS* _cast(OpenMM::Integrator* integrator) {
+        return dynamic_cast<DPDPlugin::CLASS*>(integrator);
     }
     %pythoncode %{
     @staticmethod
     def cast(integrator):
-        """The DPDVVIntegrator behind a base Integrator proxy (e.g. from XmlSerializer), or None.
+        """The CLASS behind a base Integrator proxy (e.g. from XmlSerializer), or None.
 
         The result keeps `integrator` alive, which owns the C++ object, so
-        `DPDVVIntegrator.cast(XmlSerializer.deserialize(xml))` is safe."""
-        result = DPDVVIntegrator._cast(integrator)
+        `CLASS.cast(XmlSerializer.deserialize(xml))` is safe."""
+        result = CLASS._cast(integrator)
         if result is not None:
             result._owner = integrator
         return result
@@ -116,11 +136,11 @@ from openmmdpd.units import strip_units as _strip
     def __setstate__(self, state):
         base = _mm.XmlSerializer.deserialize(state)
         base.thisown = False  # this proxy takes over the C++ object
-        self.this = DPDVVIntegrator._cast(base).this
+        self.this = CLASS._cast(base).this
         self.thisown = True
 
     def __copy__(self):
-        copy = DPDVVIntegrator.__new__(DPDVVIntegrator)
+        copy = CLASS.__new__(CLASS)
         copy.__setstate__(self.__getstate__())
         return copy
 
@@ -128,3 +148,8 @@ from openmmdpd.units import strip_units as _strip
         return self.__copy__()
     %}
 }
+%enddef
+
+DPD_INTEGRATOR_EXTRAS(DPDVVIntegrator)
+DPD_INTEGRATOR_EXTRAS(ShardlowIntegrator)
+DPD_INTEGRATOR_EXTRAS(LoweAndersenIntegrator)

@@ -2,6 +2,7 @@
 #define OPENMMDPD_DPDTHERMOSTATINTEGRATOR_H_
 
 #include "openmm/Integrator.h"
+#include "openmm/Kernel.h"
 #include <map>
 #include <vector>
 
@@ -15,6 +16,10 @@ namespace DPDPlugin {
  * The parameter model mirrors OpenMM 8.3's DPDIntegrator so that scripts can switch by
  * class name.  A pair (i, j) with types (ti, tj) uses the parameters given to
  * addTypePair(ti, tj, ...) if such an entry exists, and the defaults otherwise.
+ *
+ * It also owns the plumbing every such integrator shares with OpenMM (binding to a
+ * Context, stepping, kinetic energy, checkpoints): a subclass names its kernel and adds
+ * its own parameters and checks.
  *
  * Friction is a rate in 1/ps.  The pair friction coefficient of the DPD equations is
  * gamma_ij = 2 mu_ij friction (amu/ps), with mu_ij = m_i m_j / (m_i + m_j) the pair's
@@ -73,14 +78,30 @@ public:
     void setRandomNumberSeed(int seed) { randomNumberSeed = seed; }
     /** The largest thermostat cutoff over the defaults and all type pairs (nm). */
     double getMaxCutoff() const;
+    /** The largest friction over the defaults and all type pairs (1/ps). */
+    double getMaxFriction() const;
+    /** Advance the simulation by a number of steps. */
+    void step(int steps) override;
 
-protected:
     /** The name used in error messages, e.g. "DPDVVIntegrator". */
     virtual const char* className() const = 0;
-    /** Throw an OpenMMException unless the type-pair table is consistent with the System. */
-    void validateAgainstSystem(const OpenMM::System& system) const;
+    /**
+     * Throw an OpenMMException unless the parameters are consistent with each other and
+     * with the System; called when a Context is created and before every step.
+     */
+    virtual void validate(const OpenMM::System& system) const;
+
+protected:
+    /** The name of the kernel that takes the steps. */
+    virtual std::string kernelName() const = 0;
     void checkTypePair(int type1, int type2, double friction, double cutoff) const;
-    std::vector<std::string> getKernelNames() override = 0;
+    void initialize(OpenMM::ContextImpl& context) override;
+    void cleanup() override;
+    std::vector<std::string> getKernelNames() override;
+    void stateChanged(OpenMM::State::DataType changed) override;
+    double computeKineticEnergy() override;
+    void createCheckpoint(std::ostream& stream) const override;
+    void loadCheckpoint(std::istream& stream) override;
 
 private:
     struct TypePair {
@@ -91,6 +112,7 @@ private:
     int randomNumberSeed;
     std::map<int, int> particleType;
     std::vector<TypePair> typePairs;
+    OpenMM::Kernel kernel;
 };
 
 } // namespace DPDPlugin

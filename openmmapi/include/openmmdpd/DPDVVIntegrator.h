@@ -2,7 +2,6 @@
 #define OPENMMDPD_DPDVVINTEGRATOR_H_
 
 #include "openmmdpd/DPDThermostatIntegrator.h"
-#include "openmm/Kernel.h"
 
 namespace DPDPlugin {
 
@@ -50,24 +49,15 @@ public:
     double getTolerance() const { return tolerance; }
     /** Set the relative temperature tolerance of the SelfConsistent variant (>= 0). */
     void setTolerance(double tol);
-    /** Advance the simulation by a number of steps. */
-    void step(int steps) override;
+    const char* className() const override { return "DPDVVIntegrator"; }
 
 protected:
-    const char* className() const override { return "DPDVVIntegrator"; }
-    void initialize(OpenMM::ContextImpl& context) override;
-    void cleanup() override;
-    std::vector<std::string> getKernelNames() override;
-    void stateChanged(OpenMM::State::DataType changed) override;
-    double computeKineticEnergy() override;
-    void createCheckpoint(std::ostream& stream) const override;
-    void loadCheckpoint(std::istream& stream) override;
+    std::string kernelName() const override;
 
 private:
     Variant variant;
     double lambda, tolerance;
     int maxIterations;
-    OpenMM::Kernel kernel;
 };
 
 } // namespace DPDPlugin

@@ -17,9 +17,9 @@ void zero(std::vector<Vec3>& v, size_t begin, size_t end) {
 } // namespace
 
 DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
-                                         ParallelExecutor& executor) :
+                                         ParallelExecutor& executor, int cellMultiple) :
         parameters(system, integrator), executor(executor),
-        search(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions()),
+        search(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
         random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
     const int workers = executor.getNumWorkers();
     workerPairs.resize(workers);
@@ -40,22 +40,33 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         }
     }
     search.build(positions, box);
+    const int numCells = search.getNumCells();
+    cellPairStart.resize(numCells + 1);
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
     // number of workers.
     executor.execute([&](int w) {
         size_t begin, end;
-        executor.range(w, search.getNumCells(), begin, end);
+        executor.range(w, numCells, begin, end);
         std::vector<PairGeometry>& out = workerPairs[w];
         out.clear();
         PairGeometry g;
-        search.forEachPair((int) begin, (int) end, [&](int i, int j, const Vec3& d) {
-            if (parameters.pairGeometry(i, j, d, g))
-                out.push_back(g);
-        });
+        for (size_t cell = begin; cell < end; cell++) {
+            cellPairStart[cell] = (int) out.size();  // local offset, made global below
+            search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
+                if (parameters.pairGeometry(i, j, d, g))
+                    out.push_back(g);
+            });
+        }
     });
     pairs.clear();
-    for (auto& part : workerPairs)
-        pairs.insert(pairs.end(), part.begin(), part.end());
+    for (int w = 0; w < (int) workerPairs.size(); w++) {
+        size_t begin, end;
+        executor.range(w, numCells, begin, end);
+        for (size_t cell = begin; cell < end; cell++)
+            cellPairStart[cell] += (int) pairs.size();
+        pairs.insert(pairs.end(), workerPairs[w].begin(), workerPairs[w].end());
+    }
+    cellPairStart[numCells] = (int) pairs.size();
 }
 
 void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,

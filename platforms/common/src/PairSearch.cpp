@@ -5,8 +5,8 @@
 using namespace DPDPlugin;
 using OpenMM::Vec3;
 
-PairSearch::PairSearch(const std::vector<bool>& active, double cutoff, bool periodic) :
-        active(active), cutoff(cutoff), periodic(periodic) {
+PairSearch::PairSearch(const std::vector<bool>& active, double cutoff, bool periodic, int cellMultiple) :
+        active(active), cutoff(cutoff), periodic(periodic), colourable(false), cellMultiple(cellMultiple) {
     numCells[0] = numCells[1] = numCells[2] = 0;
 }
 
@@ -54,8 +54,15 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
         }
     }
     int total = 1;
+    colourable = true;
     for (int k = 0; k < 3; k++) {
         numCells[k] = std::max(1, (int) std::floor(1.0 / reach[k]));
+        // Fewer, wider cells are always valid; a periodic axis needs a multiple of 3 cells
+        // for the colouring to hold across the boundary.
+        if (periodic && numCells[k] >= cellMultiple)
+            numCells[k] -= numCells[k] % cellMultiple;
+        if (periodic && (numCells[k] < 3 || numCells[k] % 3 != 0))
+            colourable = false;
         total *= numCells[k];
     }
     // Counting sort of the active particles by cell; within a cell, by particle index.

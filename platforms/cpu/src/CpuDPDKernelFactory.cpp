@@ -1,5 +1,5 @@
 #include "ThreadPoolExecutor.h"
-#include "openmmdpd/DPDVVStepKernel.h"
+#include "openmmdpd/DPDStepKernel.h"
 #include "CpuPlatform.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
@@ -13,9 +13,9 @@ namespace {
 class CpuDPDKernelFactory : public KernelFactory {
 public:
     KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
-        if (name == IntegrateDPDVVStepKernel::Name())
-            return new DPDVVStepKernel(name, platform,
-                                       std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(CpuPlatform::getPlatformData(context).threads)));
+        for (const std::string& known : DPDStepKernel::names())
+            if (name == known)
+                return new DPDStepKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(CpuPlatform::getPlatformData(context).threads)));
         throw OpenMMException("openmm-dpd CPU plugin: unknown kernel '" + name + "'");
     }
 };
@@ -24,7 +24,9 @@ public:
 
 extern "C" OPENMM_EXPORT void registerDPDCpuKernelFactories() {
     Platform& platform = Platform::getPlatformByName("CPU");
-    platform.registerKernelFactory(IntegrateDPDVVStepKernel::Name(), new CpuDPDKernelFactory());
+    KernelFactory* factory = new CpuDPDKernelFactory();
+    for (const std::string& name : DPDStepKernel::names())
+        platform.registerKernelFactory(name, factory);
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {

@@ -1,4 +1,4 @@
-#include "openmmdpd/DPDVVStepKernel.h"
+#include "openmmdpd/DPDStepKernel.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
@@ -12,8 +12,9 @@ namespace {
 class ReferenceDPDKernelFactory : public KernelFactory {
 public:
     KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
-        if (name == IntegrateDPDVVStepKernel::Name())
-            return new DPDVVStepKernel(name, platform, std::unique_ptr<ParallelExecutor>(new SerialExecutor()));
+        for (const std::string& known : DPDStepKernel::names())
+            if (name == known)
+                return new DPDStepKernel(name, platform, std::unique_ptr<ParallelExecutor>(new SerialExecutor()));
         throw OpenMMException("openmm-dpd Reference plugin: unknown kernel '" + name + "'");
     }
 };
@@ -22,7 +23,9 @@ public:
 
 extern "C" OPENMM_EXPORT void registerDPDReferenceKernelFactories() {
     Platform& platform = Platform::getPlatformByName("Reference");
-    platform.registerKernelFactory(IntegrateDPDVVStepKernel::Name(), new ReferenceDPDKernelFactory());
+    KernelFactory* factory = new ReferenceDPDKernelFactory();
+    for (const std::string& name : DPDStepKernel::names())
+        platform.registerKernelFactory(name, factory);
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {

@@ -1,4 +1,4 @@
-"""Steps per second of the DPD-VV family against OpenMM's LangevinMiddleIntegrator.
+"""Steps per second of our integrators against OpenMM's LangevinMiddleIntegrator.
 
 Scene `soft` on the CPU platform; every integrator runs the same System. Measurements of
 one (size, threads) are interleaved and the best of --repeats kept, because a shared
@@ -13,7 +13,7 @@ import time
 import openmm
 from openmm import unit
 
-from . import DPDVVIntegrator
+from . import DPDVVIntegrator, LoweAndersenIntegrator, ShardlowIntegrator
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
 
@@ -36,10 +36,28 @@ def integrator_factories(dt, gw_lambda):
             return integrator
         return make
 
+    def shardlow(order):
+        def make():
+            integrator = ShardlowIntegrator(temperature, FRICTION, CUTOFF, dt)
+            integrator.setOrder(order)
+            return integrator
+        return make
+
+    def lowe(method):
+        def make():
+            integrator = LoweAndersenIntegrator(temperature, FRICTION, CUTOFF, dt)
+            integrator.setMethod(method)
+            return integrator
+        return make
+
     return factories + [
         (f"GW lambda={gw_lambda:g}", dpd(DPDVVIntegrator.GrootWarren, gw_lambda)),
         ("DPD-VV", dpd(DPDVVIntegrator.DPDVV)),
         ("SC-VV", dpd(DPDVVIntegrator.SelfConsistent)),
+        ("Shardlow S1", shardlow(1)),
+        ("Shardlow S2", shardlow(2)),
+        ("Lowe-Andersen", lowe(LoweAndersenIntegrator.Lowe)),
+        ("pair OU", lowe(LoweAndersenIntegrator.PairOrnsteinUhlenbeck)),
     ]
 
 
@@ -77,7 +95,9 @@ def measure(scene, factories, threads, args):
 
 def print_table(rows):
     print(f"{'N':>6} {'threads':>7}  {'integrator':<16} {'steps/s':>9}  "
-          f"{'time/step vs Langevin':>21}")
+          f"{'time/step vs Langevin':>21}  {'speed-up vs 1 thread':>20}")
+    one_thread = {(n, label): rate for n, threads, results in rows if threads == 1
+                  for label, rate in results.items()}
     for n, threads, results in rows:
         reference = results.get("Langevin")
         for label, rate in results.items():
@@ -85,7 +105,9 @@ def print_table(rows):
                 print(f"{n:>6} {threads:>7}  {label:<16} {rate}")
                 continue
             ratio = f"{reference / rate:.2f}" if isinstance(reference, float) else "-"
-            print(f"{n:>6} {threads:>7}  {label:<16} {rate:>9.1f}  {ratio:>21}")
+            base = one_thread.get((n, label))
+            speedup = f"{rate / base:.2f}" if threads != 1 and isinstance(base, float) else ""
+            print(f"{n:>6} {threads:>7}  {label:<16} {rate:>9.1f}  {ratio:>21}  {speedup:>20}")
 
 
 def main(argv=None):

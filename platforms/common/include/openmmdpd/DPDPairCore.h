@@ -16,13 +16,14 @@ constexpr double BOLTZMANN_KJ_PER_MOL_K = 0.00831446261815324;
 /**
  * One pair within its thermostat cutoff, with everything the pair rules need at the
  * current positions: the unit vector e = r_ij / r (minimum image) and, with the weight
- * wR = 1 - r/rc, the pair's weighted friction gamma_ij wD = gamma_ij wR^2 and weighted
- * noise amplitude sigma_ij wR.
+ * wR = 1 - r/rc, the pair's weighted friction gamma_ij wD = gamma_ij wR^2, weighted
+ * noise amplitude sigma_ij wR, and its type pair's friction rate (1/ps; Lowe-Andersen's
+ * collision rate Gamma).
  */
 struct PairGeometry {
     int i, j;
     OpenMM::Vec3 e;
-    double gammaWD, sigmaWR;
+    double gammaWD, sigmaWR, rate;
 };
 
 /**
@@ -58,6 +59,7 @@ public:
         out.e = d / r;
         out.gammaWD = gamma * wR * wR;
         out.sigmaWR = std::sqrt(2 * gamma * kT) * wR;
+        out.rate = friction[t];
         return true;
     }
 

@@ -15,11 +15,19 @@ namespace DPDPlugin {
  */
 class DPDThermostatForces {
 public:
-    DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor);
+    /**
+     * @param cellMultiple  see PairSearch (3 for integrators that sweep pairs sequentially)
+     */
+    DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor,
+                        int cellMultiple = 1);
     const DPDPairParameters& getParameters() const { return parameters; }
     /** Find the pairs within their cutoffs at these positions. */
     void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     const std::vector<PairGeometry>& getPairs() const { return pairs; }
+    /** The pairs found from cell c are [getCellPairStart()[c], getCellPairStart()[c + 1]). */
+    const std::vector<int>& getCellPairStart() const { return cellPairStart; }
+    const PairSearch& getSearch() const { return search; }
+    const PairRandom& getRandom() const { return random; }
     /**
      * Overwrite dissipative and/or random (per `terms`) with the pair forces; given the
      * same array for both, it receives their sum.
@@ -35,6 +43,7 @@ private:
     PairSearch search;
     PairRandom random;
     std::vector<PairGeometry> pairs;
+    std::vector<int> cellPairStart;
     std::vector<std::vector<PairGeometry>> workerPairs;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
 };

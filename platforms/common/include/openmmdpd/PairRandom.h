@@ -18,7 +18,7 @@ namespace DPDPlugin {
  */
 class PairRandom {
 public:
-    enum Stream : uint32_t { RandomForce = 0, PairThermalisation = 1 };
+    enum Stream : uint32_t { RandomForce = 0, PairThermalisation = 1, SecondSweep = 2 };
 
     explicit PairRandom(uint32_t seed = 0) : seed(seed) {}
     uint32_t getSeed() const { return seed; }
@@ -34,21 +34,32 @@ public:
         return r123::Philox4x32()(counter, key);
     }
 
-    /** A standard normal number for the pair (Box-Muller on two of the words). */
+    /** A standard normal number for the pair (Box-Muller on the first two words). */
     double gaussian(Stream stream, long long step, int i, int j) const {
-        r123::Philox4x32::ctr_type r = bits(stream, step, i, j);
-        // (x + 1) / 2^32 lies in (0, 1], so the logarithm is finite.
-        const double u1 = ((double) r[0] + 1.0) * (1.0 / 4294967296.0);
-        const double u2 = (double) r[1] * (1.0 / 4294967296.0);
-        return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+        return boxMuller(bits(stream, step, i, j));
     }
 
     /** A uniform number in [0, 1) for the pair (from the third word). */
     double uniform(Stream stream, long long step, int i, int j) const {
-        return (double) bits(stream, step, i, j)[2] * (1.0 / 4294967296.0);
+        return toUniform(bits(stream, step, i, j)[2]);
+    }
+
+    /** Both of the above from one draw (they use different words, so they are independent). */
+    void gaussianAndUniform(Stream stream, long long step, int i, int j, double& gaussian, double& uniform) const {
+        const r123::Philox4x32::ctr_type r = bits(stream, step, i, j);
+        gaussian = boxMuller(r);
+        uniform = toUniform(r[2]);
     }
 
 private:
+    static double toUniform(uint32_t x) {
+        return (double) x * (1.0 / 4294967296.0);
+    }
+    static double boxMuller(const r123::Philox4x32::ctr_type& r) {
+        // (x + 1) / 2^32 lies in (0, 1], so the logarithm is finite.
+        const double u1 = ((double) r[0] + 1.0) * (1.0 / 4294967296.0);
+        return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * toUniform(r[1]));
+    }
     uint32_t seed;
 };
 

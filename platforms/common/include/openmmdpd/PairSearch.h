@@ -39,13 +39,26 @@ inline OpenMM::Vec3 minimumImage(OpenMM::Vec3 d, const OpenMM::Vec3* box, bool p
 class PairSearch {
 public:
     /**
-     * @param active  particles that take part (e.g. those with non-zero mass)
+     * @param active        particles that take part (e.g. those with non-zero mass)
+     * @param cellMultiple  make the number of cells along each periodic axis a multiple of
+     *                      this (3 lets sequential sweeps colour the cells; see getColour)
      */
-    PairSearch(const std::vector<bool>& active, double cutoff, bool periodic);
+    PairSearch(const std::vector<bool>& active, double cutoff, bool periodic, int cellMultiple = 1);
     /** Bin the particles into cells (serial, O(N)). */
     void build(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     int getNumCells() const { return (int) cellStart.size() - 1; }
     bool isPeriodic() const { return periodic; }
+    /**
+     * Whether the cells can be given 27 colours such that the pairs found from two cells of
+     * one colour share no particle: the pairs of a cell touch only it and its neighbours,
+     * so colour (x mod 3, y mod 3, z mod 3) works when every periodic axis has a multiple
+     * of 3 cells.
+     */
+    bool isColourable() const { return colourable; }
+    /** The colour of a cell, in [0, 27), when isColourable(). */
+    int getColour(int cell) const {
+        return cell % numCells[0] % 3 + 3 * (cell / numCells[0] % numCells[1] % 3) + 9 * (cell / (numCells[0] * numCells[1]) % 3);
+    }
     /**
      * Call visit(i, j, d) for every pair closer than the cutoff whose lower cell is in
      * [begin, end); d = r_i - r_j for the nearest image.  Thread safe.
@@ -62,8 +75,8 @@ private:
     void neighbourCells(int cell, std::vector<Neighbour>& out) const;
     std::vector<bool> active;
     double cutoff;
-    bool periodic;
-    int numCells[3];
+    bool periodic, colourable;
+    int cellMultiple, numCells[3];
     OpenMM::Vec3 box[3];
     std::vector<int> cellStart, sortedIndex;
     std::vector<OpenMM::Vec3> sortedPositions;

@@ -1,0 +1,51 @@
+#ifndef OPENMMDPD_LOWEANDERSENINTEGRATOR_H_
+#define OPENMMDPD_LOWEANDERSENINTEGRATOR_H_
+
+#include "openmmdpd/DPDThermostatIntegrator.h"
+
+namespace DPDPlugin {
+
+/**
+ * Pairwise thermostats applied after a velocity-Verlet step with the conservative forces
+ * only (algorithms.md section 3), pair by pair in an order fixed by the geometry:
+ *
+ * - Lowe (default): with probability Gamma dt, a pair within its cutoff gets a new
+ *   relative normal velocity drawn from the Maxwell distribution (Lowe-Andersen).  The
+ *   friction parameters are then the collision rates Gamma (1/ps), and Gamma dt must be
+ *   <= 1.  Gamma sets the viscosity independently of the conservative forces.
+ * - PairOrnsteinUhlenbeck: every pair's relative normal velocity is advanced by the exact
+ *   solution of its Ornstein-Uhlenbeck equation with the DPD friction gamma_ij wD(r)
+ *   (gamma_ij = 2 mu_ij friction); this discretises the DPD equations and keeps the ideal
+ *   gas exact at any dt (the family of Peters' scheme; the pair update OpenMM 8.3's
+ *   DPDIntegrator applies).
+ */
+class LoweAndersenIntegrator : public DPDThermostatIntegrator {
+public:
+    enum Method {
+        Lowe = 0,
+        PairOrnsteinUhlenbeck = 1
+    };
+    /**
+     * @param temperature    the temperature of the heat bath (K)
+     * @param defaultGamma   the collision rate Gamma (Lowe) or friction (PairOrnsteinUhlenbeck)
+     *                       of pairs without a type-pair entry (1/ps)
+     * @param defaultCutoff  the thermostat cutoff of pairs without a type-pair entry (nm)
+     * @param stepSize       the step size (ps)
+     */
+    LoweAndersenIntegrator(double temperature, double defaultGamma, double defaultCutoff, double stepSize);
+    Method getMethod() const { return method; }
+    void setMethod(Method m);
+    const char* className() const override { return "LoweAndersenIntegrator"; }
+    /** Also requires Gamma dt <= 1 for every pair with the Lowe method. */
+    void validate(const OpenMM::System& system) const override;
+
+protected:
+    std::string kernelName() const override;
+
+private:
+    Method method;
+};
+
+} // namespace DPDPlugin
+
+#endif

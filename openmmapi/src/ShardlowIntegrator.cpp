@@ -1,0 +1,19 @@
+#include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/DPDKernels.h"
+#include "openmm/OpenMMException.h"
+
+using namespace DPDPlugin;
+
+ShardlowIntegrator::ShardlowIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize) :
+        DPDThermostatIntegrator(temperature, defaultFriction, defaultCutoff, stepSize), order(1) {
+}
+
+void ShardlowIntegrator::setOrder(int value) {
+    if (value != 1 && value != 2)
+        throw OpenMM::OpenMMException("order must be 1 (S1) or 2 (S2), got " + std::to_string(value));
+    order = value;
+}
+
+std::string ShardlowIntegrator::kernelName() const {
+    return IntegrateDPDStepKernel::ShardlowName();
+}

@@ -1,0 +1,100 @@
+#ifndef OPENMMDPD_PAIRDYNAMICS_H_
+#define OPENMMDPD_PAIRDYNAMICS_H_
+
+#include "openmmdpd/DPDThermostatForces.h"
+#include "openmm/internal/ContextImpl.h"
+#include "ReferencePlatform.h"
+#include <algorithm>
+#include <iosfwd>
+#include <string>
+
+namespace DPDPlugin {
+
+/** A step that moves a particle farther than this many thermostat cutoffs has blown up. */
+constexpr double MAX_MOVE_PER_STEP = 5.0;
+
+/**
+ * What every DPD update rule shares, written once over the platform data that the
+ * Reference and CPU platforms have in common: the thermostat pairs and their random
+ * numbers, the force carried from one step to the next (and its invalidation, also across
+ * checkpoints), conservative forces from the System, blow-up checks and the kinetic energy.
+ * A subclass writes its update rule in step().
+ */
+class PairDynamics {
+public:
+    PairDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor,
+                 int cellMultiple);
+    virtual ~PairDynamics() {}
+    virtual void step(OpenMM::ContextImpl& context, const DPDThermostatIntegrator& integrator) = 0;
+    double computeKineticEnergy(OpenMM::ContextImpl& context) const;
+    /**
+     * Positions, velocities or parameters were set from outside.  Right after a checkpoint
+     * was loaded, OpenMM reports the restored state this way too: then the carried force
+     * is kept if the state is still the restored one when the next step starts.
+     */
+    void invalidateForces();
+    void createCheckpoint(std::ostream& stream) const;
+    void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
+
+protected:
+    /** Called after a checkpoint was loaded (state kept beyond the carried force is stale). */
+    virtual void stateRestored() {}
+    /** Call at the start of a step: whether `force` still holds for the current state. */
+    bool carriedForceValid(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities);
+    void setCarriedForceValid() { forcesValid = true; }
+    /** conservative <- the integration force groups' forces; the thermostat pairs at the same positions. */
+    void computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step);
+    /**
+     * r[i] += displacement(i) for every particle, in parallel, then the blow-up checks
+     * (non-finite, or a jump of more than MAX_MOVE_PER_STEP cutoffs).
+     */
+    template <class Displacement>
+    void movePositions(std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement);
+    /** body(i) for every particle, in parallel. */
+    template <class Body>
+    void forEachParticle(size_t n, Body body) {
+        executor.execute([&](int w) {
+            size_t begin, end;
+            executor.range(w, n, begin, end);
+            for (size_t i = begin; i < end; i++)
+                body(i);
+        });
+    }
+    void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long long step) const;
+    double sumMV2(const std::vector<OpenMM::Vec3>& velocities) const;
+    static OpenMM::ReferencePlatform::PlatformData& platformData(OpenMM::ContextImpl& context) {
+        return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    }
+
+    std::string name;
+    ParallelExecutor& executor;
+    DPDThermostatForces thermostat;
+    std::vector<OpenMM::Vec3> force, conservative;
+    mutable std::vector<double> workerSums;
+
+private:
+    void checkMoves(long long step) const;
+    bool forcesValid, verifyRestoredState;
+    std::vector<OpenMM::Vec3> restoredPositions, restoredVelocities;
+};
+
+template <class Displacement>
+void PairDynamics::movePositions(std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement) {
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, r.size(), begin, end);
+        double maxMove2 = 0;
+        for (size_t i = begin; i < end; i++) {
+            const OpenMM::Vec3 move = displacement(i);
+            r[i] += move;
+            maxMove2 = std::max(maxMove2, move.dot(move));
+        }
+        workerSums[w] = maxMove2;
+    });
+    checkFinite(r, "position", step);
+    checkMoves(step);
+}
+
+} // namespace DPDPlugin
+
+#endif

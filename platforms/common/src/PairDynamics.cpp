@@ -1,0 +1,124 @@
+#include "openmmdpd/PairDynamics.h"
+#include "openmm/OpenMMException.h"
+#include "ReferencePlatform.h"
+#include <cmath>
+#include <istream>
+#include <ostream>
+#include <sstream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+PairDynamics::PairDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor,
+                           int cellMultiple) :
+        name(integrator.className()), executor(executor), thermostat(system, integrator, executor, cellMultiple),
+        force(system.getNumParticles()), conservative(system.getNumParticles()), workerSums(executor.getNumWorkers()),
+        forcesValid(false), verifyRestoredState(false) {
+}
+
+void PairDynamics::checkFinite(const std::vector<Vec3>& values, const char* what, long long step) const {
+    for (size_t i = 0; i < values.size(); i++)
+        if (!(std::isfinite(values[i][0]) && std::isfinite(values[i][1]) && std::isfinite(values[i][2]))) {
+            std::ostringstream message;
+            message << name << ": the simulation blew up at step " << step << ": particle " << i << " has a non-finite "
+                    << what << ". Reduce the step size, or check the starting configuration and the forces.";
+            throw OpenMM::OpenMMException(message.str());
+        }
+}
+
+void PairDynamics::checkMoves(long long step) const {
+    // A particle that crossed several thermostat cutoffs in one step has left the regime
+    // in which any of these schemes means anything (and would corrupt the pair search).
+    const double limit = MAX_MOVE_PER_STEP * thermostat.getParameters().getMaxCutoff();
+    double maxMove2 = 0;
+    for (double m : workerSums)
+        maxMove2 = std::max(maxMove2, m);
+    if (maxMove2 > limit * limit) {
+        std::ostringstream message;
+        message << name << ": the simulation blew up at step " << step << ": a particle moved " << std::sqrt(maxMove2)
+                << " nm in one step (more than " << MAX_MOVE_PER_STEP << " thermostat cutoffs). Reduce the step size, or check "
+                << "the starting configuration and the forces.";
+        throw OpenMM::OpenMMException(message.str());
+    }
+}
+
+double PairDynamics::sumMV2(const std::vector<Vec3>& velocities) const {
+    const std::vector<double>& mass = thermostat.getParameters().getMasses();
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, velocities.size(), begin, end);
+        double sum = 0;
+        for (size_t i = begin; i < end; i++)
+            sum += mass[i] * velocities[i].dot(velocities[i]);
+        workerSums[w] = sum;
+    });
+    double total = 0;
+    for (double s : workerSums)
+        total += s;
+    return total;
+}
+
+double PairDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) const {
+    return 0.5 * sumMV2(*platformData(context).velocities);
+}
+
+void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    context.calcForcesAndEnergy(true, false, forceGroups);
+    conservative = *data.forces;
+    checkFinite(conservative, "conservative force", step);
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    thermostat.updatePairs(*data.positions, box);
+}
+
+void PairDynamics::invalidateForces() {
+    if (restoredPositions.empty())
+        forcesValid = false;
+    else
+        verifyRestoredState = true;
+}
+
+bool PairDynamics::carriedForceValid(const std::vector<Vec3>& r, const std::vector<Vec3>& v) {
+    if (!restoredPositions.empty()) {
+        if (verifyRestoredState && (r != restoredPositions || v != restoredVelocities))
+            forcesValid = false;
+        restoredPositions.clear();
+        restoredVelocities.clear();
+    }
+    return forcesValid;
+}
+
+// The checkpoint holds what the platform's own checkpoint does not: the seed actually in
+// use and the force carried into the next step, in binary so a continuation is bit-exact.
+// (The pair list is a function of the positions alone, so it needs no saving.)
+void PairDynamics::createCheckpoint(std::ostream& stream) const {
+    const uint32_t seed = thermostat.getSeed();
+    const char valid = forcesValid ? 1 : 0;
+    const uint64_t n = force.size();
+    stream.write((const char*) &seed, sizeof(seed));
+    stream.write(&valid, 1);
+    stream.write((const char*) &n, sizeof(n));
+    stream.write((const char*) force.data(), n * sizeof(Vec3));
+}
+
+void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) {
+    uint32_t seed;
+    char valid;
+    uint64_t n;
+    stream.read((char*) &seed, sizeof(seed));
+    stream.read(&valid, 1);
+    stream.read((char*) &n, sizeof(n));
+    if (!stream || n != force.size())
+        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System");
+    stream.read((char*) force.data(), n * sizeof(Vec3));
+    if (!stream)
+        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+    thermostat.setSeed(seed);
+    forcesValid = (valid != 0);
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    restoredPositions = *data.positions;
+    restoredVelocities = *data.velocities;
+    verifyRestoredState = false;
+    stateRestored();
+}

@@ -1,0 +1,89 @@
+#include "openmmdpd/DPDSerializationHelpers.h"
+#include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/ShardlowIntegrator.h"
+#include "openmm/OpenMMException.h"
+
+using namespace DPDPlugin;
+using OpenMM::SerializationNode;
+
+namespace {
+
+// What each class adds to the shared parameters.
+template <class Integrator>
+struct Traits;
+
+template <>
+struct Traits<DPDVVIntegrator> {
+    static void write(const DPDVVIntegrator& integrator, SerializationNode& node) {
+        node.setIntProperty("variant", integrator.getVariant());
+        node.setDoubleProperty("lambda", integrator.getLambda());
+        node.setIntProperty("maxIterations", integrator.getMaxIterations());
+        node.setDoubleProperty("tolerance", integrator.getTolerance());
+    }
+    static void read(const SerializationNode& node, DPDVVIntegrator& integrator) {
+        integrator.setVariant((DPDVVIntegrator::Variant) node.getIntProperty("variant"));
+        integrator.setLambda(node.getDoubleProperty("lambda"));
+        integrator.setMaxIterations(node.getIntProperty("maxIterations"));
+        integrator.setTolerance(node.getDoubleProperty("tolerance"));
+    }
+};
+
+template <>
+struct Traits<ShardlowIntegrator> {
+    static void write(const ShardlowIntegrator& integrator, SerializationNode& node) {
+        node.setIntProperty("order", integrator.getOrder());
+    }
+    static void read(const SerializationNode& node, ShardlowIntegrator& integrator) {
+        integrator.setOrder(node.getIntProperty("order"));
+    }
+};
+
+template <>
+struct Traits<LoweAndersenIntegrator> {
+    static void write(const LoweAndersenIntegrator& integrator, SerializationNode& node) {
+        node.setIntProperty("method", integrator.getMethod());
+    }
+    static void read(const SerializationNode& node, LoweAndersenIntegrator& integrator) {
+        integrator.setMethod((LoweAndersenIntegrator::Method) node.getIntProperty("method"));
+    }
+};
+
+const char* proxyName(const DPDVVIntegrator*) { return "DPDVVIntegrator"; }
+const char* proxyName(const ShardlowIntegrator*) { return "ShardlowIntegrator"; }
+const char* proxyName(const LoweAndersenIntegrator*) { return "LoweAndersenIntegrator"; }
+
+} // namespace
+
+template <class Integrator>
+DPDIntegratorProxy<Integrator>::DPDIntegratorProxy() : OpenMM::SerializationProxy(proxyName((Integrator*) nullptr)) {
+}
+
+template <class Integrator>
+void DPDIntegratorProxy<Integrator>::serialize(const void* object, SerializationNode& node) const {
+    node.setIntProperty("version", 1);
+    const Integrator& integrator = *reinterpret_cast<const Integrator*>(object);
+    serializeThermostatParameters(integrator, node);
+    Traits<Integrator>::write(integrator, node);
+}
+
+template <class Integrator>
+void* DPDIntegratorProxy<Integrator>::deserialize(const SerializationNode& node) const {
+    if (node.getIntProperty("version") != 1)
+        throw OpenMM::OpenMMException(std::string("Unsupported version number for ") + proxyName((Integrator*) nullptr));
+    Integrator* integrator = new Integrator(node.getDoubleProperty("temperature"), node.getDoubleProperty("defaultFriction"),
+                                            node.getDoubleProperty("defaultCutoff"), node.getDoubleProperty("stepSize"));
+    try {
+        deserializeThermostatParameters(node, *integrator);
+        Traits<Integrator>::read(node, *integrator);
+    }
+    catch (...) {
+        delete integrator;
+        throw;
+    }
+    return integrator;
+}
+
+template class DPDPlugin::DPDIntegratorProxy<DPDVVIntegrator>;
+template class DPDPlugin::DPDIntegratorProxy<ShardlowIntegrator>;
+template class DPDPlugin::DPDIntegratorProxy<LoweAndersenIntegrator>;

@@ -1,0 +1,89 @@
+#ifndef OPENMMDPD_TESTHELPERS_H_
+#define OPENMMDPD_TESTHELPERS_H_
+
+// Systems and checks shared by the integrator tests.
+
+#include "openmm/Context.h"
+#include "openmm/CustomBondForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/Platform.h"
+#include "openmm/System.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+
+using namespace OpenMM;
+
+namespace {
+
+const double KT_KELVIN = 120.27236;  // kT = 1 kJ/mol
+
+// A DPD fluid at density 4 in a cubic box: soft repulsion a (0 = ideal gas, no force).
+System* makeFluid(int n, double a, std::vector<Vec3>& positions, unsigned seed = 5) {
+    System* system = new System();
+    const double box = std::cbrt(n / 4.0);
+    system->setDefaultPeriodicBoxVectors(Vec3(box, 0, 0), Vec3(0, box, 0), Vec3(0, 0, box));
+    for (int i = 0; i < n; i++)
+        system->addParticle(1.0);
+    if (a > 0) {
+        CustomNonbondedForce* soft = new CustomNonbondedForce("a*(1-r)^2/2");
+        soft->addGlobalParameter("a", a);
+        soft->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+        soft->setCutoffDistance(1.0);
+        for (int i = 0; i < n; i++)
+            soft->addParticle({});
+        system->addForce(soft);
+    }
+    else {
+        // No conservative force, but the System must still say it is periodic.
+        CustomBondForce* none = new CustomBondForce("0");
+        none->setUsesPeriodicBoundaryConditions(true);
+        system->addForce(none);
+    }
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uniform(0, box);
+    positions.resize(n);
+    for (Vec3& r : positions)
+        r = Vec3(uniform(rng), uniform(rng), uniform(rng));
+    return system;
+}
+
+std::unique_ptr<Context> makeContext(System& system, Integrator& integrator, const std::string& platform,
+                                     const std::vector<Vec3>& positions, int threads = 0, bool deterministic = false) {
+    std::map<std::string, std::string> properties;
+    if (platform == "CPU" && threads > 0)
+        properties["Threads"] = std::to_string(threads);
+    if (platform == "CPU" && deterministic)
+        properties["DeterministicForces"] = "true";
+    std::unique_ptr<Context> context(new Context(system, integrator, Platform::getPlatformByName(platform), properties));
+    context->setPositions(positions);
+    context->setVelocitiesToTemperature(KT_KELVIN, 11);
+    return context;
+}
+
+std::vector<std::string> platforms() {
+    std::vector<std::string> names = {"Reference"};
+#if OPENMMDPD_HAVE_CPU
+    names.push_back("CPU");
+#endif
+    return names;
+}
+
+void expectErrorNaming(const std::function<void()>& action, const std::string& name) {
+    try {
+        action();
+        ADD_FAILURE() << "no exception for " << name;
+    }
+    catch (const OpenMMException& e) {
+        EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+}
+
+} // namespace
+
+#endif
