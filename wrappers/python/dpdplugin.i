@@ -3,6 +3,7 @@
 %import(module="openmm.openmm") "openmm_stub.i"
 
 %{
+#include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
@@ -57,6 +58,33 @@ from openmmdpd.units import strip_units as _strip
     defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
     stepSize = _strip(stepSize, _unit.picosecond)
 %}
+%pythonprepend DPDPlugin::DPDSoftRepulsionForce::DPDSoftRepulsionForce %{
+    defaultA = _strip(defaultA, _unit.kilojoule_per_mole / _unit.nanometer)
+    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
+%}
+%pythonprepend DPDPlugin::DPDSoftRepulsionForce::setDefaultA %{
+    a = _strip(a, _unit.kilojoule_per_mole / _unit.nanometer)
+%}
+%pythonprepend DPDPlugin::DPDSoftRepulsionForce::setDefaultCutoff %{
+    cutoff = _strip(cutoff, _unit.nanometer)
+%}
+%pythonprepend DPDPlugin::DPDSoftRepulsionForce::addTypePair %{
+    a = _strip(a, _unit.kilojoule_per_mole / _unit.nanometer)
+    cutoff = _strip(cutoff, _unit.nanometer)
+%}
+%pythonprepend DPDPlugin::DPDSoftRepulsionForce::setTypePairParameters %{
+    a = _strip(a, _unit.kilojoule_per_mole / _unit.nanometer)
+    cutoff = _strip(cutoff, _unit.nanometer)
+%}
+%pythonappend DPDPlugin::DPDSoftRepulsionForce::getDefaultA %{
+    val = _unit.Quantity(val, _unit.kilojoule_per_mole / _unit.nanometer)
+%}
+%pythonappend DPDPlugin::DPDSoftRepulsionForce::getDefaultCutoff %{
+    val = _unit.Quantity(val, _unit.nanometer)
+%}
+%pythonappend DPDPlugin::DPDSoftRepulsionForce::getTypePairParameters %{
+    val = [val[0], val[1], _unit.Quantity(val[2], _unit.kilojoule_per_mole / _unit.nanometer), _unit.Quantity(val[3], _unit.nanometer)]
+%}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setTemperature %{
     temp = _strip(temp, _unit.kelvin)
 %}
@@ -95,8 +123,8 @@ from openmmdpd.units import strip_units as _strip
     val = [val[0], val[1], _unit.Quantity(val[2], _unit.picosecond**-1), _unit.Quantity(val[3], _unit.nanometer)]
 %}
 
-%apply int& OUTPUT { int& type1, int& type2 };
-%apply double& OUTPUT { double& friction, double& cutoff };
+%apply int& OUTPUT { int& type1, int& type2, int& particle1, int& particle2 };
+%apply double& OUTPUT { double& friction, double& cutoff, double& a };
 
 // Only the public interface: the protected Integrator hooks are for OpenMM.
 %ignore DPDPlugin::DPDThermostatIntegrator::validate;
@@ -107,21 +135,22 @@ from openmmdpd.units import strip_units as _strip
 %include "openmmdpd/DPDVVIntegrator.h"
 %include "openmmdpd/ShardlowIntegrator.h"
 %include "openmmdpd/LoweAndersenIntegrator.h"
+%include "openmmdpd/DPDSoftRepulsionForce.h"
 
-%clear int& type1, int& type2;
-%clear double& friction, double& cutoff;
+%clear int& type1, int& type2, int& particle1, int& particle2;
+%clear double& friction, double& cutoff, double& a;
 
-// Every integrator class gets cast() (from a base Integrator proxy, e.g. what
+// Every integrator class (and the force) gets cast() (from a base Integrator proxy, e.g. what
 // XmlSerializer.deserialize returns), pickling and copying that keep its own class.
-%define DPD_INTEGRATOR_EXTRAS(CLASS)
+%define DPD_EXTRAS(CLASS, BASE)
 %extend DPDPlugin::CLASS {
-    static DPDPlugin::CLASS* _cast(OpenMM::Integrator* integrator) {
-        return dynamic_cast<DPDPlugin::CLASS*>(integrator);
+    static DPDPlugin::CLASS* _cast(BASE* object) {
+        return dynamic_cast<DPDPlugin::CLASS*>(object);
     }
     %pythoncode %{
     @staticmethod
     def cast(integrator):
-        """The CLASS behind a base Integrator proxy (e.g. from XmlSerializer), or None.
+        """The CLASS behind a base-class proxy (e.g. from XmlSerializer), or None.
 
         The result keeps `integrator` alive, which owns the C++ object, so
         `CLASS.cast(XmlSerializer.deserialize(xml))` is safe."""
@@ -150,6 +179,7 @@ from openmmdpd.units import strip_units as _strip
 }
 %enddef
 
-DPD_INTEGRATOR_EXTRAS(DPDVVIntegrator)
-DPD_INTEGRATOR_EXTRAS(ShardlowIntegrator)
-DPD_INTEGRATOR_EXTRAS(LoweAndersenIntegrator)
+DPD_EXTRAS(DPDVVIntegrator, OpenMM::Integrator)
+DPD_EXTRAS(ShardlowIntegrator, OpenMM::Integrator)
+DPD_EXTRAS(LoweAndersenIntegrator, OpenMM::Integrator)
+DPD_EXTRAS(DPDSoftRepulsionForce, OpenMM::Force)

@@ -1,6 +1,6 @@
 // Debian ships no OpenMM SWIG interface files.  Declaring the base class here, under
 // OpenMM's own module name, makes SWIG derive our proxies from openmm.openmm.Integrator
-// and share its runtime type table, so Context, Simulation and XmlSerializer accept them.
+// (and Force) and share its runtime type table, so Context, Simulation and XmlSerializer accept them.
 %module openmm
 namespace OpenMM {
 class Integrator {
@@ -8,4 +8,9 @@ public:
     virtual ~Integrator();
     virtual void step(int steps) = 0;
 };
+class Force {
+public:
+    virtual ~Force();
+};
+class Context;
 }

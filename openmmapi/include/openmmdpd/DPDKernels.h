@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_DPDKERNELS_H_
 #define OPENMMDPD_DPDKERNELS_H_
 
+#include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmm/KernelImpl.h"
 #include "openmm/System.h"
@@ -28,6 +29,17 @@ public:
     virtual void invalidateForces() = 0;
     virtual void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream) const = 0;
     virtual void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) = 0;
+};
+
+/** Computes the forces and energy of a DPDSoftRepulsionForce. */
+class CalcDPDSoftRepulsionForceKernel : public OpenMM::KernelImpl {
+public:
+    static std::string Name() { return "CalcDPDSoftRepulsionForce"; }
+    CalcDPDSoftRepulsionForceKernel(std::string name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {}
+    virtual void initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) = 0;
+    /** Add the forces to the Context's, if includeForces; return the energy (kJ/mol) if includeEnergy. */
+    virtual double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) = 0;
+    virtual void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) = 0;
 };
 
 } // namespace DPDPlugin

@@ -6,34 +6,49 @@
 using namespace DPDPlugin;
 using OpenMM::Vec3;
 
-DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
-    const int n = system.getNumParticles();
-    kT = BOLTZMANN_KJ_PER_MOL_K * integrator.getTemperature();
+TypePairTable::TypePairTable(int numParticles, const std::map<int, int>& particleTypes, double defaultValue, double defaultCutoff,
+                             const std::vector<Entry>& entries) {
     // Dense indices for the types in use (type 0 always exists: it is everyone's default).
     std::map<int, int> dense = {{0, 0}};
-    for (auto& entry : integrator.getParticleTypes())
+    for (auto& entry : particleTypes)
         dense.emplace(entry.second, 0);
     int next = 0;
     for (auto& entry : dense)
         entry.second = next++;
     numTypes = next;
-    typeIndex.resize(n);
-    for (int i = 0; i < n; i++)
-        typeIndex[i] = dense[integrator.getParticleType(i)];
-    friction.assign(numTypes * numTypes, integrator.getDefaultFriction());
-    cutoff.assign(numTypes * numTypes, integrator.getDefaultCutoff());
-    for (int k = 0; k < integrator.getNumTypePairs(); k++) {
-        int t1, t2;
-        double f, c;
-        integrator.getTypePairParameters(k, t1, t2, f, c);
-        const int a = dense.at(t1), b = dense.at(t2);
-        friction[a * numTypes + b] = friction[b * numTypes + a] = f;
-        cutoff[a * numTypes + b] = cutoff[b * numTypes + a] = c;
+    typeIndex.assign(numParticles, 0);
+    for (auto& entry : particleTypes)
+        typeIndex[entry.first] = dense[entry.second];
+    values.assign(numTypes * numTypes, defaultValue);
+    cutoffs.assign(numTypes * numTypes, defaultCutoff);
+    for (const Entry& e : entries) {
+        const int a = dense.at(e.type1), b = dense.at(e.type2);
+        values[a * numTypes + b] = values[b * numTypes + a] = e.value;
+        cutoffs[a * numTypes + b] = cutoffs[b * numTypes + a] = e.cutoff;
     }
-    maxCutoff = *std::max_element(cutoff.begin(), cutoff.end());
-    cutoff2.resize(cutoff.size());
-    for (size_t k = 0; k < cutoff.size(); k++)
-        cutoff2[k] = cutoff[k] * cutoff[k];
+    maxCutoff = *std::max_element(cutoffs.begin(), cutoffs.end());
+    cutoffs2.resize(cutoffs.size());
+    for (size_t k = 0; k < cutoffs.size(); k++)
+        cutoffs2[k] = cutoffs[k] * cutoffs[k];
+}
+
+namespace {
+
+TypePairTable thermostatTable(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
+    std::vector<TypePairTable::Entry> entries(integrator.getNumTypePairs());
+    for (int k = 0; k < integrator.getNumTypePairs(); k++) {
+        TypePairTable::Entry& e = entries[k];
+        integrator.getTypePairParameters(k, e.type1, e.type2, e.value, e.cutoff);
+    }
+    return TypePairTable(system.getNumParticles(), integrator.getParticleTypes(), integrator.getDefaultFriction(),
+                         integrator.getDefaultCutoff(), entries);
+}
+
+} // namespace
+
+DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) :
+        table(thermostatTable(system, integrator)), kT(BOLTZMANN_KJ_PER_MOL_K * integrator.getTemperature()) {
+    const int n = system.getNumParticles();
     mass.resize(n);
     invMass.resize(n);
     active.resize(n);

@@ -89,6 +89,28 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
             // that cell's fixed shift (see neighbourCells), not a rounding per pair.
             sortedPositions[fill[cellOf[i]]++] = periodic ? box[0] * frac[i][0] + box[1] * frac[i][1] + box[2] * frac[i][2] : positions[i];
         }
+    updateNeighbourTable();
+}
+
+void PairSearch::updateNeighbourTable() {
+    bool same = true;
+    for (int k = 0; k < 3; k++)
+        same = same && tableCells[k] == numCells[k] && tableBox[k] == box[k];
+    if (same && !neighbourStart.empty())
+        return;
+    const int total = numCells[0] * numCells[1] * numCells[2];
+    neighbourStart.assign(1, 0);
+    neighbourTable.clear();
+    std::vector<Neighbour> cellNeighbours;
+    for (int cell = 0; cell < total; cell++) {
+        neighbourCells(cell, cellNeighbours);
+        neighbourTable.insert(neighbourTable.end(), cellNeighbours.begin(), cellNeighbours.end());
+        neighbourStart.push_back((int) neighbourTable.size());
+    }
+    for (int k = 0; k < 3; k++) {
+        tableCells[k] = numCells[k];
+        tableBox[k] = box[k];
+    }
 }
 
 void PairSearch::neighbourCells(int cell, std::vector<Neighbour>& out) const {

@@ -1,5 +1,6 @@
 #include "ThreadPoolExecutor.h"
 #include "openmmdpd/DPDStepKernel.h"
+#include "openmmdpd/SoftRepulsionKernel.h"
 #include "CpuPlatform.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
@@ -16,6 +17,8 @@ public:
         for (const std::string& known : DPDStepKernel::names())
             if (name == known)
                 return new DPDStepKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(CpuPlatform::getPlatformData(context).threads)));
+        if (name == CalcDPDSoftRepulsionForceKernel::Name())
+            return new SoftRepulsionKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(CpuPlatform::getPlatformData(context).threads)));
         throw OpenMMException("openmm-dpd CPU plugin: unknown kernel '" + name + "'");
     }
 };
@@ -27,6 +30,7 @@ extern "C" OPENMM_EXPORT void registerDPDCpuKernelFactories() {
     KernelFactory* factory = new CpuDPDKernelFactory();
     for (const std::string& name : DPDStepKernel::names())
         platform.registerKernelFactory(name, factory);
+    platform.registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {

@@ -1,4 +1,5 @@
 #include "openmmdpd/DPDStepKernel.h"
+#include "openmmdpd/SoftRepulsionKernel.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
@@ -15,6 +16,8 @@ public:
         for (const std::string& known : DPDStepKernel::names())
             if (name == known)
                 return new DPDStepKernel(name, platform, std::unique_ptr<ParallelExecutor>(new SerialExecutor()));
+        if (name == CalcDPDSoftRepulsionForceKernel::Name())
+            return new SoftRepulsionKernel(name, platform, std::unique_ptr<ParallelExecutor>(new SerialExecutor()));
         throw OpenMMException("openmm-dpd Reference plugin: unknown kernel '" + name + "'");
     }
 };
@@ -26,6 +29,7 @@ extern "C" OPENMM_EXPORT void registerDPDReferenceKernelFactories() {
     KernelFactory* factory = new ReferenceDPDKernelFactory();
     for (const std::string& name : DPDStepKernel::names())
         platform.registerKernelFactory(name, factory);
+    platform.registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {

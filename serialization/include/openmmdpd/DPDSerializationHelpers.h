@@ -24,6 +24,14 @@ public:
     void* deserialize(const OpenMM::SerializationNode& node) const override;
 };
 
+/** XML serialization of DPDSoftRepulsionForce (types, type pairs and exclusions included). */
+class DPDSoftRepulsionForceProxy : public OpenMM::SerializationProxy {
+public:
+    DPDSoftRepulsionForceProxy();
+    void serialize(const void* object, OpenMM::SerializationNode& node) const override;
+    void* deserialize(const OpenMM::SerializationNode& node) const override;
+};
+
 } // namespace DPDPlugin
 
 #endif

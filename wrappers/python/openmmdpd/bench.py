@@ -93,6 +93,49 @@ def measure(scene, factories, threads, args):
     return results
 
 
+def calls_per_second(context, calls):
+    start = time.perf_counter()
+    for _ in range(calls):
+        context.getState(getForces=True)
+    return calls / (time.perf_counter() - start)
+
+
+def measure_soft_force(n, threads, args):
+    """The soft repulsion alone and a GW DPD-VV step, with this plugin's DPDSoftRepulsionForce
+    and with the same interaction as a CustomNonbondedForce: {label: best rate}."""
+    platform = openmm.Platform.getPlatformByName("CPU")
+    temperature = KT_TEMPERATURE.value_in_unit(unit.kelvin)
+    runs, contexts = {}, []  # the contexts must outlive the measurements
+    for kind, native in (("native", True), ("CustomNonbonded", False)):
+        scene = soft_scene(num_particles=n, native_force=native)
+        force_context = openmm.Context(scene.system, openmm.VerletIntegrator(args.dt), platform, {"Threads": str(threads)})
+        force_context.setPositions(scene.positions)
+        contexts.append(force_context)
+        rate = calls_per_second(force_context, 3)
+        runs[f"force only, {kind}"] = (lambda c=force_context, k=max(3, round(rate * args.seconds)): calls_per_second(c, k))
+        integrator = DPDVVIntegrator(temperature, FRICTION, CUTOFF, args.dt)
+        step_context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})
+        step_context.setPositions(scene.positions)
+        step_context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+        contexts.append(step_context)
+        rate = steps_per_second(integrator, args.warmup)
+        runs[f"GW step, {kind}"] = (lambda i=integrator, k=max(3, round(rate * args.seconds)): steps_per_second(i, k))
+    results = {label: 0.0 for label in runs}
+    for _ in range(args.repeats):
+        for label, run in runs.items():
+            results[label] = max(results[label], run())
+    return results
+
+
+def print_force_table(rows):
+    print(f"{'N':>6} {'threads':>7}  {'what':<28} {'per s':>9}  {'native speed-up':>15}")
+    for n, threads, results in rows:
+        for label, rate in results.items():
+            kind, _, which = label.partition(", ")
+            speedup = f"{rate / results[kind + ', CustomNonbonded']:.2f}" if which == "native" else ""
+            print(f"{n:>6} {threads:>7}  {label:<28} {rate:>9.1f}  {speedup:>15}")
+
+
 def print_table(rows):
     print(f"{'N':>6} {'threads':>7}  {'integrator':<16} {'steps/s':>9}  "
           f"{'time/step vs Langevin':>21}  {'speed-up vs 1 thread':>20}")
@@ -124,6 +167,8 @@ def main(argv=None):
                         help="target length of one measurement when --steps is not given")
     parser.add_argument("--repeats", type=int, default=3,
                         help="interleaved measurements; best kept")
+    parser.add_argument("--soft-force", action="store_true",
+                        help="also compare DPDSoftRepulsionForce with the same CustomNonbondedForce")
     args = parser.parse_args(argv)
 
     factories = integrator_factories(args.dt, args.gw_lambda)
@@ -133,9 +178,18 @@ def main(argv=None):
         for threads in args.threads:
             print(f"measuring N={n} threads={threads} ...", file=sys.stderr, flush=True)
             rows.append((n, threads, measure(scene, factories, threads, args)))
-    print(f"scene soft (rho=4, a=25), CPU platform, dt={args.dt:g}, gamma={FRICTION:g}, "
-          f"best of {args.repeats}")
+    print(f"scene soft (rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, "
+          f"gamma={FRICTION:g}, best of {args.repeats}")
     print_table(rows)
+    if args.soft_force:
+        force_rows = []
+        for n in args.sizes:
+            for threads in args.threads:
+                print(f"measuring the soft force, N={n} threads={threads} ...", file=sys.stderr, flush=True)
+                force_rows.append((n, threads, measure_soft_force(n, threads, args)))
+        print("\nsoft repulsion: DPDSoftRepulsionForce against the same CustomNonbondedForce "
+              "(force only: repeated force evaluations of one configuration)")
+        print_force_table(force_rows)
 
 
 if __name__ == "__main__":

@@ -22,11 +22,13 @@ chain_particles: tuple of chains, each a tuple of particle indices in bond order
 SCENES = ("ideal", "soft", "polymer")
 
 
-def soft_repulsion_force(num_particles, a, types=None, cutoff=1.0):
+def soft_repulsion_force(num_particles, a, types=None, cutoff=1.0, native=True):
     """Groot–Warren soft repulsion, energy a_ij*rc*(1 - r/rc)^2/2 with rc = cutoff.
 
     a: a number (one type) or a symmetric n x n matrix of a_ij (kJ/mol/nm);
     types: per-particle type indices into that matrix (default: all type 0).
+    native: this plugin's DPDSoftRepulsionForce (fast); False gives the same interaction
+    as OpenMM's CustomNonbondedForce, for comparison or for users without the plugin.
     """
     table = np.atleast_2d(np.asarray(a, dtype=float))
     ntypes = table.shape[0]
@@ -36,6 +38,8 @@ def soft_repulsion_force(num_particles, a, types=None, cutoff=1.0):
     types = np.zeros(num_particles, dtype=int) if types is None else np.asarray(types, dtype=int)
     if types.shape != (num_particles,) or types.min() < 0 or types.max() >= ntypes:
         raise ValueError(f"types must be {num_particles} indices in [0, {ntypes})")
+    if native:
+        return _native_soft_repulsion(table, types, cutoff)
     force = openmm.CustomNonbondedForce(f"0.5*aij(type1, type2)*rc*(1 - r/rc)^2; rc={cutoff!r}")
     force.setName("SoftRepulsion")
     # Discrete2DFunction is indexed i + n*j; the table is symmetric so the order is moot.
@@ -46,6 +50,21 @@ def soft_repulsion_force(num_particles, a, types=None, cutoff=1.0):
         force.addParticle([float(t)])
     force.setNonbondedMethod(openmm.CustomNonbondedForce.CutoffPeriodic)
     force.setCutoffDistance(cutoff)
+    return force
+
+
+def _native_soft_repulsion(table, types, cutoff):
+    from . import DPDSoftRepulsionForce  # the C++ extension
+    force = DPDSoftRepulsionForce(float(table[0, 0]), cutoff)
+    force.setName("SoftRepulsion")
+    for i, t in enumerate(types):
+        if t != 0:
+            force.setParticleType(i, int(t))
+    used = sorted(set(types.tolist()))
+    for k, t1 in enumerate(used):
+        for t2 in used[k:]:
+            if (t1, t2) != (0, 0):
+                force.addTypePair(t1, t2, float(table[t1, t2]), cutoff)
     return force
 
 
@@ -192,20 +211,21 @@ def ideal_scene(num_particles=4000, density=4.0, seed=1):
     return scene
 
 
-def soft_scene(num_particles=4000, density=4.0, a=25.0, seed=1, soft_repulsion_types=None):
+def soft_scene(num_particles=4000, density=4.0, a=25.0, seed=1, soft_repulsion_types=None, native_force=True):
     """Model B: soft repulsion a (paper 000 §II.C.2).
 
     a may be an n x n a_ij matrix, with soft_repulsion_types the per-particle type indices.
+    native_force=False builds the repulsion as a CustomNonbondedForce instead.
     """
     rng = np.random.default_rng(seed)
     positions = random_positions(rng, num_particles, _box_length(num_particles, density))
     scene = _make_scene("soft", num_particles, density, positions, ())
-    scene.system.addForce(soft_repulsion_force(num_particles, a, soft_repulsion_types))
+    scene.system.addForce(soft_repulsion_force(num_particles, a, soft_repulsion_types, native=native_force))
     return scene
 
 
 def polymer_scene(num_particles=4000, density=4.0, chain_length=20, a=0.0, seed=1,
-                  soft_repulsion_types=None):
+                  soft_repulsion_types=None, native_force=True):
     """Ideal solvent plus one chain (paper 000 §II.C.3): harmonic bonds k = 7, rest length 0,
     WCA between beads. Particles 0..chain_length-1 are the chain.
 
@@ -227,7 +247,7 @@ def polymer_scene(num_particles=4000, density=4.0, chain_length=20, a=0.0, seed=
     if np.any(np.asarray(a) != 0):
         if soft_repulsion_types is None and np.ndim(a) == 2:
             soft_repulsion_types = [1] * chain_length + [0] * (num_particles - chain_length)
-        system.addForce(soft_repulsion_force(num_particles, a, soft_repulsion_types))
+        system.addForce(soft_repulsion_force(num_particles, a, soft_repulsion_types, native=native_force))
     return scene
 
 

@@ -6,6 +6,7 @@ import openmm
 import pytest
 from openmm import unit
 
+import openmmdpd
 from openmmdpd import analysis, scenes, units
 
 
@@ -96,8 +97,11 @@ def test_polymer_scene_chain():
 def test_polymer_scene_type_matrix_defaults_chain_to_type_1():
     scene = scenes.build_scene("polymer", num_particles=100, a=[[25.0, 30.0], [30.0, 40.0]])
     soft = [f for f in scene.system.getForces() if f.getName() == "SoftRepulsion"][0]
-    types = [soft.getParticleParameters(i)[0] for i in range(100)]
-    assert types == [1.0] * 20 + [0.0] * 80
+    soft = openmmdpd.DPDSoftRepulsionForce.cast(soft)
+    assert [soft.getParticleType(i) for i in range(100)] == [1] * 20 + [0] * 80
+    custom = scenes.build_scene("polymer", num_particles=100, a=[[25.0, 30.0], [30.0, 40.0]], native_force=False)
+    soft = [f for f in custom.system.getForces() if f.getName() == "SoftRepulsion"][0]
+    assert [soft.getParticleParameters(i)[0] for i in range(100)] == [1.0] * 20 + [0.0] * 80
 
 
 def test_seed_reproducible():
@@ -114,24 +118,27 @@ def test_unknown_scene():
 
 # --- forces ------------------------------------------------------------------------------
 
+@pytest.mark.parametrize("native", [True, False])
 @pytest.mark.parametrize("r", [0.0001, 0.3, 0.75, 0.999])
-def test_soft_repulsion_energy_and_force(r):
-    energy, forces = evaluate([scenes.soft_repulsion_force(2, 25.0)], pair(r))
+def test_soft_repulsion_energy_and_force(r, native):
+    energy, forces = evaluate([scenes.soft_repulsion_force(2, 25.0, native=native)], pair(r))
     assert energy == pytest.approx(25.0 * (1 - r) ** 2 / 2)
     assert forces[1, 0] == pytest.approx(25.0 * (1 - r))
 
 
-def test_soft_repulsion_zero_beyond_cutoff_and_across_boundary():
-    assert evaluate([scenes.soft_repulsion_force(2, 25.0)], pair(1.2))[0] == 0
+@pytest.mark.parametrize("native", [True, False])
+def test_soft_repulsion_zero_beyond_cutoff_and_across_boundary(native):
+    assert evaluate([scenes.soft_repulsion_force(2, 25.0, native=native)], pair(1.2))[0] == 0
     # 9.5 apart in a box of 10 is 0.5 apart through the boundary.
-    energy, _ = evaluate([scenes.soft_repulsion_force(2, 25.0)], pair(9.5))
+    energy, _ = evaluate([scenes.soft_repulsion_force(2, 25.0, native=native)], pair(9.5))
     assert energy == pytest.approx(25.0 * 0.5 ** 2 / 2)
 
 
-def test_soft_repulsion_type_matrix():
+@pytest.mark.parametrize("native", [True, False])
+def test_soft_repulsion_type_matrix(native):
     a = [[25.0, 40.0], [40.0, 10.0]]
     for types, a_ij in [((0, 1), 40.0), ((1, 0), 40.0), ((1, 1), 10.0), ((0, 0), 25.0)]:
-        energy, _ = evaluate([scenes.soft_repulsion_force(2, a, types)], pair(0.4))
+        energy, _ = evaluate([scenes.soft_repulsion_force(2, a, types, native=native)], pair(0.4))
         assert energy == pytest.approx(a_ij * 0.6 ** 2 / 2)
     with pytest.raises(ValueError):
         scenes.soft_repulsion_force(2, [[1.0, 2.0], [3.0, 4.0]], (0, 1))

@@ -6,6 +6,7 @@
 #include "openmmdpd/PairSearch.h"
 #include "openmm/System.h"
 #include "openmm/Vec3.h"
+#include <map>
 #include <vector>
 
 namespace DPDPlugin {
@@ -27,15 +28,42 @@ struct PairGeometry {
 };
 
 /**
- * The thermostat parameters of a System resolved per particle and per pair: dense type
- * indices, the type-pair friction/cutoff table, masses and kT.  Built once per Context
- * from any DPDThermostatIntegrator.
+ * A per-type-pair table of one parameter and a cutoff, resolved for lookup by particle:
+ * the particle types in use get dense indices, and pairs of types without an entry get
+ * the defaults.  The thermostats (friction) and the soft repulsion force (a) both use it.
+ */
+class TypePairTable {
+public:
+    struct Entry {
+        int type1, type2;
+        double value, cutoff;
+    };
+    TypePairTable(int numParticles, const std::map<int, int>& particleTypes, double defaultValue, double defaultCutoff,
+                  const std::vector<Entry>& entries);
+    /** The table index of the pair (i, j). */
+    int index(int i, int j) const { return typeIndex[i] * numTypes + typeIndex[j]; }
+    double value(int t) const { return values[t]; }
+    double cutoff(int t) const { return cutoffs[t]; }
+    double cutoff2(int t) const { return cutoffs2[t]; }
+    double getMaxCutoff() const { return maxCutoff; }
+
+private:
+    int numTypes;
+    double maxCutoff;
+    std::vector<int> typeIndex;
+    std::vector<double> values, cutoffs, cutoffs2;
+};
+
+/**
+ * The thermostat parameters of a System resolved per particle and per pair: the type-pair
+ * friction/cutoff table, masses and kT.  Built once per Context from any
+ * DPDThermostatIntegrator.
  */
 class DPDPairParameters {
 public:
     DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
     int getNumParticles() const { return (int) mass.size(); }
-    double getMaxCutoff() const { return maxCutoff; }
+    double getMaxCutoff() const { return table.getMaxCutoff(); }
     /** Particles that move and take part in the thermostat (mass > 0). */
     const std::vector<bool>& getActive() const { return active; }
     const std::vector<double>& getMasses() const { return mass; }
@@ -46,28 +74,27 @@ public:
      * if the pair is beyond its own type-pair cutoff.
      */
     bool pairGeometry(int i, int j, const OpenMM::Vec3& d, PairGeometry& out) const {
-        const int t = typeIndex[i] * numTypes + typeIndex[j];
+        const int t = table.index(i, j);
         const double r2 = d.dot(d);
-        if (r2 >= cutoff2[t] || r2 == 0)
+        if (r2 >= table.cutoff2(t) || r2 == 0)
             return false;
         const double r = std::sqrt(r2);
         const double mu = mass[i] * mass[j] / (mass[i] + mass[j]);
-        const double wR = 1 - r / cutoff[t];
-        const double gamma = 2 * mu * friction[t];
+        const double wR = 1 - r / table.cutoff(t);
+        const double gamma = 2 * mu * table.value(t);
         out.i = i;
         out.j = j;
         out.e = d / r;
         out.gammaWD = gamma * wR * wR;
         out.sigmaWR = std::sqrt(2 * gamma * kT) * wR;
-        out.rate = friction[t];
+        out.rate = table.value(t);
         return true;
     }
 
 private:
-    int numTypes;
-    double kT, maxCutoff;
-    std::vector<int> typeIndex;
-    std::vector<double> friction, cutoff, cutoff2, mass, invMass;
+    TypePairTable table;
+    double kT;
+    std::vector<double> mass, invMass;
     std::vector<bool> active;
 };
 

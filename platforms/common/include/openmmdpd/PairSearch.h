@@ -73,6 +73,8 @@ private:
         OpenMM::Vec3 shift;  // the other cell's image lies at its positions + shift
     };
     void neighbourCells(int cell, std::vector<Neighbour>& out) const;
+    /** The neighbour cells of every cell, for the current grid (rebuilt when it changes). */
+    void updateNeighbourTable();
     std::vector<bool> active;
     double cutoff;
     bool periodic, colourable;
@@ -80,22 +82,25 @@ private:
     OpenMM::Vec3 box[3];
     std::vector<int> cellStart, sortedIndex;
     std::vector<OpenMM::Vec3> sortedPositions;
+    std::vector<int> neighbourStart;
+    std::vector<Neighbour> neighbourTable;
+    int tableCells[3] = {0, 0, 0};
+    OpenMM::Vec3 tableBox[3];
 };
 
 template <class Visitor>
 void PairSearch::forEachPair(int begin, int end, Visitor&& visit) const {
     const double cutoff2 = cutoff * cutoff;
-    std::vector<Neighbour> neighbours;
-    neighbours.reserve(27);
     for (int cell = begin; cell < end; cell++) {
-        neighbourCells(cell, neighbours);
+        const Neighbour* firstNeighbour = &neighbourTable[neighbourStart[cell]];
+        const Neighbour* endNeighbour = &neighbourTable[0] + neighbourStart[cell + 1];
         for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
             const OpenMM::Vec3 rp = sortedPositions[p];
-            for (const Neighbour& other : neighbours) {
-                const int first = (other.cell == cell ? p + 1 : cellStart[other.cell]);
-                const int last = cellStart[other.cell + 1];
-                if (other.exactShift) {
-                    const OpenMM::Vec3 rpShifted = rp - other.shift;
+            for (const Neighbour* other = firstNeighbour; other != endNeighbour; ++other) {
+                const int first = (other->cell == cell ? p + 1 : cellStart[other->cell]);
+                const int last = cellStart[other->cell + 1];
+                if (other->exactShift) {
+                    const OpenMM::Vec3 rpShifted = rp - other->shift;
                     for (int q = first; q < last; q++) {
                         const OpenMM::Vec3 d = rpShifted - sortedPositions[q];
                         if (d.dot(d) < cutoff2)

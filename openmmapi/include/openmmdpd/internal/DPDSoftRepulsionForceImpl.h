@@ -1,0 +1,29 @@
+#ifndef OPENMMDPD_DPDSOFTREPULSIONFORCEIMPL_H_
+#define OPENMMDPD_DPDSOFTREPULSIONFORCEIMPL_H_
+
+#include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmm/Kernel.h"
+#include "openmm/internal/ForceImpl.h"
+
+namespace DPDPlugin {
+
+class DPDSoftRepulsionForceImpl : public OpenMM::ForceImpl {
+public:
+    explicit DPDSoftRepulsionForceImpl(const DPDSoftRepulsionForce& owner) : owner(owner) {}
+    void initialize(OpenMM::ContextImpl& context) override;
+    const DPDSoftRepulsionForce& getOwner() const override { return owner; }
+    double calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups) override;
+    std::map<std::string, double> getDefaultParameters() override { return {}; }
+    std::vector<std::string> getKernelNames() override;
+    void updateParametersInContext(OpenMM::ContextImpl& context);
+    /** Throw unless the force is consistent with the System (particle indices, box). */
+    static void validate(const DPDSoftRepulsionForce& force, const OpenMM::System& system);
+
+private:
+    const DPDSoftRepulsionForce& owner;
+    OpenMM::Kernel kernel;
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,45 @@
+#ifndef OPENMMDPD_SOFTREPULSIONKERNEL_H_
+#define OPENMMDPD_SOFTREPULSIONKERNEL_H_
+
+#include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/DPDPairCore.h"
+#include "openmmdpd/ParallelExecutor.h"
+#include "openmmdpd/PairSearch.h"
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+namespace DPDPlugin {
+
+/**
+ * DPDSoftRepulsionForce on every platform: the thermostats' cell search finds the pairs,
+ * each worker sums a range of cells into its own buffer, and the buffers are added to the
+ * Context's forces in worker order.  Double precision throughout.
+ */
+class SoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel {
+public:
+    SoftRepulsionKernel(std::string name, const OpenMM::Platform& platform, std::unique_ptr<ParallelExecutor> executor) :
+            CalcDPDSoftRepulsionForceKernel(name, platform), executor(std::move(executor)) {}
+    void initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) override;
+    double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
+    void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
+
+private:
+    void setParameters(const DPDSoftRepulsionForce& force);
+    bool excluded(int i, int j) const {
+        const std::vector<int>& partners = exclusions[i];
+        return !partners.empty() && std::binary_search(partners.begin(), partners.end(), j);
+    }
+    std::unique_ptr<ParallelExecutor> executor;
+    std::unique_ptr<TypePairTable> table;
+    std::unique_ptr<PairSearch> search;
+    bool periodic = false;
+    int numParticles = 0;
+    std::vector<std::vector<int>> exclusions;  // sorted partners of each particle
+    std::vector<std::vector<OpenMM::Vec3>> workerForces;
+    std::vector<double> workerEnergy;
+};
+
+} // namespace DPDPlugin
+
+#endif
