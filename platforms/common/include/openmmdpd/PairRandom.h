@@ -44,22 +44,19 @@ public:
         return toUniform(bits(stream, step, i, j)[2]);
     }
 
-    /** Both of the above from one draw (they use different words, so they are independent). */
-    void gaussianAndUniform(Stream stream, long long step, int i, int j, double& gaussian, double& uniform) const {
-        const r123::Philox4x32::ctr_type r = bits(stream, step, i, j);
-        gaussian = boxMuller(r);
-        uniform = toUniform(r[2]);
-    }
-
-private:
+    /** A uniform number in [0, 1) from one word of a draw. */
     static double toUniform(uint32_t x) {
         return (double) x * (1.0 / 4294967296.0);
     }
+
+    /** A standard normal number from the first two words of a draw (Box-Muller). */
     static double boxMuller(const r123::Philox4x32::ctr_type& r) {
         // (x + 1) / 2^32 lies in (0, 1], so the logarithm is finite.
         const double u1 = ((double) r[0] + 1.0) * (1.0 / 4294967296.0);
         return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * toUniform(r[1]));
     }
+
+private:
     uint32_t seed;
 };
 

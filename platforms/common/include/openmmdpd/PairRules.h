@@ -51,10 +51,11 @@ struct LowePairUpdate {
     const std::vector<double>& invMass;
 
     void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
-        double xi, uniform;
-        random.gaussianAndUniform(PairRandom::PairThermalisation, step, p.i, p.j, xi, uniform);
-        if (uniform >= p.rate * h)
+        // One draw gives both numbers; the Gaussian is only made for the pairs that collide.
+        const r123::Philox4x32::ctr_type bits = random.bits(PairRandom::PairThermalisation, step, p.i, p.j);
+        if (PairRandom::toUniform(bits[2]) >= p.rate * h)
             return;
+        const double xi = PairRandom::boxMuller(bits);
         const double mu = PairImpulse::reducedMass(p, invMass);
         const double u = p.e.dot(v[p.i] - v[p.j]);
         PairImpulse::apply(p, mu * (xi * std::sqrt(kT / mu) - u), invMass, v);
