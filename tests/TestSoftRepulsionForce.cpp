@@ -1,5 +1,6 @@
 #include "TestHelpers.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/DPDVVIntegrator.h"
 #include "openmm/State.h"
 #include "openmm/TabulatedFunction.h"
 #include "openmm/VerletIntegrator.h"
@@ -176,4 +177,29 @@ TEST(DPDSoftRepulsionForce, XmlRoundTrip) {
     EXPECT_EQ(c->getNumExclusions(), 1);
     EXPECT_EQ(c->getForceGroup(), 3);
     EXPECT_FALSE(c->usesPeriodicBoundaryConditions());
+}
+
+TEST(DPDSoftRepulsionForce, CheckpointWithDPDIsBitExactOnEveryPlatform) {
+    // Unlike OpenMM's CPU nonbonded forces, this force sums in a fixed order, so a DPD run
+    // with it continues bit for bit across a checkpoint on CPU too.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(1000, 0, positions));
+    system->addForce(new DPDSoftRepulsionForce(25, 1.0));
+    for (const std::string& platform : platforms()) {
+        DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.04);
+        integrator.setRandomNumberSeed(3);
+        auto context = makeContext(*system, integrator, platform, positions, 2);
+        integrator.step(10);
+        std::stringstream checkpoint;
+        context->createCheckpoint(checkpoint);
+        integrator.step(10);
+        const State first = context->getState(State::Positions | State::Velocities);
+        context->loadCheckpoint(checkpoint);
+        integrator.step(10);
+        const State second = context->getState(State::Positions | State::Velocities);
+        for (size_t i = 0; i < positions.size(); i++) {
+            ASSERT_EQ(first.getPositions()[i], second.getPositions()[i]) << platform;
+            ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << platform;
+        }
+    }
 }

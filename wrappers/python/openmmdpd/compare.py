@@ -107,19 +107,29 @@ def radial_distribution(counts, frames, n, length, r_max=G_R_MAX, bins=G_BINS):
 def coordination_number(r, g, density):
     """Nc = 4 pi rho int_0^r1 g r^2 dr, r1 = the first minimum after the main peak.
 
-    The minimum is looked for in g smoothed over 5 bins, within 0.8 rc after the peak, so
-    that noise near the peak is not taken for it.
+    The first minimum of a soft fluid's g(r) is shallow and broad: it is located on g
+    smoothed over 9 bins (0.2 rc), within 0.8 rc after the peak, refined by a parabola
+    through the three bins around it, and the integral runs to r1 itself (not to a bin
+    edge), so Nc does not jump by whole shells from one run to the next.
     """
-    smooth = np.convolve(g, np.ones(5) / 5, mode="same")
+    smooth = np.convolve(g, np.ones(9) / 9, mode="same")
     peak = int(np.argmax(smooth))
     if smooth[peak] < 1.02:
         return float("nan")  # no structure (ideal gas): no shell to count
     dr = r[1] - r[0]
-    window = np.arange(peak + 1, min(len(g) - 2, peak + int(0.8 / dr)))
+    window = np.arange(peak + 1, min(len(g) - 5, peak + int(0.8 / dr)))
     if len(window) == 0:
         return float("nan")
-    k1 = int(window[np.argmin(smooth[window])])
-    return float(4 * np.pi * density * np.sum(g[:k1 + 1] * r[:k1 + 1] ** 2) * dr)
+    k = int(window[np.argmin(smooth[window])])
+    y0, y1, y2 = smooth[k - 1], smooth[k], smooth[k + 1]
+    curvature = y0 - 2 * y1 + y2
+    r1 = r[k] + (0.5 * dr * (y0 - y2) / curvature if curvature > 0 else 0.0)
+    integrand = g * r ** 2
+    edges = np.concatenate([[0.0], 0.5 * (r[1:] + r[:-1])])  # lower edge of each bin
+    inside = edges + dr <= r1
+    partial = np.argmax(~inside)  # the bin r1 falls in
+    total = integrand[inside].sum() * dr + integrand[partial] * (r1 - edges[partial])
+    return float(4 * np.pi * density * total)
 
 
 def soft_repulsion_laplacian(positions, length, a=25.0, rc=CUTOFF):
@@ -266,6 +276,12 @@ def compare(args):
         writer.writeheader()
         writer.writerows(rows)
     r = 0.5 * (np.linspace(0, G_R_MAX, G_BINS + 1)[1:] + np.linspace(0, G_R_MAX, G_BINS + 1)[:-1])
+    with open(os.path.join(args.out, "gr.csv"), "w", newline="") as f:
+        writer = csv.writer(f)
+        keys = sorted(g_of)
+        writer.writerow(["r"] + [f"{name} dt={dt:g}" for name, dt in keys])
+        for k, rk in enumerate(r):
+            writer.writerow([f"{rk:.4f}"] + [f"{g_of[key][k]:.5f}" for key in keys])
     from .report import write_report
     write_report(args, rows, r, g_of)
     return rows

@@ -12,6 +12,11 @@ public:
     explicit DPDSoftRepulsionForceImpl(const DPDSoftRepulsionForce& owner) : owner(owner) {}
     void initialize(OpenMM::ContextImpl& context) override;
     const DPDSoftRepulsionForce& getOwner() const override { return owner; }
+    /**
+     * Nothing to update between steps.  (ForceImpl's default reports the forces as
+     * invalidated, which would make integrators that carry forces recompute them every step.)
+     */
+    void updateContextState(OpenMM::ContextImpl& context, bool& forcesInvalid) override {}
     double calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups) override;
     std::map<std::string, double> getDefaultParameters() override { return {}; }
     std::vector<std::string> getKernelNames() override;
