@@ -2,7 +2,6 @@
 #include "openmmdpd/DPDKernels.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
-#include <set>
 #include <sstream>
 
 using namespace DPDPlugin;
@@ -10,22 +9,7 @@ using OpenMM::OpenMMException;
 
 void DPDSoftRepulsionForceImpl::validate(const DPDSoftRepulsionForce& force, const OpenMM::System& system) {
     const int n = system.getNumParticles();
-    std::set<int> usedTypes = {0};
-    for (auto& entry : force.getParticleTypes()) {
-        if (entry.first >= n)
-            throw OpenMMException("DPDSoftRepulsionForce: setParticleType was given particle index " + std::to_string(entry.first) +
-                                  ", but the System has only " + std::to_string(n) + " particles");
-        usedTypes.insert(entry.second);
-    }
-    for (int k = 0; k < force.getNumTypePairs(); k++) {
-        int t1, t2;
-        double a, cutoff;
-        force.getTypePairParameters(k, t1, t2, a, cutoff);
-        for (int t : {t1, t2})
-            if (usedTypes.count(t) == 0)
-                throw OpenMMException("DPDSoftRepulsionForce: type pair " + std::to_string(k) + " names particle type " +
-                                      std::to_string(t) + ", which no particle has (unknown particle type)");
-    }
+    force.getTypeTable().validate(system, "DPDSoftRepulsionForce");
     for (int k = 0; k < force.getNumExclusions(); k++) {
         int p1, p2;
         force.getExclusionParticles(k, p1, p2);

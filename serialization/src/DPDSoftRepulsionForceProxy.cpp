@@ -15,17 +15,7 @@ void DPDSoftRepulsionForceProxy::serialize(const void* object, SerializationNode
     node.setDoubleProperty("defaultA", force.getDefaultA());
     node.setDoubleProperty("defaultCutoff", force.getDefaultCutoff());
     node.setIntProperty("method", force.getNonbondedMethod());
-    SerializationNode& types = node.createChildNode("ParticleTypes");
-    for (auto& entry : force.getParticleTypes())
-        types.createChildNode("Particle").setIntProperty("index", entry.first).setIntProperty("type", entry.second);
-    SerializationNode& pairs = node.createChildNode("TypePairs");
-    for (int k = 0; k < force.getNumTypePairs(); k++) {
-        int t1, t2;
-        double a, cutoff;
-        force.getTypePairParameters(k, t1, t2, a, cutoff);
-        pairs.createChildNode("TypePair").setIntProperty("type1", t1).setIntProperty("type2", t2)
-                .setDoubleProperty("a", a).setDoubleProperty("cutoff", cutoff);
-    }
+    serializeTypeTable(force, node, "a");
     SerializationNode& exclusions = node.createChildNode("Exclusions");
     for (int k = 0; k < force.getNumExclusions(); k++) {
         int p1, p2;
@@ -41,10 +31,7 @@ void* DPDSoftRepulsionForceProxy::deserialize(const SerializationNode& node) con
     try {
         force->setForceGroup(node.getIntProperty("forceGroup"));
         force->setNonbondedMethod((DPDSoftRepulsionForce::NonbondedMethod) node.getIntProperty("method"));
-        for (const SerializationNode& p : node.getChildNode("ParticleTypes").getChildren())
-            force->setParticleType(p.getIntProperty("index"), p.getIntProperty("type"));
-        for (const SerializationNode& p : node.getChildNode("TypePairs").getChildren())
-            force->addTypePair(p.getIntProperty("type1"), p.getIntProperty("type2"), p.getDoubleProperty("a"), p.getDoubleProperty("cutoff"));
+        deserializeTypeTable(node, *force, "a");
         for (const SerializationNode& e : node.getChildNode("Exclusions").getChildren())
             force->addExclusion(e.getIntProperty("p1"), e.getIntProperty("p2"));
     }

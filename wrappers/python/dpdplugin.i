@@ -129,7 +129,7 @@ from openmmdpd.units import strip_units as _strip
 // Only the public interface: the protected Integrator hooks are for OpenMM.
 %ignore DPDPlugin::DPDThermostatIntegrator::validate;
 %ignore DPDPlugin::LoweAndersenIntegrator::validate;
-%ignore DPDPlugin::DPDThermostatIntegrator::checkTypePair;
+%ignore DPDPlugin::DPDSoftRepulsionForce::getTypeTable;
 
 %include "openmmdpd/DPDThermostatIntegrator.h"
 %include "openmmdpd/DPDVVIntegrator.h"

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_DPDSOFTREPULSIONFORCE_H_
 #define OPENMMDPD_DPDSOFTREPULSIONFORCE_H_
 
+#include "openmmdpd/ParticleTypeTable.h"
 #include "openmm/Context.h"
 #include "openmm/Force.h"
 #include <map>
@@ -36,20 +37,24 @@ public:
     void setDefaultCutoff(double cutoff);
     NonbondedMethod getNonbondedMethod() const { return method; }
     void setNonbondedMethod(NonbondedMethod method);
-    int getParticleType(int index) const;
-    void setParticleType(int index, int type);
-    const std::map<int, int>& getParticleTypes() const { return particleType; }
+    int getParticleType(int index) const { return types.getParticleType(index); }
+    void setParticleType(int index, int type) { types.setParticleType(index, type); }
+    const std::map<int, int>& getParticleTypes() const { return types.getParticleTypes(); }
     /** Parameters for pairs of types type1 and type2 (either order): a in kJ/mol/nm, cutoff in nm. */
-    int addTypePair(int type1, int type2, double a, double cutoff);
-    int getNumTypePairs() const { return (int) typePairs.size(); }
+    int addTypePair(int type1, int type2, double a, double cutoff) { return types.addTypePair(type1, type2, a, cutoff); }
+    int getNumTypePairs() const { return types.getNumTypePairs(); }
     void getTypePairParameters(int pairIndex, int& type1, int& type2, double& a, double& cutoff) const;
-    void setTypePairParameters(int pairIndex, int type1, int type2, double a, double cutoff);
+    void setTypePairParameters(int pairIndex, int type1, int type2, double a, double cutoff) {
+        types.setTypePair(pairIndex, type1, type2, a, cutoff);
+    }
     /** Exclude a pair of particles from the interaction; returns the exclusion's index. */
     int addExclusion(int particle1, int particle2);
     int getNumExclusions() const { return (int) exclusions.size(); }
     void getExclusionParticles(int index, int& particle1, int& particle2) const;
     /** The largest cutoff over the default and all type pairs (nm). */
-    double getMaxCutoff() const;
+    double getMaxCutoff() const { return types.getMaxCutoff(defaultCutoff); }
+    /** The types and type pairs, with their checks. */
+    const ParticleTypeTable& getTypeTable() const { return types; }
     bool usesPeriodicBoundaryConditions() const override { return method == CutoffPeriodic; }
     /**
      * Copy a, cutoffs, types and type pairs into a Context that uses this force (the set of
@@ -61,15 +66,9 @@ protected:
     OpenMM::ForceImpl* createImpl() const override;
 
 private:
-    struct TypePair {
-        int type1, type2;
-        double a, cutoff;
-    };
-    void checkTypePair(int type1, int type2, double a, double cutoff) const;
     double defaultA, defaultCutoff;
     NonbondedMethod method;
-    std::map<int, int> particleType;
-    std::vector<TypePair> typePairs;
+    ParticleTypeTable types;
     std::vector<std::pair<int, int>> exclusions;
 };
 

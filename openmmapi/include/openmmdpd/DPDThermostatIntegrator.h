@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_DPDTHERMOSTATINTEGRATOR_H_
 #define OPENMMDPD_DPDTHERMOSTATINTEGRATOR_H_
 
+#include "openmmdpd/ParticleTypeTable.h"
 #include "openmm/Integrator.h"
 #include "openmm/Kernel.h"
 #include <map>
@@ -50,11 +51,11 @@ public:
     /** Set the step size (ps); must be > 0. */
     void setStepSize(double size) override;
     /** Get the type of a particle (0 unless set). */
-    int getParticleType(int index) const;
+    int getParticleType(int index) const { return types.getParticleType(index); }
     /** Set the type of a particle; types are integers >= 0. */
-    void setParticleType(int index, int type);
+    void setParticleType(int index, int type) { types.setParticleType(index, type); }
     /** Get every particle type that was set explicitly, by particle index. */
-    const std::map<int, int>& getParticleTypes() const { return particleType; }
+    const std::map<int, int>& getParticleTypes() const { return types.getParticleTypes(); }
     /**
      * Add parameters for pairs of particles with types type1 and type2 (in either order).
      *
@@ -62,13 +63,15 @@ public:
      * @param cutoff    the thermostat cutoff of such pairs (nm), > 0
      * @return the index of the type pair
      */
-    int addTypePair(int type1, int type2, double friction, double cutoff);
+    int addTypePair(int type1, int type2, double friction, double cutoff) { return types.addTypePair(type1, type2, friction, cutoff); }
     /** Get the number of type pairs that were added. */
-    int getNumTypePairs() const { return (int) typePairs.size(); }
+    int getNumTypePairs() const { return types.getNumTypePairs(); }
     /** Get the parameters of a type pair (friction in 1/ps, cutoff in nm). */
     void getTypePairParameters(int pairIndex, int& type1, int& type2, double& friction, double& cutoff) const;
     /** Set the parameters of a type pair (friction in 1/ps, cutoff in nm). */
-    void setTypePairParameters(int pairIndex, int type1, int type2, double friction, double cutoff);
+    void setTypePairParameters(int pairIndex, int type1, int type2, double friction, double cutoff) {
+        types.setTypePair(pairIndex, type1, type2, friction, cutoff);
+    }
     /**
      * Get the random number seed.  0 (the default) means that a new seed is chosen each
      * time a Context is created; it is then kept in checkpoints.
@@ -77,9 +80,9 @@ public:
     /** Set the random number seed (see getRandomNumberSeed()). */
     void setRandomNumberSeed(int seed) { randomNumberSeed = seed; }
     /** The largest thermostat cutoff over the defaults and all type pairs (nm). */
-    double getMaxCutoff() const;
+    double getMaxCutoff() const { return types.getMaxCutoff(defaultCutoff); }
     /** The largest friction over the defaults and all type pairs (1/ps). */
-    double getMaxFriction() const;
+    double getMaxFriction() const { return types.getMaxValue(defaultFriction); }
     /** Advance the simulation by a number of steps. */
     void step(int steps) override;
 
@@ -94,7 +97,6 @@ public:
 protected:
     /** The name of the kernel that takes the steps. */
     virtual std::string kernelName() const = 0;
-    void checkTypePair(int type1, int type2, double friction, double cutoff) const;
     void initialize(OpenMM::ContextImpl& context) override;
     void cleanup() override;
     std::vector<std::string> getKernelNames() override;
@@ -104,14 +106,9 @@ protected:
     void loadCheckpoint(std::istream& stream) override;
 
 private:
-    struct TypePair {
-        int type1, type2;
-        double friction, cutoff;
-    };
     double temperature, defaultFriction, defaultCutoff;
     int randomNumberSeed;
-    std::map<int, int> particleType;
-    std::vector<TypePair> typePairs;
+    ParticleTypeTable types;
     OpenMM::Kernel kernel;
 };
 
