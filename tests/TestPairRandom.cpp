@@ -43,7 +43,8 @@ TEST(PairRandom, UniformInUnitInterval) {
     const int n = 200000;
     double sum = 0;
     for (int k = 0; k < n; k++) {
-        double u = random.uniform(PairRandom::PairThermalisation, k, 1, 2);
+        // The uniform Lowe-Andersen's collision test uses: the third word of the draw.
+        double u = PairRandom::toUniform(random.bits(PairRandom::PairThermalisation, k, 1, 2)[2]);
         ASSERT_GE(u, 0.0);
         ASSERT_LT(u, 1.0);
         sum += u;

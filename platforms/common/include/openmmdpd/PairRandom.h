@@ -39,11 +39,6 @@ public:
         return boxMuller(bits(stream, step, i, j));
     }
 
-    /** A uniform number in [0, 1) for the pair (from the third word). */
-    double uniform(Stream stream, long long step, int i, int j) const {
-        return toUniform(bits(stream, step, i, j)[2]);
-    }
-
     /** A uniform number in [0, 1) from one word of a draw. */
     static double toUniform(uint32_t x) {
         return (double) x * (1.0 / 4294967296.0);
