@@ -11,54 +11,12 @@ import sys
 import time
 
 import openmm
-from openmm import unit
 
-from . import DPDVVIntegrator, LoweAndersenIntegrator, ShardlowIntegrator
+from .catalog import integrators
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
 
-FRICTION = 4.5  # 1/ps for both; for DPD with unit masses this is the papers' gamma = 4.5
-CUTOFF = 1.0    # nm, the DPD rc
-
-
-def integrator_factories(dt, gw_lambda):
-    """(label, factory) for each integrator benchmarked."""
-    temperature = KT_TEMPERATURE.value_in_unit(unit.kelvin)
-    factories = [("Langevin", lambda: openmm.LangevinMiddleIntegrator(
-        KT_TEMPERATURE, FRICTION / unit.picosecond, dt * unit.picosecond))]
-
-    def dpd(variant, lambda_=None):
-        def make():
-            integrator = DPDVVIntegrator(temperature, FRICTION, CUTOFF, dt)
-            integrator.setVariant(variant)
-            if lambda_ is not None:
-                integrator.setLambda(lambda_)
-            return integrator
-        return make
-
-    def shardlow(order):
-        def make():
-            integrator = ShardlowIntegrator(temperature, FRICTION, CUTOFF, dt)
-            integrator.setOrder(order)
-            return integrator
-        return make
-
-    def lowe(method):
-        def make():
-            integrator = LoweAndersenIntegrator(temperature, FRICTION, CUTOFF, dt)
-            integrator.setMethod(method)
-            return integrator
-        return make
-
-    return factories + [
-        (f"GW lambda={gw_lambda:g}", dpd(DPDVVIntegrator.GrootWarren, gw_lambda)),
-        ("DPD-VV", dpd(DPDVVIntegrator.DPDVV)),
-        ("SC-VV", dpd(DPDVVIntegrator.SelfConsistent)),
-        ("Shardlow S1", shardlow(1)),
-        ("Shardlow S2", shardlow(2)),
-        ("Lowe-Andersen", lowe(LoweAndersenIntegrator.Lowe)),
-        ("pair OU", lowe(LoweAndersenIntegrator.PairOrnsteinUhlenbeck)),
-    ]
+DEFAULT_INTEGRATORS = ["Langevin", "GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU"]
 
 
 def steps_per_second(integrator, steps):
@@ -73,7 +31,7 @@ def measure(scene, factories, threads, args):
     runs, results = {}, {}
     for label, make in factories:
         try:
-            context = openmm.Context(scene.system, make(), platform, {"Threads": str(threads)})
+            context = openmm.Context(scene.system, make(args.dt), platform, {"Threads": str(threads)})
             context.setPositions(scene.positions)
             context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
             rate = steps_per_second(context.getIntegrator(), args.warmup)
@@ -104,7 +62,6 @@ def measure_soft_force(n, threads, args):
     """The soft repulsion alone and a GW DPD-VV step, with this plugin's DPDSoftRepulsionForce
     and with the same interaction as a CustomNonbondedForce: {label: best rate}."""
     platform = openmm.Platform.getPlatformByName("CPU")
-    temperature = KT_TEMPERATURE.value_in_unit(unit.kelvin)
     runs, contexts = {}, []  # the contexts must outlive the measurements
     for kind, native in (("native", True), ("CustomNonbonded", False)):
         scene = soft_scene(num_particles=n, native_force=native)
@@ -113,7 +70,7 @@ def measure_soft_force(n, threads, args):
         contexts.append(force_context)
         rate = calls_per_second(force_context, 3)
         runs[f"force only, {kind}"] = (lambda c=force_context, k=max(3, round(rate * args.seconds)): calls_per_second(c, k))
-        integrator = DPDVVIntegrator(temperature, FRICTION, CUTOFF, args.dt)
+        integrator = integrators()["GW"](args.dt)
         step_context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})
         step_context.setPositions(scene.positions)
         step_context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
@@ -158,8 +115,8 @@ def main(argv=None):
     parser.add_argument("--sizes", type=int, nargs="+", default=[4000, 32000])
     parser.add_argument("--threads", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--dt", type=float, default=0.04, help="time step (ps = reduced units)")
-    parser.add_argument("--gw-lambda", type=float, default=0.65,
-                        help="Groot-Warren lambda (0.65 is their choice)")
+    parser.add_argument("--integrators", nargs="+", default=DEFAULT_INTEGRATORS,
+                        help=f"from: {', '.join(integrators())}")
     parser.add_argument("--warmup", type=int, default=10, help="untimed steps per integrator")
     parser.add_argument("--steps", type=int, default=None,
                         help="timed steps per measurement (default: about --seconds worth)")
@@ -171,7 +128,8 @@ def main(argv=None):
                         help="also compare DPDSoftRepulsionForce with the same CustomNonbondedForce")
     args = parser.parse_args(argv)
 
-    factories = integrator_factories(args.dt, args.gw_lambda)
+    catalog = integrators()
+    factories = [(name, catalog[name]) for name in args.integrators]
     rows = []
     for n in args.sizes:
         scene = soft_scene(num_particles=n)
@@ -179,7 +137,7 @@ def main(argv=None):
             print(f"measuring N={n} threads={threads} ...", file=sys.stderr, flush=True)
             rows.append((n, threads, measure(scene, factories, threads, args)))
     print(f"scene soft (rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, "
-          f"gamma={FRICTION:g}, best of {args.repeats}")
+          f"gamma=4.5, best of {args.repeats}")
     print_table(rows)
     if args.soft_force:
         force_rows = []

@@ -25,61 +25,15 @@ import openmm
 from openmm import unit
 from scipy.spatial import cKDTree
 
-from . import DPDVVIntegrator, LoweAndersenIntegrator, ShardlowIntegrator
 from .analysis import block_average
+from .catalog import CUTOFF, integrators
 from .scenes import SCENES, build_scene
 from .units import KT_TEMPERATURE
 
-GAMMA = 4.5  # friction (1/ps) = gamma for unit masses; Lowe's collision rate Gamma too
-CUTOFF = 1.0
 G_R_MAX, G_BINS = 2.0, 80
 COLUMNS = ["scene", "integrator", "dt", "status", "steps", "kT", "kT_err", "kT_error", "kT_conf",
            "g_dev_ref", "g_dev_ideal", "Nc", "D", "D_ratio", "chain_kT", "Rg", "cpu_s_per_time",
            "wall_s_per_time", "note"]
-
-
-def _dpdvv(variant, lam=0.5):
-    def make(dt):
-        integrator = DPDVVIntegrator(KT_TEMPERATURE, GAMMA, CUTOFF, dt)
-        integrator.setVariant(variant)
-        integrator.setLambda(lam)
-        return integrator
-    return make
-
-
-def _shardlow(order):
-    def make(dt):
-        integrator = ShardlowIntegrator(KT_TEMPERATURE, GAMMA, CUTOFF, dt)
-        integrator.setOrder(order)
-        return integrator
-    return make
-
-
-def _lowe(method):
-    def make(dt):
-        integrator = LoweAndersenIntegrator(KT_TEMPERATURE, GAMMA, CUTOFF, dt)
-        integrator.setMethod(method)
-        return integrator
-    return make
-
-
-def available_integrators():
-    """{name: factory(dt)}: ours, OpenMM's LangevinMiddleIntegrator, and OpenMM's own
-    DPDIntegrator where the installed OpenMM has it (8.3 and later)."""
-    factories = {
-        "GW": _dpdvv(DPDVVIntegrator.GrootWarren),
-        "GW0.65": _dpdvv(DPDVVIntegrator.GrootWarren, 0.65),
-        "DPD-VV": _dpdvv(DPDVVIntegrator.DPDVV),
-        "SC-VV": _dpdvv(DPDVVIntegrator.SelfConsistent),
-        "S1": _shardlow(1),
-        "S2": _shardlow(2),
-        "Lowe": _lowe(LoweAndersenIntegrator.Lowe),
-        "PairOU": _lowe(LoweAndersenIntegrator.PairOrnsteinUhlenbeck),
-        "Langevin": lambda dt: openmm.LangevinMiddleIntegrator(KT_TEMPERATURE, GAMMA, dt),
-    }
-    if hasattr(openmm, "DPDIntegrator"):
-        factories["OpenMM-DPD"] = lambda dt: openmm.DPDIntegrator(KT_TEMPERATURE, GAMMA, CUTOFF, dt)
-    return factories
 
 
 # --- observables ------------------------------------------------------------------------------
@@ -243,8 +197,8 @@ def run_one(scene, name, factory, dt, args):
 def compare(args):
     os.makedirs(args.out, exist_ok=True)
     scene = build_scene(args.scene, num_particles=args.particles, **({"a": args.a} if args.scene == "soft" else {}))
-    factories = available_integrators()
-    names = args.integrators or list(factories)
+    factories = integrators()
+    names = args.integrators or [name for name in factories if name != "Langevin"] + ["Langevin"]
     unknown = [x for x in names if x not in factories]
     if unknown:
         raise SystemExit(f"unknown integrators {unknown}; available: {', '.join(factories)}")

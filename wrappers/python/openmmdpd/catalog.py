@@ -1,0 +1,54 @@
+"""Every integrator the tools compare, by name, built the same way everywhere: ours, OpenMM's
+LangevinMiddleIntegrator (the baseline users know) and OpenMM's own DPDIntegrator where the
+installed OpenMM has one (8.3 and later).  Friction 4.5/ps (= gamma for unit masses, and
+Lowe's collision rate), cutoff 1 nm, kT = 1 kJ/mol."""
+import openmm
+
+from . import DPDVVIntegrator, LoweAndersenIntegrator, ShardlowIntegrator
+from .units import KT_TEMPERATURE
+
+FRICTION = 4.5  # 1/ps
+CUTOFF = 1.0    # nm, the DPD rc
+
+
+def _dpdvv(variant, lam=0.5):
+    def make(dt):
+        integrator = DPDVVIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, dt)
+        integrator.setVariant(variant)
+        integrator.setLambda(lam)
+        return integrator
+    return make
+
+
+def _shardlow(order):
+    def make(dt):
+        integrator = ShardlowIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, dt)
+        integrator.setOrder(order)
+        return integrator
+    return make
+
+
+def _lowe(method):
+    def make(dt):
+        integrator = LoweAndersenIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, dt)
+        integrator.setMethod(method)
+        return integrator
+    return make
+
+
+def integrators():
+    """{name: factory(dt) -> Integrator}, in the order the tools report them."""
+    factories = {
+        "Langevin": lambda dt: openmm.LangevinMiddleIntegrator(KT_TEMPERATURE, FRICTION, dt),
+        "GW": _dpdvv(DPDVVIntegrator.GrootWarren),
+        "GW0.65": _dpdvv(DPDVVIntegrator.GrootWarren, 0.65),
+        "DPD-VV": _dpdvv(DPDVVIntegrator.DPDVV),
+        "SC-VV": _dpdvv(DPDVVIntegrator.SelfConsistent),
+        "S1": _shardlow(1),
+        "S2": _shardlow(2),
+        "Lowe": _lowe(LoweAndersenIntegrator.Lowe),
+        "PairOU": _lowe(LoweAndersenIntegrator.PairOrnsteinUhlenbeck),
+    }
+    if hasattr(openmm, "DPDIntegrator"):
+        factories["OpenMM-DPD"] = lambda dt: openmm.DPDIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, dt)
+    return factories
