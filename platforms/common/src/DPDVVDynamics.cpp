@@ -84,7 +84,5 @@ void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDThermostatIntegr
             force[i] = conservative[i] + random[i] + dissipative[i];
         });
     }
-    checkFinite(v, "velocity", next);
-    data.stepCount = next;
-    data.time += dt;
+    finishStep(data, dt);
 }

@@ -26,6 +26,13 @@ void PairDynamics::checkFinite(const std::vector<Vec3>& values, const char* what
         }
 }
 
+void PairDynamics::finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const {
+    checkFinite(*data.velocities, "velocity", data.stepCount + 1);
+    // The Context's counters are ours to advance (Simulation.currentStep reads them).
+    data.stepCount++;
+    data.time += dt;
+}
+
 void PairDynamics::checkMoves(long long step) const {
     // A particle that crossed several thermostat cutoffs in one step has left the regime
     // in which any of these schemes means anything (and would corrupt the pair search).

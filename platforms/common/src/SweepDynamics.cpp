@@ -75,7 +75,5 @@ void SweepDynamics::step(OpenMM::ContextImpl& context, const DPDThermostatIntegr
         sweep(integrator, v, current, 0.5 * dt, PairRandom::SecondSweep, true);
     else if (shardlow == nullptr)
         sweep(integrator, v, current, dt, PairRandom::PairThermalisation, false);
-    checkFinite(v, "velocity", next);
-    data.stepCount = next;
-    data.time += dt;
+    finishStep(data, dt);
 }

@@ -61,6 +61,8 @@ protected:
         });
     }
     void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long long step) const;
+    /** End a step: the velocities must be finite; the Context's step count and time advance. */
+    void finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const;
     double sumMV2(const std::vector<OpenMM::Vec3>& velocities) const;
     static OpenMM::ReferencePlatform::PlatformData& platformData(OpenMM::ContextImpl& context) {
         return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
