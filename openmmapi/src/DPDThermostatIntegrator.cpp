@@ -106,6 +106,12 @@ void DPDThermostatIntegrator::step(int steps) {
     }
 }
 
+const OpenMM::Kernel& DPDThermostatIntegrator::getStepKernel() const {
+    if (context == nullptr)
+        throw OpenMMException(std::string(className()) + " is not bound to a Context");
+    return kernel;
+}
+
 void DPDThermostatIntegrator::createCheckpoint(std::ostream& stream) const {
     kernel.getAs<const IntegrateDPDStepKernel>().createCheckpoint(*context, stream);
 }

@@ -1,5 +1,6 @@
 #include "openmmdpd/DPDSerializationHelpers.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmm/OpenMMException.h"
@@ -49,7 +50,33 @@ struct Traits<LoweAndersenIntegrator> {
     }
 };
 
+template <>
+struct Traits<EDPDIntegrator> {
+    static void write(const EDPDIntegrator& integrator, SerializationNode& node) {
+        node.setDoubleProperty("alpha", integrator.getAlpha());
+        node.setIntProperty("scheme", integrator.getScheme());
+    }
+    static void read(const SerializationNode& node, EDPDIntegrator& integrator) {
+        integrator.setScheme((EDPDIntegrator::Scheme) node.getIntProperty("scheme"));
+    }
+};
+
+// The constructor's arguments, as the XML has them.
+template <class Integrator>
+Integrator* construct(const SerializationNode& node) {
+    return new Integrator(node.getDoubleProperty("temperature"), node.getDoubleProperty("defaultFriction"),
+                          node.getDoubleProperty("defaultCutoff"), node.getDoubleProperty("stepSize"));
+}
+
+template <>
+EDPDIntegrator* construct<EDPDIntegrator>(const SerializationNode& node) {
+    return new EDPDIntegrator(node.getDoubleProperty("temperature"), node.getDoubleProperty("defaultFriction"),
+                              node.getDoubleProperty("defaultCutoff"), node.getDoubleProperty("alpha"),
+                              node.getDoubleProperty("stepSize"));
+}
+
 const char* proxyName(const DPDVVIntegrator*) { return "DPDVVIntegrator"; }
+const char* proxyName(const EDPDIntegrator*) { return "EDPDIntegrator"; }
 const char* proxyName(const ShardlowIntegrator*) { return "ShardlowIntegrator"; }
 const char* proxyName(const LoweAndersenIntegrator*) { return "LoweAndersenIntegrator"; }
 
@@ -71,8 +98,7 @@ template <class Integrator>
 void* DPDIntegratorProxy<Integrator>::deserialize(const SerializationNode& node) const {
     if (node.getIntProperty("version") != 1)
         throw OpenMM::OpenMMException(std::string("Unsupported version number for ") + proxyName((Integrator*) nullptr));
-    Integrator* integrator = new Integrator(node.getDoubleProperty("temperature"), node.getDoubleProperty("defaultFriction"),
-                                            node.getDoubleProperty("defaultCutoff"), node.getDoubleProperty("stepSize"));
+    Integrator* integrator = construct<Integrator>(node);
     try {
         deserializeThermostatParameters(node, *integrator);
         Traits<Integrator>::read(node, *integrator);
@@ -87,3 +113,4 @@ void* DPDIntegratorProxy<Integrator>::deserialize(const SerializationNode& node)
 template class DPDPlugin::DPDIntegratorProxy<DPDVVIntegrator>;
 template class DPDPlugin::DPDIntegratorProxy<ShardlowIntegrator>;
 template class DPDPlugin::DPDIntegratorProxy<LoweAndersenIntegrator>;
+template class DPDPlugin::DPDIntegratorProxy<EDPDIntegrator>;

@@ -1,6 +1,7 @@
 #include "openmmdpd/DPDSerializationHelpers.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 
@@ -12,5 +13,6 @@ extern "C" void __attribute__((constructor)) registerDPDSerializationProxies() {
     OpenMM::SerializationProxy::registerProxy(typeid(DPDVVIntegrator), new DPDIntegratorProxy<DPDVVIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(ShardlowIntegrator), new DPDIntegratorProxy<ShardlowIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(LoweAndersenIntegrator), new DPDIntegratorProxy<LoweAndersenIntegrator>());
+    OpenMM::SerializationProxy::registerProxy(typeid(EDPDIntegrator), new DPDIntegratorProxy<EDPDIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(DPDSoftRepulsionForce), new DPDSoftRepulsionForceProxy());
 }

@@ -6,6 +6,7 @@
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmm/OpenMMException.h"
@@ -57,6 +58,22 @@ from openmmdpd.units import strip_units as _strip
     defaultGamma = _strip(defaultGamma, _unit.picosecond**-1)
     defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
     stepSize = _strip(stepSize, _unit.picosecond)
+%}
+%pythonprepend DPDPlugin::EDPDIntegrator::EDPDIntegrator %{
+    temperature = _strip(temperature, _unit.kelvin)
+    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
+    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
+    alpha = _strip(alpha, _unit.picosecond**-1)
+    stepSize = _strip(stepSize, _unit.picosecond)
+%}
+%pythonprepend DPDPlugin::EDPDIntegrator::setAlpha %{
+    alpha = _strip(alpha, _unit.picosecond**-1)
+%}
+%pythonappend DPDPlugin::EDPDIntegrator::getAlpha %{
+    val = _unit.Quantity(val, _unit.picosecond**-1)
+%}
+%pythonappend DPDPlugin::EDPDIntegrator::getPairVariable %{
+    val = _unit.Quantity(val, _unit.kilojoule_per_mole / _unit.nanometer)
 %}
 %pythonprepend DPDPlugin::DPDSoftRepulsionForce::DPDSoftRepulsionForce %{
     defaultA = _strip(defaultA, _unit.kilojoule_per_mole / _unit.nanometer)
@@ -135,6 +152,7 @@ from openmmdpd.units import strip_units as _strip
 %include "openmmdpd/DPDVVIntegrator.h"
 %include "openmmdpd/ShardlowIntegrator.h"
 %include "openmmdpd/LoweAndersenIntegrator.h"
+%include "openmmdpd/EDPDIntegrator.h"
 %include "openmmdpd/DPDSoftRepulsionForce.h"
 
 %clear int& type1, int& type2, int& particle1, int& particle2;
@@ -182,4 +200,5 @@ from openmmdpd.units import strip_units as _strip
 DPD_EXTRAS(DPDVVIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(ShardlowIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(LoweAndersenIntegrator, OpenMM::Integrator)
+DPD_EXTRAS(EDPDIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(DPDSoftRepulsionForce, OpenMM::Force)

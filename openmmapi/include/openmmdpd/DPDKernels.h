@@ -31,6 +31,16 @@ public:
     virtual void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) = 0;
 };
 
+/** The step kernel of EDPDIntegrator, which also answers for its pair variables. */
+class IntegrateEDPDStepKernel : public IntegrateDPDStepKernel {
+public:
+    static std::string Name() { return "IntegrateEDPDStep"; }
+    IntegrateEDPDStepKernel(std::string name, const OpenMM::Platform& platform) : IntegrateDPDStepKernel(name, platform) {}
+    /** The pair's s (kJ/mol/nm) and the step it belongs to; false if the pair is not remembered. */
+    virtual bool getPairVariable(int i, int j, double& value, long long& step) const = 0;
+    virtual long long getNumPairVariables() const = 0;
+};
+
 /** Computes the forces and energy of a DPDSoftRepulsionForce. */
 class CalcDPDSoftRepulsionForceKernel : public OpenMM::KernelImpl {
 public:

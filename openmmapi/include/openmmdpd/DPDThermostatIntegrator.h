@@ -104,6 +104,8 @@ protected:
     double computeKineticEnergy() override;
     void createCheckpoint(std::ostream& stream) const override;
     void loadCheckpoint(std::istream& stream) override;
+    /** The kernel that takes the steps (throws unless bound to a Context). */
+    const OpenMM::Kernel& getStepKernel() const;
 
 private:
     double temperature, defaultFriction, defaultCutoff;

@@ -102,22 +102,45 @@ void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities
         executor.range(w, pairs.size(), begin, end);
         accumulateDPDForces(pairs, begin, end, terms, velocities, random, step, dt, ownDissipative, ownRandom);
     });
+    if (writeDissipative)
+        reduceWorkerBuffers(workerDissipative, dissipative);
+    if (writeRandom)
+        reduceWorkerBuffers(workerRandom, randomForce);
+}
+
+void DPDThermostatForces::reduceWorkerBuffers(const std::vector<std::vector<Vec3>>& buffers, std::vector<Vec3>& out) {
+    const int workers = executor.getNumWorkers();
     executor.execute([&](int w) {
         size_t begin, end;
-        executor.range(w, n, begin, end);
+        executor.range(w, out.size(), begin, end);
         for (size_t i = begin; i < end; i++) {
-            if (writeDissipative) {
-                Vec3 f;
-                for (int k = 0; k < workers; k++)
-                    f += workerDissipative[k][i];
-                dissipative[i] = f;
-            }
-            if (writeRandom) {
-                Vec3 f;
-                for (int k = 0; k < workers; k++)
-                    f += workerRandom[k][i];
-                randomForce[i] = f;
-            }
+            Vec3 f;
+            for (int k = 0; k < workers; k++)
+                f += buffers[k][i];
+            out[i] = f;
         }
     });
+}
+
+void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vector<Vec3>& out) {
+    const int workers = executor.getNumWorkers();
+    auto accumulate = [&](size_t begin, size_t end, std::vector<Vec3>& f) {
+        for (size_t k = begin; k < end; k++) {
+            const Vec3 pairForce = pairs[k].e * c[k];
+            f[pairs[k].i] += pairForce;
+            f[pairs[k].j] -= pairForce;
+        }
+    };
+    if (workers == 1) {
+        zero(out, 0, out.size());
+        accumulate(0, pairs.size(), out);
+        return;
+    }
+    executor.execute([&](int w) {
+        zero(workerDissipative[w], 0, out.size());
+        size_t begin, end;
+        executor.range(w, pairs.size(), begin, end);
+        accumulate(begin, end, workerDissipative[w]);
+    });
+    reduceWorkerBuffers(workerDissipative, out);
 }

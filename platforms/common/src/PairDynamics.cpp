@@ -107,6 +107,7 @@ void PairDynamics::createCheckpoint(std::ostream& stream) const {
     stream.write(&valid, 1);
     stream.write((const char*) &n, sizeof(n));
     stream.write((const char*) force.data(), n * sizeof(Vec3));
+    writeState(stream);
 }
 
 void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) {
@@ -121,6 +122,7 @@ void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& st
     stream.read((char*) force.data(), n * sizeof(Vec3));
     if (!stream)
         throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+    readState(stream);
     thermostat.setSeed(seed);
     forcesValid = (valid != 0);
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);

@@ -1,6 +1,5 @@
 #include "ThreadPoolExecutor.h"
 #include "openmmdpd/DPDStepKernel.h"
-#include "openmmdpd/SoftRepulsionKernel.h"
 #include "CpuPlatform.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
@@ -14,11 +13,10 @@ namespace {
 class CpuDPDKernelFactory : public KernelFactory {
 public:
     KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
-        for (const std::string& known : DPDStepKernel::names())
-            if (name == known)
-                return new DPDStepKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(CpuPlatform::getPlatformData(context).threads)));
-        if (name == CalcDPDSoftRepulsionForceKernel::Name())
-            return new SoftRepulsionKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(CpuPlatform::getPlatformData(context).threads)));
+        ThreadPool& threads = CpuPlatform::getPlatformData(context).threads;
+        KernelImpl* kernel = createDPDKernel(name, platform, [&] { return std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(threads)); });
+        if (kernel != nullptr)
+            return kernel;
         throw OpenMMException("openmm-dpd CPU plugin: unknown kernel '" + name + "'");
     }
 };
@@ -28,9 +26,8 @@ public:
 extern "C" OPENMM_EXPORT void registerDPDCpuKernelFactories() {
     Platform& platform = Platform::getPlatformByName("CPU");
     KernelFactory* factory = new CpuDPDKernelFactory();
-    for (const std::string& name : DPDStepKernel::names())
+    for (const std::string& name : dpdKernelNames())
         platform.registerKernelFactory(name, factory);
-    platform.registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {

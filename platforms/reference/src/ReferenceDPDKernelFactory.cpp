@@ -1,5 +1,4 @@
 #include "openmmdpd/DPDStepKernel.h"
-#include "openmmdpd/SoftRepulsionKernel.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
@@ -13,11 +12,9 @@ namespace {
 class ReferenceDPDKernelFactory : public KernelFactory {
 public:
     KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
-        for (const std::string& known : DPDStepKernel::names())
-            if (name == known)
-                return new DPDStepKernel(name, platform, std::unique_ptr<ParallelExecutor>(new SerialExecutor()));
-        if (name == CalcDPDSoftRepulsionForceKernel::Name())
-            return new SoftRepulsionKernel(name, platform, std::unique_ptr<ParallelExecutor>(new SerialExecutor()));
+        KernelImpl* kernel = createDPDKernel(name, platform, [] { return std::unique_ptr<ParallelExecutor>(new SerialExecutor()); });
+        if (kernel != nullptr)
+            return kernel;
         throw OpenMMException("openmm-dpd Reference plugin: unknown kernel '" + name + "'");
     }
 };
@@ -27,9 +24,8 @@ public:
 extern "C" OPENMM_EXPORT void registerDPDReferenceKernelFactories() {
     Platform& platform = Platform::getPlatformByName("Reference");
     KernelFactory* factory = new ReferenceDPDKernelFactory();
-    for (const std::string& name : DPDStepKernel::names())
+    for (const std::string& name : dpdKernelNames())
         platform.registerKernelFactory(name, factory);
-    platform.registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {

@@ -7,11 +7,12 @@ import os as _os
 
 import openmm as _openmm  # loads OpenMM's own plugins (the CPU platform) first
 
-from .dpdplugin import (DPDSoftRepulsionForce, DPDThermostatIntegrator, DPDVVIntegrator, LoweAndersenIntegrator,
-                        ShardlowIntegrator)
+from .dpdplugin import (DPDSoftRepulsionForce, DPDThermostatIntegrator, DPDVVIntegrator, EDPDIntegrator,
+                        LoweAndersenIntegrator, ShardlowIntegrator)
 from .units import KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units
 
-__all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator", "LoweAndersenIntegrator", "KT_TEMPERATURE", "kT_from_temperature",
+__all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
+           "LoweAndersenIntegrator", "EDPDIntegrator", "KT_TEMPERATURE", "kT_from_temperature",
            "reduced_temperature", "strip_units", "loaded_plugins"]
 
 

@@ -16,15 +16,15 @@ constexpr double BOLTZMANN_KJ_PER_MOL_K = 0.00831446261815324;
 
 /**
  * One pair within its thermostat cutoff, with everything the pair rules need at the
- * current positions: the unit vector e = r_ij / r (minimum image) and, with the weight
- * wR = 1 - r/rc, the pair's weighted friction gamma_ij wD = gamma_ij wR^2, weighted
+ * current positions: the unit vector e = r_ij / r (minimum image), the weight
+ * wR = 1 - r/rc, and the pair's weighted friction gamma_ij wD = gamma_ij wR^2, weighted
  * noise amplitude sigma_ij wR, and its type pair's friction rate (1/ps; Lowe-Andersen's
  * collision rate Gamma).
  */
 struct PairGeometry {
     int i, j;
     OpenMM::Vec3 e;
-    double gammaWD, sigmaWR, rate;
+    double wR, gammaWD, sigmaWR, rate;
 };
 
 /**
@@ -85,11 +85,19 @@ public:
         out.i = i;
         out.j = j;
         out.e = d / r;
+        out.wR = wR;
         out.gammaWD = gamma * wR * wR;
         out.sigmaWR = std::sqrt(2 * gamma * kT) * wR;
         out.rate = table.value(t);
         return true;
     }
+
+    /** The friction coefficient gamma_ij = 2 mu_ij friction_ij of any pair (amu/ps). */
+    double pairGamma(int i, int j) const {
+        return 2 * mass[i] * mass[j] / (mass[i] + mass[j]) * table.value(table.index(i, j));
+    }
+    /** The cutoff of any pair (nm). */
+    double pairCutoff(int i, int j) const { return table.cutoff(table.index(i, j)); }
 
 private:
     TypePairTable table;

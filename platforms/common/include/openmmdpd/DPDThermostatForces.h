@@ -34,10 +34,17 @@ public:
      */
     void compute(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
                  std::vector<OpenMM::Vec3>& dissipative, std::vector<OpenMM::Vec3>& random);
+    /**
+     * out[i] = sum over the pairs of c_k e_k, with + on the pair's particle i and - on j:
+     * the per-particle force of pair forces c_k e_k given per pair (in getPairs() order).
+     */
+    void sumAlongPairs(const std::vector<double>& c, std::vector<OpenMM::Vec3>& out);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     uint32_t getSeed() const { return random.getSeed(); }
 
 private:
+    /** out[i] = the sum of the workers' buffers at i, in worker order, for i in parallel. */
+    void reduceWorkerBuffers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, std::vector<OpenMM::Vec3>& out);
     DPDPairParameters parameters;
     ParallelExecutor& executor;
     PairSearch search;

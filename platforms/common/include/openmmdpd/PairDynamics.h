@@ -39,6 +39,9 @@ public:
 protected:
     /** Called after a checkpoint was loaded (state kept beyond the carried force is stale). */
     virtual void stateRestored() {}
+    /** Write / read the update rule's own state that outlives a step (after the carried force). */
+    virtual void writeState(std::ostream& stream) const {}
+    virtual void readState(std::istream& stream) {}
     /** Call at the start of a step: whether `force` still holds for the current state. */
     bool carriedForceValid(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities);
     void setCarriedForceValid() { forcesValid = true; }

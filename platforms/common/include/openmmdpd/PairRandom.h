@@ -18,7 +18,11 @@ namespace DPDPlugin {
  */
 class PairRandom {
 public:
-    enum Stream : uint32_t { RandomForce = 0, PairThermalisation = 1, SecondSweep = 2 };
+    enum Stream : uint32_t {
+        RandomForce = 0, PairThermalisation = 1, SecondSweep = 2,
+        AuxiliaryNoise = 3,    // EDPD: the noise of a pair variable's step
+        AuxiliaryRecall = 4    // EDPD: a pair variable drawn or caught up when a pair (re)appears
+    };
 
     explicit PairRandom(uint32_t seed = 0) : seed(seed) {}
     uint32_t getSeed() const { return seed; }

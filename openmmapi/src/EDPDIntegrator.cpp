@@ -1,0 +1,45 @@
+#include "openmmdpd/EDPDIntegrator.h"
+#include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/internal/ParameterChecks.h"
+#include <cmath>
+
+using namespace DPDPlugin;
+
+EDPDIntegrator::EDPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double alpha, double stepSize) :
+        DPDThermostatIntegrator(temperature, defaultFriction, defaultCutoff, stepSize), alpha(1), scheme(OneSided) {
+    setAlpha(alpha);
+}
+
+void EDPDIntegrator::setAlpha(double a) {
+    require(std::isfinite(a) && a > 0, "alpha must be > 0 /ps, got " + numberText(a));
+    alpha = a;
+}
+
+void EDPDIntegrator::setScheme(Scheme s) {
+    require(s == OneSided || s == Symmetric, "scheme must be OneSided (0) or Symmetric (1), got " + std::to_string((int) s));
+    scheme = s;
+}
+
+double EDPDIntegrator::getPairVariable(int particle1, int particle2) const {
+    double value;
+    long long step;
+    if (!getStepKernel().getAs<const IntegrateEDPDStepKernel>().getPairVariable(particle1, particle2, value, step))
+        return NAN;
+    return value;
+}
+
+long long EDPDIntegrator::getPairVariableStep(int particle1, int particle2) const {
+    double value;
+    long long step;
+    if (!getStepKernel().getAs<const IntegrateEDPDStepKernel>().getPairVariable(particle1, particle2, value, step))
+        return -1;
+    return step;
+}
+
+long long EDPDIntegrator::getNumPairVariables() const {
+    return getStepKernel().getAs<const IntegrateEDPDStepKernel>().getNumPairVariables();
+}
+
+std::string EDPDIntegrator::kernelName() const {
+    return IntegrateEDPDStepKernel::Name();
+}
