@@ -6,7 +6,8 @@ already in those units.
 import numpy as np
 from openmm import unit
 
-__all__ = ["kinetic_temperature", "block_average", "radial_distribution", "radius_of_gyration"]
+__all__ = ["kinetic_temperature", "block_average", "radial_distribution", "radius_of_gyration",
+           "velocity_autocorrelation"]
 
 
 def _array(value, target_unit):
@@ -72,3 +73,21 @@ def radius_of_gyration(positions_of_chain):
     """Rg = sqrt(mean |r_i - r_cm|^2) of one chain (equal masses; positions unwrapped)."""
     x = _array(positions_of_chain, unit.nanometer).reshape(-1, 3)
     return float(np.sqrt(np.mean(np.sum((x - x.mean(axis=0)) ** 2, axis=1))))
+
+
+def velocity_autocorrelation(velocities, max_lag):
+    """Normalised C(k) = <v(t) . v(t + k)> / <v . v> for lags k = 0 .. max_lag (in frames).
+
+    velocities: frames x particles x 3, equally spaced in time; averaged over particles
+    and over every time origin with a full lag (FFT along time, zero-padded).
+    """
+    v = _array(velocities, unit.nanometer / unit.picosecond)
+    frames = v.shape[0]
+    if v.ndim != 3 or v.shape[2] != 3 or not 0 < max_lag < frames:
+        raise ValueError(f"need frames x particles x 3 velocities and 0 < max_lag < frames; "
+                         f"got shape {v.shape} and max_lag {max_lag}")
+    size = 1 << int(np.ceil(np.log2(2 * frames)))
+    spectrum = np.fft.rfft(v.reshape(frames, -1), n=size, axis=0)
+    correlation = np.fft.irfft(np.abs(spectrum) ** 2, n=size, axis=0)[:max_lag + 1].sum(axis=1)
+    correlation /= frames - np.arange(max_lag + 1)  # origins per lag
+    return correlation / correlation[0]

@@ -241,3 +241,18 @@ def test_radius_of_gyration():
     assert analysis.radius_of_gyration(chain) == pytest.approx(np.sqrt(2 / 3))
     assert analysis.radius_of_gyration(chain * unit.nanometer + 5 * unit.nanometer) == \
         pytest.approx(np.sqrt(2 / 3))
+
+
+def test_velocity_autocorrelation_of_an_ar1_process_decays_geometrically():
+    # v(t) = phi v(t-1) + noise has C(k) = phi^k exactly in expectation.
+    rng = np.random.default_rng(4)
+    phi, frames = 0.8, 400
+    v = np.empty((frames, 300, 3))
+    v[0] = rng.normal(size=(300, 3))
+    for t in range(1, frames):
+        v[t] = phi * v[t - 1] + np.sqrt(1 - phi ** 2) * rng.normal(size=(300, 3))
+    c = analysis.velocity_autocorrelation(v, 10)
+    assert c[0] == pytest.approx(1.0)
+    assert np.allclose(c, phi ** np.arange(11), atol=0.01)
+    with pytest.raises(ValueError):
+        analysis.velocity_autocorrelation(v, frames)
