@@ -203,3 +203,31 @@ TEST(DPDSoftRepulsionForce, CheckpointWithDPDIsBitExactOnEveryPlatform) {
         }
     }
 }
+
+// Within a DPD step the force is evaluated from the thermostat's pair list when that list
+// holds all its pairs (thermostat cutoff 1.2 >= every force cutoff), and by its own kernel
+// otherwise (thermostat cutoff 1.0 < 1.2): either way the trajectory is that of the same
+// interaction written as a CustomNonbondedForce.
+TEST(DPDSoftRepulsionForce, DPDStepsGetTheSameForceWithOrWithoutTheThermostatPairList) {
+    const Vec3 box[3] = {Vec3(5, 0, 0), Vec3(1.5, 4.5, 0), Vec3(-2.0, 1.2, 4)};
+    TwoForces setup;
+    makeSystems(setup, box, 600, 3);
+    for (double thermostatCutoff : {1.2, 1.0})
+        for (const std::string& platform : platforms()) {
+            std::vector<std::vector<Vec3>> velocities;
+            for (int group : {0, 1}) {
+                DPDVVIntegrator integrator(KT_KELVIN, 4.5, thermostatCutoff, 0.01);
+                integrator.setRandomNumberSeed(5);
+                integrator.setIntegrationForceGroups(1 << group);
+                auto context = makeContext(setup.system, integrator, platform, setup.positions, 2);
+                integrator.step(5);
+                velocities.push_back(context->getState(State::Velocities).getVelocities());
+            }
+            for (size_t i = 0; i < setup.positions.size(); i++) {
+                const Vec3 d = velocities[0][i] - velocities[1][i];
+                // CPU: the CustomNonbondedForce is single precision.
+                ASSERT_LT(std::sqrt(d.dot(d)), platform == "CPU" ? 1e-4 : 1e-9)
+                        << platform << " thermostat cutoff " << thermostatCutoff << " particle " << i;
+            }
+        }
+}

@@ -1,4 +1,6 @@
 #include "openmmdpd/PairDynamics.h"
+#include "openmmdpd/SoftRepulsionKernel.h"
+#include "openmmdpd/internal/DPDSoftRepulsionForceImpl.h"
 #include "openmm/OpenMMException.h"
 #include "ReferencePlatform.h"
 #include <cmath>
@@ -69,14 +71,81 @@ double PairDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) const {
     return 0.5 * sumMV2(*platformData(context).velocities);
 }
 
+SoftRepulsionKernel* PairDynamics::softForceToFuse(OpenMM::ContextImpl& context, int forceGroups) {
+    // Checked again only when the force's parameters or the force groups change.
+    if (fusedVersion >= 0 && forceGroups == fusedForceGroups && fusedSoftForce->getParametersVersion() == fusedVersion)
+        return fusedSoftForce;
+    fusedVersion = -1;
+    SoftRepulsionKernel* found = nullptr;
+    int count = 0;
+    for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
+        DPDSoftRepulsionForceImpl* soft = dynamic_cast<DPDSoftRepulsionForceImpl*>(impl);
+        if (soft != nullptr && (forceGroups & (1 << soft->getOwner().getForceGroup())) != 0) {
+            found = dynamic_cast<SoftRepulsionKernel*>(&soft->getKernel().getImpl());
+            count++;
+        }
+    }
+    if (count != 1 || found == nullptr || found->isPeriodic() != thermostat.getSearch().isPeriodic())
+        return nullptr;
+    // Every pair the force acts on must be in the thermostat's list: every particle takes
+    // part in the thermostat, and no force cutoff exceeds the thermostat cutoff of the same
+    // pair (checked over the pairs of (force type, thermostat type) classes).
+    const DPDPairParameters& parameters = thermostat.getParameters();
+    const TypePairTable& forceTable = found->getTable();
+    const TypePairTable& thermostatTable = parameters.getTable();
+    std::vector<std::pair<int, int>> classes;
+    for (int i = 0; i < parameters.getNumParticles(); i++) {
+        if (!parameters.getActive()[i])
+            return nullptr;
+        const std::pair<int, int> c(forceTable.typeOf(i), thermostatTable.typeOf(i));
+        if (std::find(classes.begin(), classes.end(), c) == classes.end())
+            classes.push_back(c);
+    }
+    for (const auto& a : classes)
+        for (const auto& b : classes)
+            if (forceTable.cutoff(forceTable.indexOfTypes(a.first, b.first)) >
+                thermostatTable.cutoff(thermostatTable.indexOfTypes(a.second, b.second)))
+                return nullptr;
+    fusedSoftForce = found;
+    fusedForceGroups = forceGroups;
+    fusedVersion = found->getParametersVersion();
+    return found;
+}
+
 void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
-    context.calcForcesAndEnergy(true, false, forceGroups);
+    SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
+    if (soft != nullptr) {
+        soft->setDeferred(true);
+        try {
+            context.calcForcesAndEnergy(true, false, forceGroups);
+        }
+        catch (...) {
+            soft->setDeferred(false);
+            throw;
+        }
+        soft->setDeferred(false);
+    }
+    else
+        context.calcForcesAndEnergy(true, false, forceGroups);
     conservative = *data.forces;
-    checkFinite(conservative, "conservative force", step);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     thermostat.updatePairs(*data.positions, box);
+    if (soft != nullptr) {
+        const std::vector<PairGeometry>& pairs = thermostat.getPairs();
+        const DPDPairParameters& parameters = thermostat.getParameters();
+        pairSoftForce.resize(pairs.size());
+        softForce.resize(conservative.size());
+        forEachParticle(pairs.size(), [&](size_t k) {
+            const PairGeometry& p = pairs[k];
+            const double r = parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
+            pairSoftForce[k] = soft->pairForce(p.i, p.j, r);
+        });
+        thermostat.sumAlongPairs(pairSoftForce, softForce);
+        forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += softForce[i]; });
+    }
+    checkFinite(conservative, "conservative force", step);
 }
 
 void PairDynamics::invalidateForces() {

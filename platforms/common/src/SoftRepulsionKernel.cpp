@@ -36,9 +36,12 @@ void SoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force) {
     }
     table.reset(new TypePairTable(numParticles, force.getParticleTypes(), force.getDefaultA(), force.getDefaultCutoff(), entries));
     search.reset(new PairSearch(std::vector<bool>(numParticles, true), table->getMaxCutoff(), periodic));
+    version++;
 }
 
 double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+    if (deferred)
+        return 0.0;
     OpenMM::ReferencePlatform::PlatformData& data = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     std::vector<Vec3>& forces = *data.forces;
     Vec3 box[3];

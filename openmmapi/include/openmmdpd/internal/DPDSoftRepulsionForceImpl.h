@@ -21,6 +21,8 @@ public:
     std::map<std::string, double> getDefaultParameters() override { return {}; }
     std::vector<std::string> getKernelNames() override;
     void updateParametersInContext(OpenMM::ContextImpl& context);
+    /** The platform's kernel (integrators that evaluate this force from their own pair list use it). */
+    OpenMM::Kernel& getKernel() { return kernel; }
     /** Throw unless the force is consistent with the System (particle indices, box). */
     static void validate(const DPDSoftRepulsionForce& force, const OpenMM::System& system);
 

@@ -42,6 +42,9 @@ public:
                   const std::vector<Entry>& entries);
     /** The table index of the pair (i, j). */
     int index(int i, int j) const { return typeIndex[i] * numTypes + typeIndex[j]; }
+    /** The dense type of a particle, and the table index of a pair of dense types. */
+    int typeOf(int particle) const { return typeIndex[particle]; }
+    int indexOfTypes(int a, int b) const { return a * numTypes + b; }
     double value(int t) const { return values[t]; }
     double cutoff(int t) const { return cutoffs[t]; }
     double cutoff2(int t) const { return cutoffs2[t]; }
@@ -64,6 +67,7 @@ public:
     DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
     int getNumParticles() const { return (int) mass.size(); }
     double getMaxCutoff() const { return table.getMaxCutoff(); }
+    const TypePairTable& getTable() const { return table; }
     /** Particles that move and take part in the thermostat (mass > 0). */
     const std::vector<bool>& getActive() const { return active; }
     const std::vector<double>& getMasses() const { return mass; }

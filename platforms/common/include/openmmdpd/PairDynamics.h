@@ -10,6 +10,8 @@
 
 namespace DPDPlugin {
 
+class SoftRepulsionKernel;
+
 /** A step that moves a particle farther than this many thermostat cutoffs has blown up. */
 constexpr double MAX_MOVE_PER_STEP = 5.0;
 
@@ -45,7 +47,11 @@ protected:
     /** Call at the start of a step: whether `force` still holds for the current state. */
     bool carriedForceValid(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities);
     void setCarriedForceValid() { forcesValid = true; }
-    /** conservative <- the integration force groups' forces; the thermostat pairs at the same positions. */
+    /**
+     * conservative <- the integration force groups' forces; the thermostat pairs at the same
+     * positions.  A DPDSoftRepulsionForce whose pairs all lie within the thermostat's is
+     * evaluated from the thermostat pair list (one pair search per step instead of two).
+     */
     void computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step);
     /**
      * r[i] += displacement(i) for every particle, in parallel, then the blow-up checks
@@ -79,6 +85,12 @@ protected:
 
 private:
     void checkMoves(long long step) const;
+    /** The soft force to evaluate from the thermostat pairs, if there is one that can be. */
+    SoftRepulsionKernel* softForceToFuse(OpenMM::ContextImpl& context, int forceGroups);
+    SoftRepulsionKernel* fusedSoftForce = nullptr;
+    int fusedForceGroups = 0, fusedVersion = -1;
+    std::vector<double> pairSoftForce;
+    std::vector<OpenMM::Vec3> softForce;
     bool forcesValid, verifyRestoredState;
     std::vector<OpenMM::Vec3> restoredPositions, restoredVelocities;
 };

@@ -24,6 +24,25 @@ public:
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
 
+    /**
+     * While deferred, execute() adds nothing: an integrator whose thermostat pair list holds
+     * every pair of this force adds the force from that list instead (see pairForce), so
+     * the pairs are searched once per step, not twice.
+     */
+    void setDeferred(bool value) { deferred = value; }
+    /** Changes whenever the parameters do (for callers that cache checks on them). */
+    int getParametersVersion() const { return version; }
+    const TypePairTable& getTable() const { return *table; }
+    bool isPeriodic() const { return periodic; }
+    /** The force on i along e = (r_i - r_j)/r of a pair at distance r (kJ/mol/nm). */
+    double pairForce(int i, int j, double r) const {
+        const int t = table->index(i, j);
+        const double rc = table->cutoff(t);
+        if (r >= rc || excluded(i, j))
+            return 0;
+        return table->value(t) * (1 - r / rc);
+    }
+
 private:
     void setParameters(const DPDSoftRepulsionForce& force);
     bool excluded(int i, int j) const {
@@ -33,8 +52,8 @@ private:
     std::unique_ptr<ParallelExecutor> executor;
     std::unique_ptr<TypePairTable> table;
     std::unique_ptr<PairSearch> search;
-    bool periodic = false;
-    int numParticles = 0;
+    bool periodic = false, deferred = false;
+    int numParticles = 0, version = 0;
     std::vector<std::vector<int>> exclusions;  // sorted partners of each particle
     std::vector<std::vector<OpenMM::Vec3>> workerForces;
     std::vector<double> workerEnergy;
