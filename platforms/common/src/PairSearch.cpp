@@ -116,39 +116,57 @@ void PairSearch::updateNeighbourTable() {
 void PairSearch::neighbourCells(int cell, std::vector<Neighbour>& out) const {
     out.clear();
     const int c[3] = {cell % numCells[0], (cell / numCells[0]) % numCells[1], cell / (numCells[0] * numCells[1])};
-    // With three or more cells along every axis each offset reaches a distinct cell through
-    // exactly one image; otherwise several offsets reach one cell, which is then searched
-    // once with a full minimum-image test.
-    const bool distinct = numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3;
+    // The other cell at offset d from this one, and the image shift that brings it next to it.
+    auto locate = [&](const int* d, int& other, Vec3& shift) {
+        int idx[3], wrap[3];
+        for (int k = 0; k < 3; k++) {
+            idx[k] = c[k] + d[k];
+            wrap[k] = 0;
+            if (idx[k] < 0 || idx[k] >= numCells[k]) {
+                if (!periodic)
+                    return false;
+                wrap[k] = (idx[k] < 0 ? -1 : 1);
+                idx[k] -= wrap[k] * numCells[k];
+            }
+        }
+        other = (idx[2] * numCells[1] + idx[1]) * numCells[0] + idx[0];
+        shift = box[0] * wrap[0] + box[1] * wrap[1] + box[2] * wrap[2];
+        return true;
+    };
+    if (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3) {
+        // Every offset reaches a distinct cell through exactly one image: search the half
+        // shell of offsets after (0, 0, 0) in (dz, dy, dx) order, plus the cell itself, and
+        // merge consecutive cells of one x-row that share a shift into one run.
+        for (int dz = 0; dz <= 1; dz++)
+            for (int dy = (dz == 0 ? 0 : -1); dy <= 1; dy++)
+                for (int dx = (dz == 0 && dy == 0 ? 0 : -1); dx <= 1; dx++) {
+                    const int d[3] = {dx, dy, dz};
+                    Neighbour n;
+                    if (!locate(d, n.firstCell, n.shift))
+                        continue;
+                    n.lastCell = n.firstCell;
+                    n.exactShift = true;
+                    if (!out.empty() && out.back().lastCell + 1 == n.firstCell && out.back().shift == n.shift && dx > -1)
+                        out.back().lastCell = n.firstCell;
+                    else
+                        out.push_back(n);
+                }
+        return;
+    }
+    // Otherwise several offsets reach one cell, which is then searched once, from the lower
+    // of the two cells, with a full minimum-image test.
     for (int dz = -1; dz <= 1; dz++)
         for (int dy = -1; dy <= 1; dy++)
             for (int dx = -1; dx <= 1; dx++) {
                 const int d[3] = {dx, dy, dz};
-                int idx[3], wrap[3];
-                bool inside = true;
-                for (int k = 0; k < 3; k++) {
-                    idx[k] = c[k] + d[k];
-                    wrap[k] = 0;
-                    if (idx[k] < 0 || idx[k] >= numCells[k]) {
-                        if (!periodic)
-                            inside = false;
-                        wrap[k] = (idx[k] < 0 ? -1 : 1);
-                        idx[k] -= wrap[k] * numCells[k];
-                    }
-                }
-                const int other = (idx[2] * numCells[1] + idx[1]) * numCells[0] + idx[0];
-                // Each unordered pair of cells is searched once, from its lower cell.
-                if (inside && other >= cell) {
-                    Neighbour n;
-                    n.cell = other;
-                    n.exactShift = distinct;
-                    // The other cell's image next to this one lies `wrap` boxes away.
-                    n.shift = box[0] * wrap[0] + box[1] * wrap[1] + box[2] * wrap[2];
+                Neighbour n;
+                if (locate(d, n.firstCell, n.shift) && n.firstCell >= cell) {
+                    n.lastCell = n.firstCell;
+                    n.exactShift = false;
                     out.push_back(n);
                 }
             }
-    if (!distinct) {
-        std::sort(out.begin(), out.end(), [](const Neighbour& a, const Neighbour& b) { return a.cell < b.cell; });
-        out.erase(std::unique(out.begin(), out.end(), [](const Neighbour& a, const Neighbour& b) { return a.cell == b.cell; }), out.end());
-    }
+    std::sort(out.begin(), out.end(), [](const Neighbour& a, const Neighbour& b) { return a.firstCell < b.firstCell; });
+    out.erase(std::unique(out.begin(), out.end(), [](const Neighbour& a, const Neighbour& b) { return a.firstCell == b.firstCell; }),
+              out.end());
 }

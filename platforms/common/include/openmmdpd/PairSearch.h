@@ -67,10 +67,15 @@ public:
     void forEachPair(int begin, int end, Visitor&& visit) const;
 
 private:
+    /**
+     * A run of cells [firstCell, lastCell] whose particles are contiguous in the sorted
+     * arrays and share one image shift: up to three cells along x, so a particle's
+     * candidates come in ~5 runs of ~12 rather than 14 cells of ~4.
+     */
     struct Neighbour {
-        int cell;
+        int firstCell, lastCell;
         bool exactShift;     // shift gives the image (else each pair gets a minimum-image test)
-        OpenMM::Vec3 shift;  // the other cell's image lies at its positions + shift
+        OpenMM::Vec3 shift;  // the other cells' images lie at their positions + shift
     };
     void neighbourCells(int cell, std::vector<Neighbour>& out) const;
     /** The neighbour cells of every cell, for the current grid (rebuilt when it changes). */
@@ -97,8 +102,8 @@ void PairSearch::forEachPair(int begin, int end, Visitor&& visit) const {
         for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
             const OpenMM::Vec3 rp = sortedPositions[p];
             for (const Neighbour* other = firstNeighbour; other != endNeighbour; ++other) {
-                const int first = (other->cell == cell ? p + 1 : cellStart[other->cell]);
-                const int last = cellStart[other->cell + 1];
+                const int first = (other->firstCell == cell ? p + 1 : cellStart[other->firstCell]);
+                const int last = cellStart[other->lastCell + 1];
                 if (other->exactShift) {
                     const OpenMM::Vec3 rpShifted = rp - other->shift;
                     for (int q = first; q < last; q++) {
