@@ -176,7 +176,7 @@ void PairDynamics::createCheckpoint(std::ostream& stream) const {
     stream.write(&valid, 1);
     stream.write((const char*) &n, sizeof(n));
     stream.write((const char*) force.data(), n * sizeof(Vec3));
-    writeState(stream);
+    saveExtraState(stream);
 }
 
 void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) {
@@ -191,7 +191,9 @@ void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& st
     stream.read((char*) force.data(), n * sizeof(Vec3));
     if (!stream)
         throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
-    readState(stream);
+    loadExtraState(stream);
+    if (!stream)
+        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
     thermostat.setSeed(seed);
     forcesValid = (valid != 0);
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);

@@ -18,8 +18,8 @@ public:
     const PairMemory& getMemory() const { return memory; }
 
 protected:
-    void writeState(std::ostream& stream) const override { memory.write(stream); }
-    void readState(std::istream& stream) override { memory.read(stream); }
+    void saveExtraState(std::ostream& stream) const override { memory.write(stream); }
+    void loadExtraState(std::istream& stream) override { memory.read(stream); }
 
 private:
     /** auxiliary <- -sum_k wR e s_k over the pairs in range, from pairS. */

@@ -41,9 +41,12 @@ public:
 protected:
     /** Called after a checkpoint was loaded (state kept beyond the carried force is stale). */
     virtual void stateRestored() {}
-    /** Write / read the update rule's own state that outlives a step (after the carried force). */
-    virtual void writeState(std::ostream& stream) const {}
-    virtual void readState(std::istream& stream) {}
+    /**
+     * A subclass that carries more than `force` from one step to the next writes it here
+     * (after the shared part of the checkpoint) and reads it back in loadExtraState().
+     */
+    virtual void saveExtraState(std::ostream& stream) const {}
+    virtual void loadExtraState(std::istream& stream) {}
     /** Call at the start of a step: whether `force` still holds for the current state. */
     bool carriedForceValid(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities);
     void setCarriedForceValid() { forcesValid = true; }
