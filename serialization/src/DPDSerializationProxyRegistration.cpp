@@ -3,6 +3,7 @@
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 
 using namespace DPDPlugin;
 
@@ -12,5 +13,6 @@ extern "C" void __attribute__((constructor)) registerDPDSerializationProxies() {
     OpenMM::SerializationProxy::registerProxy(typeid(DPDVVIntegrator), new DPDIntegratorProxy<DPDVVIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(ShardlowIntegrator), new DPDIntegratorProxy<ShardlowIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(LoweAndersenIntegrator), new DPDIntegratorProxy<LoweAndersenIntegrator>());
+    OpenMM::SerializationProxy::registerProxy(typeid(StaggeredDPDIntegrator), new DPDIntegratorProxy<StaggeredDPDIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(DPDSoftRepulsionForce), new DPDSoftRepulsionForceProxy());
 }

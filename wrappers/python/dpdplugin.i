@@ -8,6 +8,7 @@
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/OpenMMException.h"
 #include <exception>
 %}
@@ -17,6 +18,7 @@
 %include "std_string.i"
 %include "std_vector.i"
 %template(ParticleTypeMap) std::map<int, int>;
+%template(IntVector) std::vector<int>;
 
 // Errors reach Python as openmm.OpenMMException, as OpenMM's own do.
 %exception {
@@ -57,6 +59,21 @@ from openmmdpd.units import strip_units as _strip
     defaultGamma = _strip(defaultGamma, _unit.picosecond**-1)
     defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
     stepSize = _strip(stepSize, _unit.picosecond)
+%}
+%pythonprepend DPDPlugin::StaggeredDPDIntegrator::StaggeredDPDIntegrator %{
+    temperature = _strip(temperature, _unit.kelvin)
+    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
+    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
+    stepSize = _strip(stepSize, _unit.picosecond)
+%}
+%pythonappend DPDPlugin::StaggeredDPDIntegrator::getSubStepSize %{
+    val = _unit.Quantity(val, _unit.picosecond)
+%}
+%pythonappend DPDPlugin::StaggeredDPDIntegrator::getPolymerParticles %{
+    val = tuple(val)
+%}
+%pythonappend DPDPlugin::StaggeredDPDIntegrator::findPolymerParticles %{
+    val = tuple(val)
 %}
 %pythonprepend DPDPlugin::DPDSoftRepulsionForce::DPDSoftRepulsionForce %{
     defaultA = _strip(defaultA, _unit.kilojoule_per_mole / _unit.nanometer)
@@ -129,12 +146,14 @@ from openmmdpd.units import strip_units as _strip
 // Only the public interface: the protected Integrator hooks are for OpenMM.
 %ignore DPDPlugin::DPDThermostatIntegrator::validate;
 %ignore DPDPlugin::LoweAndersenIntegrator::validate;
+%ignore DPDPlugin::StaggeredDPDIntegrator::validate;
 %ignore DPDPlugin::DPDSoftRepulsionForce::getTypeTable;
 
 %include "openmmdpd/DPDThermostatIntegrator.h"
 %include "openmmdpd/DPDVVIntegrator.h"
 %include "openmmdpd/ShardlowIntegrator.h"
 %include "openmmdpd/LoweAndersenIntegrator.h"
+%include "openmmdpd/StaggeredDPDIntegrator.h"
 %include "openmmdpd/DPDSoftRepulsionForce.h"
 
 %clear int& type1, int& type2, int& particle1, int& particle2;
@@ -182,4 +201,5 @@ from openmmdpd.units import strip_units as _strip
 DPD_EXTRAS(DPDVVIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(ShardlowIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(LoweAndersenIntegrator, OpenMM::Integrator)
+DPD_EXTRAS(StaggeredDPDIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(DPDSoftRepulsionForce, OpenMM::Force)

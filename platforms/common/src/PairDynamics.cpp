@@ -26,6 +26,19 @@ void PairDynamics::checkFinite(const std::vector<Vec3>& values, const char* what
         }
 }
 
+void PairDynamics::checkFinite(const std::vector<Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,
+                               const char* what, long long step) const {
+    for (size_t k = 0; k < particles.size(); k++) {
+        const Vec3& x = values[indexedByParticle ? particles[k] : k];
+        if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))) {
+            std::ostringstream message;
+            message << name << ": the simulation blew up at step " << step << ": particle " << particles[k] << " has a non-finite "
+                    << what << ". Reduce the step size, or check the starting configuration and the forces.";
+            throw OpenMM::OpenMMException(message.str());
+        }
+    }
+}
+
 void PairDynamics::finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const {
     checkFinite(*data.velocities, "velocity", data.stepCount + 1);
     // The Context's counters are ours to advance (Simulation.currentStep reads them).
@@ -107,6 +120,7 @@ void PairDynamics::createCheckpoint(std::ostream& stream) const {
     stream.write(&valid, 1);
     stream.write((const char*) &n, sizeof(n));
     stream.write((const char*) force.data(), n * sizeof(Vec3));
+    saveExtraState(stream);
 }
 
 void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) {
@@ -119,6 +133,9 @@ void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& st
     if (!stream || n != force.size())
         throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System");
     stream.read((char*) force.data(), n * sizeof(Vec3));
+    if (!stream)
+        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+    loadExtraState(stream);
     if (!stream)
         throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
     thermostat.setSeed(seed);

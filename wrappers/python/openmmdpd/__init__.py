@@ -8,10 +8,10 @@ import os as _os
 import openmm as _openmm  # loads OpenMM's own plugins (the CPU platform) first
 
 from .dpdplugin import (DPDSoftRepulsionForce, DPDThermostatIntegrator, DPDVVIntegrator, LoweAndersenIntegrator,
-                        ShardlowIntegrator)
+                        ShardlowIntegrator, StaggeredDPDIntegrator)
 from .units import KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units
 
-__all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator", "LoweAndersenIntegrator", "KT_TEMPERATURE", "kT_from_temperature",
+__all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator", "LoweAndersenIntegrator", "StaggeredDPDIntegrator", "KT_TEMPERATURE", "kT_from_temperature",
            "reduced_temperature", "strip_units", "loaded_plugins"]
 
 

@@ -9,7 +9,8 @@ import numpy as np
 import openmm
 from openmm import app, unit
 
-__all__ = ["Scene", "SCENES", "build_scene", "ideal_scene", "soft_scene", "polymer_scene",
+__all__ = ["Scene", "SCENES", "build_scene", "ideal_scene", "soft_scene", "polymer_scene", "fene_chains_scene",
+           "FAST_FORCE_GROUP",
            "soft_repulsion_force", "harmonic_bond_force", "wca_force", "fene_bond_force",
            "wlc_bond_force", "periodic_marker_force", "random_positions", "random_walk"]
 
@@ -19,7 +20,11 @@ Scene.__doc__ = """A ready-to-simulate system.
 chain_particles: tuple of chains, each a tuple of particle indices in bond order
 (empty for scenes without chains)."""
 
-SCENES = ("ideal", "soft", "polymer")
+SCENES = ("ideal", "soft", "polymer", "fene-chains")
+
+# The force group of the stiff polymer forces (FENE, WCA) in the scenes made for the
+# staggered integrator; StaggeredDPDIntegrator's default fastForceGroups is this group.
+FAST_FORCE_GROUP = 1
 
 
 def soft_repulsion_force(num_particles, a, types=None, cutoff=1.0, native=True):
@@ -251,7 +256,54 @@ def polymer_scene(num_particles=4000, density=4.0, chain_length=20, a=0.0, seed=
     return scene
 
 
-_BUILDERS = {"ideal": ideal_scene, "soft": soft_scene, "polymer": polymer_scene}
+def fene_chains_scene(chain_length=20, num_chains=4, num_particles=4000, density=4.0, a=18.75, seed=1,
+                      native_force=True):
+    """Polymers in a soft DPD solvent (paper 002 §5.1): num_chains chains of chain_length
+    beads, FENE bonds k = 7, rmax = 3, WCA between all beads (bonded pairs excluded), soft
+    repulsion a = 75 kT/rho = 18.75 between all particles. Particles 0..num_chains*chain_length-1
+    are the chains, chain c being c*chain_length .. (c+1)*chain_length-1.
+
+    The stiff forces, FENE and WCA, are in force group FAST_FORCE_GROUP (1); the soft
+    repulsion is in group 0. This is what StaggeredDPDIntegrator expects by default: it
+    sub-cycles the fast group and takes the chain beads as the particles that group acts on.
+    FENE past rmax gives NaN forces, which the integrators report as an error naming the step.
+    """
+    if chain_length < 2 or num_chains < 1 or num_chains * chain_length > num_particles:
+        raise ValueError("need chain_length >= 2, num_chains >= 1 and room for the chains")
+    rng = np.random.default_rng(seed)
+    box_length = _box_length(num_particles, density)
+    chains = [list(range(c * chain_length, (c + 1) * chain_length)) for c in range(num_chains)]
+    walks = []
+    for _ in chains:
+        for _attempt in range(100):
+            walk = random_walk(rng, chain_length, rng.uniform(0, box_length, 3), box_length)
+            # keep chains apart from the earlier ones too (WCA overlaps would blow up)
+            ok = True
+            for other in walks:
+                d = walk[:, None, :] - other[None, :, :]
+                d -= box_length * np.round(d / box_length)
+                if np.min(np.sum(d * d, axis=2)) < 0.9 ** 2:
+                    ok = False
+                    break
+            if ok:
+                walks.append(walk)
+                break
+        else:
+            raise RuntimeError("could not place the chains apart; use fewer or shorter chains")
+    num_beads = num_chains * chain_length
+    positions = np.vstack(walks + [random_positions(rng, num_particles - num_beads, box_length)])
+    scene = _make_scene("fene-chains", num_particles, density, positions, chains)
+    bonds = [(i, j) for chain in chains for i, j in zip(chain[:-1], chain[1:])]
+    system = scene.system
+    beads = list(range(num_beads))
+    for fast in (fene_bond_force(bonds), wca_force(num_particles, beads, bonds)):
+        fast.setForceGroup(FAST_FORCE_GROUP)
+        system.addForce(fast)
+    system.addForce(soft_repulsion_force(num_particles, a, native=native_force))
+    return scene
+
+
+_BUILDERS = {"ideal": ideal_scene, "soft": soft_scene, "polymer": polymer_scene, "fene-chains": fene_chains_scene}
 
 
 def build_scene(name, **kwargs):

@@ -24,7 +24,7 @@ public:
     void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) override { dynamics->loadCheckpoint(context, stream); }
     /** The kernel names a platform registers DPDStepKernel under. */
     static std::vector<std::string> names() {
-        return {DPDVVName(), ShardlowName(), LoweAndersenName()};
+        return {DPDVVName(), ShardlowName(), LoweAndersenName(), StaggeredName()};
     }
 
 private:

@@ -39,6 +39,12 @@ public:
 protected:
     /** Called after a checkpoint was loaded (state kept beyond the carried force is stale). */
     virtual void stateRestored() {}
+    /**
+     * A subclass that carries more than `force` from one step to the next writes it here
+     * (after the shared part of the checkpoint) and reads it back in loadExtraState().
+     */
+    virtual void saveExtraState(std::ostream& stream) const {}
+    virtual void loadExtraState(std::istream& stream) {}
     /** Call at the start of a step: whether `force` still holds for the current state. */
     bool carriedForceValid(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities);
     void setCarriedForceValid() { forcesValid = true; }
@@ -60,7 +66,16 @@ protected:
                 body(i);
         });
     }
+    /**
+     * r[i] += displacement(i) for the listed particles only (serially: meant for a small
+     * subset, e.g. a staggered scheme's polymer), then the same blow-up checks on them.
+     */
+    template <class Displacement>
+    void moveParticles(const std::vector<int>& particles, std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement);
     void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long long step) const;
+    /** The same check on values[particles[k]] (or values[k] with indexedByParticle false), naming particles[k]. */
+    void checkFinite(const std::vector<OpenMM::Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,
+                     const char* what, long long step) const;
     /** End a step: the velocities must be finite; the Context's step count and time advance. */
     void finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const;
     double sumMV2(const std::vector<OpenMM::Vec3>& velocities) const;
@@ -94,6 +109,21 @@ void PairDynamics::movePositions(std::vector<OpenMM::Vec3>& r, long long step, D
         workerSums[w] = maxMove2;
     });
     checkFinite(r, "position", step);
+    checkMoves(step);
+}
+
+template <class Displacement>
+void PairDynamics::moveParticles(const std::vector<int>& particles, std::vector<OpenMM::Vec3>& r, long long step,
+                                 Displacement displacement) {
+    double maxMove2 = 0;
+    for (size_t k = 0; k < particles.size(); k++) {
+        const OpenMM::Vec3 move = displacement(k);
+        r[particles[k]] += move;
+        maxMove2 = std::max(maxMove2, move.dot(move));
+    }
+    std::fill(workerSums.begin(), workerSums.end(), 0.0);
+    workerSums[0] = maxMove2;
+    checkFinite(r, particles, true, "position", step);
     checkMoves(step);
 }
 

@@ -1,0 +1,176 @@
+#include "openmmdpd/StaggeredDynamics.h"
+#include "openmmdpd/PairRules.h"
+#include "openmm/OpenMMException.h"
+#include <istream>
+#include <ostream>
+#include <sstream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator, ParallelExecutor& executor) :
+        // The Lowe base sweeps pairs sequentially, in the colour order LoweAndersenIntegrator uses.
+        PairDynamics(system, integrator, executor, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
+        baseScheme(integrator.getBaseScheme()), polymerGroups(0), pairSweep(executor) {
+    const int n = system.getNumParticles();
+    for (auto* v : {&dissipative, &predicted, &newForce})
+        v->resize(n);
+    updatePolymer(system, integrator);
+}
+
+void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) {
+    polymer = integrator.findPolymerParticles(system);
+    polymerGroups = integrator.getFastForceGroups();
+    polymerExplicit = integrator.getPolymerParticles();
+    polymerIndex.assign(system.getNumParticles(), -1);
+    for (size_t k = 0; k < polymer.size(); k++)
+        polymerIndex[polymer[k]] = (int) k;
+    for (auto* v : {&fastForce, &newFastForce, &startPositions, &drivingForce})
+        v->assign(polymer.size(), Vec3());
+}
+
+void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
+                                         std::vector<Vec3>& fast, bool checkSolvent) {
+    context.calcForcesAndEnergy(true, false, integrator.getFastForceGroups());
+    const std::vector<Vec3>& f = *platformData(context).forces;
+    for (size_t k = 0; k < polymer.size(); k++)
+        fast[k] = f[polymer[k]];
+    checkFinite(fast, polymer, false, "fast force", step);
+    if (checkSolvent)
+        for (size_t i = 0; i < f.size(); i++)
+            if (polymerIndex[i] < 0 && f[i] != Vec3()) {
+                std::ostringstream message;
+                message << name << ": the fast forces act on particle " << i << ", which is not a polymer particle; "
+                        << "polymer particles are the only ones sub-cycled, so add it to the polymer particles, or move "
+                        << "that force out of the fast force groups";
+                throw OpenMM::OpenMMException(message.str());
+            }
+}
+
+void StaggeredDynamics::computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    const long long step = data.stepCount;
+    computeConservativeAndPairs(context, slowGroups(integrator), step);
+    if (baseScheme == StaggeredDPDIntegrator::VelocityVerlet) {
+        thermostat.compute(DissipativeTerm | RandomTerm, *data.velocities, step, integrator.getStepSize(), dissipative, dissipative);
+        for (size_t i = 0; i < force.size(); i++)
+            force[i] = conservative[i] + dissipative[i];
+    }
+    else
+        force = conservative;
+    computeFastForce(context, integrator, step, fastForce, true);
+    setCarriedForceValid();
+}
+
+void StaggeredDynamics::step(OpenMM::ContextImpl& context, const DPDThermostatIntegrator& thermostatIntegrator) {
+    const StaggeredDPDIntegrator& integrator = static_cast<const StaggeredDPDIntegrator&>(thermostatIntegrator);
+    if (integrator.getBaseScheme() != baseScheme)
+        throw OpenMM::OpenMMException("StaggeredDPDIntegrator: the base scheme changed after the Context was created; call "
+                                      "Context.reinitialize(True) after setBaseScheme()");
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    std::vector<Vec3>& r = *data.positions;
+    std::vector<Vec3>& v = *data.velocities;
+    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+    const size_t n = r.size();
+    const int K = integrator.getNumSubSteps();
+    const double Dt = integrator.getStepSize(), dt = Dt / K;
+    const long long current = data.stepCount, next = current + 1;
+    bool valid = carriedForceValid(r, v);
+    if (integrator.getFastForceGroups() != polymerGroups || integrator.getPolymerParticles() != polymerExplicit) {
+        updatePolymer(context.getSystem(), integrator);
+        valid = false;
+    }
+    if (!valid)
+        computeInitialForce(context, integrator);
+
+    const bool verlet = (baseScheme == StaggeredDPDIntegrator::VelocityVerlet);
+    const double lambda = integrator.getLambda(), mu = integrator.getMu(), a = integrator.getA(), b = integrator.getB();
+    const size_t numPolymer = polymer.size();
+    for (size_t k = 0; k < numPolymer; k++)
+        startPositions[k] = r[polymer[k]];
+
+    // Solvent: r += Dt u + Dt^2/(2m) F.  Polymer: r^ = r + Dt u + Dt^2/(2m) (F + Fp),
+    // evaluated at r^^ = mu r + (1 - mu) r^.  Velocity-Verlet base: the predicted velocities
+    // u^ = u + lambda Dt F/m (solvent), u^^ = a u + (1 - a) (u + lambda Dt (F + Fp)/m) (polymer).
+    movePositions(r, next, [&](size_t i) {
+        const int k = polymerIndex[i];
+        Vec3 f = force[i];
+        if (k >= 0)
+            f += fastForce[k];
+        if (verlet) {
+            predicted[i] = v[i] + f * (lambda * Dt * invMass[i]);
+            if (k >= 0)
+                predicted[i] = v[i] * a + predicted[i] * (1 - a);
+        }
+        const Vec3 move = v[i] * Dt + f * (0.5 * Dt * Dt * invMass[i]);
+        return (k >= 0 ? move * (1 - mu) : move);
+    });
+
+    // F^: the one slow evaluation (and pair search) of the outer step.
+    computeConservativeAndPairs(context, slowGroups(integrator), next);
+    if (verlet) {
+        thermostat.compute(DissipativeTerm | RandomTerm, predicted, next, Dt, dissipative, dissipative);
+        forEachParticle(n, [&](size_t i) {
+            newForce[i] = conservative[i] + dissipative[i];
+        });
+    }
+    else
+        newForce = conservative;
+
+    // Solvent: u += Dt/(2m) (F + F^).
+    forEachParticle(n, [&](size_t i) {
+        if (polymerIndex[i] < 0)
+            v[i] += (force[i] + newForce[i]) * (0.5 * Dt * invMass[i]);
+    });
+
+    // Polymer: K sub-steps from the start of the outer step, driven by F^^ = b F + (1 - b) F^
+    // and the fast force, which alone is re-evaluated.
+    for (size_t k = 0; k < numPolymer; k++) {
+        const int p = polymer[k];
+        r[p] = startPositions[k];
+        drivingForce[k] = force[p] * b + newForce[p] * (1 - b);
+    }
+    const bool weighted = integrator.getWeighted();
+    for (int s = 0; s < K; s++) {
+        moveParticles(polymer, r, next, [&](size_t k) {
+            const int p = polymer[k];
+            return v[p] * dt + (drivingForce[k] + fastForce[k]) * (0.5 * dt * dt * invMass[p]);
+        });
+        computeFastForce(context, integrator, next, newFastForce, false);
+        // The slow force at the ends of the sub-step: linear in time from F to F^
+        // (weighted), or F and F^ (non-weighted).
+        const double oldF = (weighted ? (double) (K - s) / K : 1.0), oldNew = (weighted ? (double) s / K : 0.0);
+        const double newF = (weighted ? (double) (K - s - 1) / K : 0.0), newNew = (weighted ? (double) (s + 1) / K : 1.0);
+        for (size_t k = 0; k < numPolymer; k++) {
+            const int p = polymer[k];
+            const Vec3 slowOld = force[p] * oldF + newForce[p] * oldNew;
+            const Vec3 slowNew = force[p] * newF + newForce[p] * newNew;
+            v[p] += ((slowOld + fastForce[k]) + (slowNew + newFastForce[k])) * (0.5 * dt * invMass[p]);
+            fastForce[k] = newFastForce[k];
+        }
+    }
+    force.swap(newForce);
+
+    // Lowe base: the pair thermalisation, once per outer step, over the pairs just found.
+    if (!verlet) {
+        pairSweep.prepare(thermostat);
+        pairSweep.run(thermostat, v, LowePairUpdate{thermostat.getRandom(), current, Dt, thermostat.getParameters().getKT(), invMass},
+                      false);
+    }
+    finishStep(data, Dt);
+}
+
+// After the shared part (seed, validity, slow force): the fast force on each polymer particle.
+void StaggeredDynamics::saveExtraState(std::ostream& stream) const {
+    const uint64_t count = fastForce.size();
+    stream.write((const char*) &count, sizeof(count));
+    stream.write((const char*) fastForce.data(), count * sizeof(Vec3));
+}
+
+void StaggeredDynamics::loadExtraState(std::istream& stream) {
+    uint64_t count;
+    stream.read((char*) &count, sizeof(count));
+    if (!stream || count != fastForce.size())
+        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System's polymer particles");
+    stream.read((char*) fastForce.data(), count * sizeof(Vec3));
+}
