@@ -1,6 +1,12 @@
 #include "openmmdpd/StaggeredDynamics.h"
 #include "openmmdpd/PairRules.h"
+#include "openmm/CustomBondForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicBondForce.h"
 #include "openmm/OpenMMException.h"
+#include "openmm/Platform.h"
+#include "openmm/State.h"
+#include "openmm/serialization/XmlSerializer.h"
 #include <istream>
 #include <ostream>
 #include <sstream>
@@ -11,7 +17,7 @@ using OpenMM::Vec3;
 StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator, ParallelExecutor& executor) :
         // The Lowe base sweeps pairs sequentially, in the colour order LoweAndersenIntegrator uses.
         PairDynamics(system, integrator, executor, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
-        baseScheme(integrator.getBaseScheme()), polymerGroups(0), pairSweep(executor) {
+        baseScheme(integrator.getBaseScheme()), polymerGroups(0), pairSweep(executor), fastContextTried(false) {
     const int n = system.getNumParticles();
     for (auto* v : {&dissipative, &predicted, &newForce})
         v->resize(n);
@@ -25,12 +31,150 @@ void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const Stagge
     polymerIndex.assign(system.getNumParticles(), -1);
     for (size_t k = 0; k < polymer.size(); k++)
         polymerIndex[polymer[k]] = (int) k;
-    for (auto* v : {&fastForce, &newFastForce, &startPositions, &drivingForce})
+    for (auto* v : {&fastForce, &newFastForce, &startPositions, &drivingForce, &fastPositions})
         v->assign(polymer.size(), Vec3());
+    fastContext.reset();
+    fastIntegrator.reset();
+    fastSystem.reset();
+    fastContextTried = false;
+}
+
+namespace {
+
+/** A copy of `force` over the polymer particles only (index i becomes index[i]), or null. */
+OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int>& index) {
+    auto inPolymer = [&](int i) { return index[i] >= 0; };
+    if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force)) {
+        std::unique_ptr<OpenMM::HarmonicBondForce> copy(new OpenMM::HarmonicBondForce());
+        for (int k = 0; k < bond->getNumBonds(); k++) {
+            int i, j;
+            double length, kb;
+            bond->getBondParameters(k, i, j, length, kb);
+            if (!inPolymer(i) || !inPolymer(j))
+                return nullptr;
+            copy->addBond(index[i], index[j], length, kb);
+        }
+        copy->setUsesPeriodicBoundaryConditions(bond->usesPeriodicBoundaryConditions());
+        return copy.release();
+    }
+    if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force)) {
+        if (bond->getNumEnergyParameterDerivatives() > 0)
+            return nullptr;
+        std::unique_ptr<OpenMM::CustomBondForce> copy(new OpenMM::CustomBondForce(bond->getEnergyFunction()));
+        for (int p = 0; p < bond->getNumPerBondParameters(); p++)
+            copy->addPerBondParameter(bond->getPerBondParameterName(p));
+        for (int p = 0; p < bond->getNumGlobalParameters(); p++)
+            copy->addGlobalParameter(bond->getGlobalParameterName(p), bond->getGlobalParameterDefaultValue(p));
+        std::vector<double> parameters;
+        for (int k = 0; k < bond->getNumBonds(); k++) {
+            int i, j;
+            bond->getBondParameters(k, i, j, parameters);
+            if (!inPolymer(i) || !inPolymer(j))
+                return nullptr;
+            copy->addBond(index[i], index[j], parameters);
+        }
+        copy->setUsesPeriodicBoundaryConditions(bond->usesPeriodicBoundaryConditions());
+        return copy.release();
+    }
+    if (auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force)) {
+        // Only interaction groups confine it to the polymer; a long-range correction
+        // depends on the whole System.
+        if (nonbonded->getNumInteractionGroups() == 0 || nonbonded->getUseLongRangeCorrection() ||
+            nonbonded->getNumEnergyParameterDerivatives() > 0)
+            return nullptr;
+        std::unique_ptr<OpenMM::CustomNonbondedForce> copy(new OpenMM::CustomNonbondedForce(nonbonded->getEnergyFunction()));
+        for (int p = 0; p < nonbonded->getNumPerParticleParameters(); p++)
+            copy->addPerParticleParameter(nonbonded->getPerParticleParameterName(p));
+        for (int p = 0; p < nonbonded->getNumGlobalParameters(); p++)
+            copy->addGlobalParameter(nonbonded->getGlobalParameterName(p), nonbonded->getGlobalParameterDefaultValue(p));
+        for (int f = 0; f < nonbonded->getNumTabulatedFunctions(); f++)
+            copy->addTabulatedFunction(nonbonded->getTabulatedFunctionName(f),
+                                       OpenMM::XmlSerializer::clone<OpenMM::TabulatedFunction>(nonbonded->getTabulatedFunction(f)));
+        std::vector<int> particles;
+        for (size_t i = 0; i < index.size(); i++)
+            if (index[i] >= 0)
+                particles.push_back((int) i);  // in polymer order: index[particles[k]] == k
+        std::vector<double> parameters;
+        for (int i : particles) {
+            nonbonded->getParticleParameters(i, parameters);
+            copy->addParticle(parameters);
+        }
+        for (int k = 0; k < nonbonded->getNumExclusions(); k++) {
+            int i, j;
+            nonbonded->getExclusionParticles(k, i, j);
+            if (inPolymer(i) && inPolymer(j))
+                copy->addExclusion(index[i], index[j]);
+        }
+        for (int g = 0; g < nonbonded->getNumInteractionGroups(); g++) {
+            std::set<int> set1, set2, mapped1, mapped2;
+            nonbonded->getInteractionGroupParameters(g, set1, set2);
+            for (int i : set1) {
+                if (!inPolymer(i))
+                    return nullptr;
+                mapped1.insert(index[i]);
+            }
+            for (int i : set2) {
+                if (!inPolymer(i))
+                    return nullptr;
+                mapped2.insert(index[i]);
+            }
+            copy->addInteractionGroup(mapped1, mapped2);
+        }
+        copy->setNonbondedMethod(nonbonded->getNonbondedMethod());
+        copy->setCutoffDistance(nonbonded->getCutoffDistance());
+        copy->setUseSwitchingFunction(nonbonded->getUseSwitchingFunction());
+        copy->setSwitchingDistance(nonbonded->getSwitchingDistance());
+        return copy.release();
+    }
+    return nullptr;
+}
+
+} // namespace
+
+void StaggeredDynamics::makeFastContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    fastContextTried = true;
+    const OpenMM::System& system = context.getSystem();
+    std::unique_ptr<OpenMM::System> reduced(new OpenMM::System());
+    for (int p : polymer)
+        reduced->addParticle(system.getParticleMass(p));
+    Vec3 box[3];
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    reduced->setDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    for (int f = 0; f < system.getNumForces(); f++) {
+        const OpenMM::Force& force = system.getForce(f);
+        if ((integrator.getFastForceGroups() & (1 << force.getForceGroup())) == 0)
+            continue;
+        OpenMM::Force* copy = copyOverPolymer(force, polymerIndex);
+        if (copy == nullptr)
+            return;  // the full Context evaluates the fast groups
+        reduced->addForce(copy);
+    }
+    if (reduced->getNumForces() == 0)
+        return;
+    OpenMM::Platform& platform = context.getPlatform();
+    std::map<std::string, std::string> properties;
+    if (platform.getName() == "CPU")
+        properties["Threads"] = platform.getPropertyValue(context.getOwner(), "Threads");
+    fastSystem = std::move(reduced);
+    fastIntegrator.reset(new OpenMM::VerletIntegrator(1.0));
+    fastContext.reset(new OpenMM::Context(*fastSystem, *fastIntegrator, platform, properties));
 }
 
 void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
                                          std::vector<Vec3>& fast, bool checkSolvent) {
+    // K = 1 evaluates them in the full Context, as the base integrators do.
+    if (fastContext && integrator.getNumSubSteps() > 1) {
+        const std::vector<Vec3>& r = *platformData(context).positions;
+        for (size_t k = 0; k < polymer.size(); k++)
+            fastPositions[k] = r[polymer[k]];
+        Vec3 box[3];
+        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        fastContext->setPeriodicBoxVectors(box[0], box[1], box[2]);
+        fastContext->setPositions(fastPositions);
+        fast = fastContext->getState(OpenMM::State::Forces).getForces();
+        checkFinite(fast, polymer, false, "fast force", step);
+        return;
+    }
     context.calcForcesAndEnergy(true, false, integrator.getFastForceGroups());
     const std::vector<Vec3>& f = *platformData(context).forces;
     for (size_t k = 0; k < polymer.size(); k++)
@@ -80,6 +224,8 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const DPDThermostatIn
         updatePolymer(context.getSystem(), integrator);
         valid = false;
     }
+    if (K > 1 && !fastContextTried)
+        makeFastContext(context, integrator);
     if (!valid)
         computeInitialForce(context, integrator);
 

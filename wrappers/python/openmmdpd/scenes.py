@@ -148,19 +148,21 @@ def random_positions(rng, num_particles, box_length):
     return rng.uniform(0.0, box_length, size=(num_particles, 3))
 
 
-def random_walk(rng, num_beads, start, box_length, bond_length=0.5, min_distance=0.9):
+def random_walk(rng, num_beads, start, box_length, bond_length=0.5, min_distance=0.9, avoid=None):
     """A chain as a random walk of fixed step length from `start` (unwrapped), (n, 3) in nm.
 
     Steps that bring a bead closer than min_distance (minimum image) to any bead but its
     predecessor are redrawn: the WCA energy of a random walk's overlaps would blow up the
-    first steps, while at 0.9 it is below 1 kT.
+    first steps, while at 0.9 it is below 1 kT. `avoid`: other beads ((m, 3), e.g. earlier
+    chains) to keep as far away.
     """
+    avoid = np.zeros((0, 3)) if avoid is None else np.asarray(avoid, dtype=float).reshape(-1, 3)
     beads = [np.asarray(start, dtype=float)]
     for _ in range(num_beads - 1):
         for _attempt in range(1000):
             step = rng.normal(size=3)
             candidate = beads[-1] + bond_length * step / np.linalg.norm(step)
-            d = candidate - np.array(beads[:-1]).reshape(-1, 3)
+            d = candidate - np.vstack([np.array(beads[:-1]).reshape(-1, 3), avoid])
             d -= box_length * np.round(d / box_length)
             if np.all(np.sum(d * d, axis=1) >= min_distance ** 2):
                 break
@@ -275,19 +277,21 @@ def fene_chains_scene(chain_length=20, num_chains=4, num_particles=4000, density
     chains = [list(range(c * chain_length, (c + 1) * chain_length)) for c in range(num_chains)]
     walks = []
     for _ in chains:
+        avoid = np.vstack(walks) if walks else None
         for _attempt in range(100):
-            walk = random_walk(rng, chain_length, rng.uniform(0, box_length, 3), box_length)
-            # keep chains apart from the earlier ones too (WCA overlaps would blow up)
-            ok = True
-            for other in walks:
-                d = walk[:, None, :] - other[None, :, :]
+            start = rng.uniform(0, box_length, 3)
+            if avoid is not None:
+                d = start - avoid
                 d -= box_length * np.round(d / box_length)
-                if np.min(np.sum(d * d, axis=2)) < 0.9 ** 2:
-                    ok = False
-                    break
-            if ok:
-                walks.append(walk)
+                if np.min(np.sum(d * d, axis=1)) < 0.9 ** 2:
+                    continue
+            # FENE bonds relax near 0.97; WCA (cutoff 1) makes closer contacts costly
+            try:
+                walks.append(random_walk(rng, chain_length, start, box_length,
+                                         bond_length=0.97, min_distance=0.9, avoid=avoid))
                 break
+            except RuntimeError:
+                continue
         else:
             raise RuntimeError("could not place the chains apart; use fewer or shorter chains")
     num_beads = num_chains * chain_length

@@ -4,6 +4,9 @@
 #include "openmmdpd/PairDynamics.h"
 #include "openmmdpd/PairSweep.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
+#include "openmm/Context.h"
+#include "openmm/VerletIntegrator.h"
+#include <memory>
 
 namespace DPDPlugin {
 
@@ -34,6 +37,13 @@ private:
     /** fast[k] <- the fast force on polymer particle k at the current positions. */
     void computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
                           std::vector<OpenMM::Vec3>& fast, bool checkSolvent);
+    /**
+     * A Context holding only the polymer particles and copies of the fast forces (indices
+     * remapped), so that a sub-step costs what the fast forces on the polymer cost and not a
+     * pass over the whole System; null if a fast force cannot be copied (then the full
+     * Context evaluates the fast force groups).
+     */
+    void makeFastContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
     /** force <- the slow force, fastForce <- the fast one, at the current state. */
     void computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
 
@@ -45,7 +55,11 @@ private:
     std::vector<OpenMM::Vec3> dissipative, predicted, newForce;
     // Per polymer particle (index k of polymer[k]): the fast force, the one at the new
     // sub-step positions, the start of the outer step, the slow force driving the sub-steps.
-    std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, drivingForce;
+    std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, drivingForce, fastPositions;
+    std::unique_ptr<OpenMM::System> fastSystem;
+    std::unique_ptr<OpenMM::VerletIntegrator> fastIntegrator;
+    std::unique_ptr<OpenMM::Context> fastContext;
+    bool fastContextTried;
 };
 
 } // namespace DPDPlugin
