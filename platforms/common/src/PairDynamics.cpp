@@ -84,12 +84,16 @@ double PairDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) const {
 
 void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
-    context.calcForcesAndEnergy(true, false, forceGroups);
-    conservative = *data.forces;
+    computeConservative(context, forceGroups);
     checkFinite(conservative, "conservative force", step);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     thermostat.updatePairs(*data.positions, box);
+}
+
+void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {
+    context.calcForcesAndEnergy(true, false, forceGroups);
+    conservative = *platformData(context).forces;
 }
 
 void PairDynamics::invalidateForces() {

@@ -5,8 +5,11 @@
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
+#include "openmm/System.h"
+#include <map>
 #include "openmm/State.h"
 #include "openmm/serialization/XmlSerializer.h"
+#include <algorithm>
 #include <istream>
 #include <ostream>
 #include <sstream>
@@ -17,7 +20,8 @@ using OpenMM::Vec3;
 StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator, ParallelExecutor& executor) :
         // The Lowe base sweeps pairs sequentially, in the colour order LoweAndersenIntegrator uses.
         PairDynamics(system, integrator, executor, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
-        baseScheme(integrator.getBaseScheme()), polymerGroups(0), pairSweep(executor), fastContextTried(false) {
+        baseScheme(integrator.getBaseScheme()), polymerGroups(0), pairSweep(executor), fastContextTried(false),
+        numSubSteps(integrator.getNumSubSteps()) {
     const int n = system.getNumParticles();
     for (auto* v : {&dissipative, &predicted, &newForce})
         v->resize(n);
@@ -36,6 +40,9 @@ void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const Stagge
     fastContext.reset();
     fastIntegrator.reset();
     fastSystem.reset();
+    slowContext.reset();
+    slowIntegrator.reset();
+    slowSystem.reset();
     fastContextTried = false;
 }
 
@@ -105,6 +112,15 @@ OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int
             if (inPolymer(i) && inPolymer(j))
                 copy->addExclusion(index[i], index[j]);
         }
+        // One group of every polymer particle with every other is no restriction in the copy:
+        // leave it out, so that OpenMM uses its neighbour list rather than all pairs.
+        if (nonbonded->getNumInteractionGroups() == 1) {
+            std::set<int> set1, set2;
+            nonbonded->getInteractionGroupParameters(0, set1, set2);
+            if (set1 == set2 && set1.size() == particles.size() &&
+                std::all_of(set1.begin(), set1.end(), [&](int i) { return inPolymer(i); }))
+                goto groupsDone;
+        }
         for (int g = 0; g < nonbonded->getNumInteractionGroups(); g++) {
             std::set<int> set1, set2, mapped1, mapped2;
             nonbonded->getInteractionGroupParameters(g, set1, set2);
@@ -120,6 +136,7 @@ OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int
             }
             copy->addInteractionGroup(mapped1, mapped2);
         }
+    groupsDone:
         copy->setNonbondedMethod(nonbonded->getNonbondedMethod());
         copy->setCutoffDistance(nonbonded->getCutoffDistance());
         copy->setUseSwitchingFunction(nonbonded->getUseSwitchingFunction());
@@ -127,6 +144,15 @@ OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int
         return copy.release();
     }
     return nullptr;
+}
+
+/** The platform properties of a Context (threads, determinism, ...), for Contexts beside it. */
+std::map<std::string, std::string> contextProperties(OpenMM::ContextImpl& context) {
+    std::map<std::string, std::string> properties;
+    const OpenMM::Platform& platform = context.getPlatform();
+    for (const std::string& name : platform.getPropertyNames())
+        properties[name] = platform.getPropertyValue(context.getOwner(), name);
+    return properties;
 }
 
 } // namespace
@@ -151,13 +177,47 @@ void StaggeredDynamics::makeFastContext(OpenMM::ContextImpl& context, const Stag
     }
     if (reduced->getNumForces() == 0)
         return;
-    OpenMM::Platform& platform = context.getPlatform();
-    std::map<std::string, std::string> properties;
-    if (platform.getName() == "CPU")
-        properties["Threads"] = platform.getPropertyValue(context.getOwner(), "Threads");
     fastSystem = std::move(reduced);
     fastIntegrator.reset(new OpenMM::VerletIntegrator(1.0));
-    fastContext.reset(new OpenMM::Context(*fastSystem, *fastIntegrator, platform, properties));
+    fastContext.reset(new OpenMM::Context(*fastSystem, *fastIntegrator, context.getPlatform(), contextProperties(context)));
+    fastContext->getState(0).getPeriodicBoxVectors(fastBox[0], fastBox[1], fastBox[2]);
+    makeSlowContext(context, integrator);
+}
+
+void StaggeredDynamics::makeSlowContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    std::unique_ptr<OpenMM::System> system(OpenMM::XmlSerializer::clone<OpenMM::System>(context.getSystem()));
+    for (int f = system->getNumForces() - 1; f >= 0; f--)
+        if ((integrator.getFastForceGroups() & (1 << system->getForce(f).getForceGroup())) != 0)
+            system->removeForce(f);
+    slowSystem = std::move(system);
+    slowIntegrator.reset(new OpenMM::VerletIntegrator(1.0));
+    slowContext.reset(new OpenMM::Context(*slowSystem, *slowIntegrator, context.getPlatform(), contextProperties(context)));
+    slowContext->getState(0).getPeriodicBoxVectors(slowBox[0], slowBox[1], slowBox[2]);
+}
+
+void StaggeredDynamics::syncContext(OpenMM::ContextImpl& context, OpenMM::Context& target, Vec3* box) {
+    Vec3 current[3];
+    context.getPeriodicBoxVectors(current[0], current[1], current[2]);
+    if (current[0] != box[0] || current[1] != box[1] || current[2] != box[2]) {
+        target.setPeriodicBoxVectors(current[0], current[1], current[2]);
+        std::copy(current, current + 3, box);
+    }
+    const std::map<std::string, double>& targetParameters = target.getParameters();
+    for (const auto& parameter : context.getParameters()) {
+        auto it = targetParameters.find(parameter.first);
+        if (it != targetParameters.end() && it->second != parameter.second)
+            target.setParameter(parameter.first, parameter.second);
+    }
+}
+
+void StaggeredDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {
+    if (!slowContext || numSubSteps == 1) {
+        PairDynamics::computeConservative(context, forceGroups);
+        return;
+    }
+    syncContext(context, *slowContext, slowBox);
+    slowContext->setPositions(*platformData(context).positions);
+    conservative = slowContext->getState(OpenMM::State::Forces, false, forceGroups).getForces();
 }
 
 void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
@@ -167,9 +227,7 @@ void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const Sta
         const std::vector<Vec3>& r = *platformData(context).positions;
         for (size_t k = 0; k < polymer.size(); k++)
             fastPositions[k] = r[polymer[k]];
-        Vec3 box[3];
-        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-        fastContext->setPeriodicBoxVectors(box[0], box[1], box[2]);
+        syncContext(context, *fastContext, fastBox);
         fastContext->setPositions(fastPositions);
         fast = fastContext->getState(OpenMM::State::Forces).getForces();
         checkFinite(fast, polymer, false, "fast force", step);
@@ -217,6 +275,7 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const DPDThermostatIn
     const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
     const size_t n = r.size();
     const int K = integrator.getNumSubSteps();
+    numSubSteps = K;
     const double Dt = integrator.getStepSize(), dt = Dt / K;
     const long long current = data.stepCount, next = current + 1;
     bool valid = carriedForceValid(r, v);

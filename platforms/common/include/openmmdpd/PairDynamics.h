@@ -50,6 +50,8 @@ protected:
     void setCarriedForceValid() { forcesValid = true; }
     /** conservative <- the integration force groups' forces; the thermostat pairs at the same positions. */
     void computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step);
+    /** conservative <- the forces of these groups at the current positions (the Context's by default). */
+    virtual void computeConservative(OpenMM::ContextImpl& context, int forceGroups);
     /**
      * r[i] += displacement(i) for every particle, in parallel, then the blow-up checks
      * (non-finite, or a jump of more than MAX_MOVE_PER_STEP cutoffs).

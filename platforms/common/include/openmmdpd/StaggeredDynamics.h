@@ -25,6 +25,8 @@ public:
     void step(OpenMM::ContextImpl& context, const DPDThermostatIntegrator& integrator) override;
 
 protected:
+    /** K > 1: the slow forces come from the Context of the System without its fast forces. */
+    void computeConservative(OpenMM::ContextImpl& context, int forceGroups) override;
     void saveExtraState(std::ostream& stream) const override;
     void loadExtraState(std::istream& stream) override;
 
@@ -44,6 +46,15 @@ private:
      * Context evaluates the fast force groups).
      */
     void makeFastContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+    /**
+     * A Context of a copy of the System without the forces of the fast groups.  On the CPU
+     * platform a CustomNonbondedForce (e.g. the polymer's WCA) makes every force evaluation
+     * maintain a neighbour list of all particles, whichever groups are evaluated; the slow
+     * evaluations are made where the fast forces are absent so that they do not pay for it.
+     */
+    void makeSlowContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+    /** Copy the box and the global parameter values of the main Context to `target`. */
+    static void syncContext(OpenMM::ContextImpl& context, OpenMM::Context& target, OpenMM::Vec3* box);
     /** force <- the slow force, fastForce <- the fast one, at the current state. */
     void computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
 
@@ -59,7 +70,12 @@ private:
     std::unique_ptr<OpenMM::System> fastSystem;
     std::unique_ptr<OpenMM::VerletIntegrator> fastIntegrator;
     std::unique_ptr<OpenMM::Context> fastContext;
+    OpenMM::Vec3 fastBox[3], slowBox[3];
     bool fastContextTried;
+    std::unique_ptr<OpenMM::System> slowSystem;
+    std::unique_ptr<OpenMM::VerletIntegrator> slowIntegrator;
+    std::unique_ptr<OpenMM::Context> slowContext;
+    int numSubSteps;
 };
 
 } // namespace DPDPlugin
