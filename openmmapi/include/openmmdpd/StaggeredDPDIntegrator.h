@@ -57,6 +57,13 @@ namespace DPDPlugin {
  * fast forces must act on polymer particles only; this is checked when the carried forces
  * are computed.
  *
+ * Cost: for K > 1 the fast forces are evaluated in a second Context holding only the
+ * polymer particles and copies of the fast forces (HarmonicBond, CustomBond, and
+ * CustomNonbonded with interaction groups can be copied; otherwise the fast groups are
+ * evaluated in the Context itself), and the slow forces in a third one holding the System
+ * without its fast forces, both on the Context's platform with its properties and kept in
+ * step with its positions, box and global parameters.  K = 1 uses the Context alone.
+ *
  * The defaults are paper 002's recommendation for the velocity-Verlet base: weighted,
  * (mu, a, b) = (0, 0.6, 0), lambda = 0.65.  useRecommendedParameters() applies the
  * recommendation of the current base scheme (Lowe: weighted, (0, 0, 0.4)).

@@ -283,8 +283,18 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const DPDThermostatIn
         updatePolymer(context.getSystem(), integrator);
         valid = false;
     }
-    if (K > 1 && !fastContextTried)
-        makeFastContext(context, integrator);
+    if (K > 1 && !fastContextTried) {
+        fastContextTried = true;
+        // Only a cost: if a force cannot be copied (no serialization proxy, ...), the main
+        // Context evaluates everything.
+        try {
+            makeFastContext(context, integrator);
+        }
+        catch (const OpenMM::OpenMMException&) {
+            fastContext.reset();
+            slowContext.reset();
+        }
+    }
     if (!valid)
         computeInitialForce(context, integrator);
 
