@@ -5,6 +5,7 @@
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/CustomBondForce.h"
 #include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicAngleForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/State.h"
 #include "openmm/serialization/XmlSerializer.h"
@@ -322,4 +323,25 @@ TEST(StaggeredIntegrator, FeneBeyondRmaxStopsWithTheStep) {
                 EXPECT_LT(context->getState(0).getStepCount(), 100);
             }
         }
+}
+
+TEST(StaggeredIntegrator, SideContextsMatchTheFullContext) {
+    // For K > 1 the fast forces come from a Context of the polymer alone and the slow ones
+    // from a Context without the fast forces.  A fast force that cannot be copied (here an
+    // empty HarmonicAngleForce) makes the integrator evaluate everything in the Context
+    // itself: the two must follow the same trajectory, to rounding.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> copyable(makeChains(500, 5, 18.75, positions));
+    std::unique_ptr<System> fallback(makeChains(500, 5, 18.75, positions));
+    HarmonicAngleForce* angles = new HarmonicAngleForce();
+    angles->setForceGroup(1);
+    fallback->addForce(angles);
+    for (auto base : BASES) {
+        auto a = makeStaggered(base, 0.01, 5), b = makeStaggered(base, 0.01, 5);
+        State sa = runState(*copyable, *a, "Reference", positions, 10);
+        State sb = runState(*fallback, *b, "Reference", positions, 10);
+        EXPECT_LE(maxDifference(sa.getPositions(), sb.getPositions()), 1e-11) << "base " << base;
+        EXPECT_LE(maxDifference(sa.getVelocities(), sb.getVelocities()), 1e-10) << "base " << base;
+        EXPECT_GT(maxDifference(sa.getPositions(), positions), 0.01);
+    }
 }
