@@ -3,6 +3,7 @@
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/OpenMMException.h"
 
 using namespace DPDPlugin;
@@ -75,10 +76,40 @@ EDPDIntegrator* construct<EDPDIntegrator>(const SerializationNode& node) {
                               node.getDoubleProperty("stepSize"));
 }
 
+template <>
+struct Traits<StaggeredDPDIntegrator> {
+    static void write(const StaggeredDPDIntegrator& integrator, SerializationNode& node) {
+        node.setIntProperty("baseScheme", integrator.getBaseScheme());
+        node.setIntProperty("numSubSteps", integrator.getNumSubSteps());
+        node.setDoubleProperty("lambda", integrator.getLambda());
+        node.setDoubleProperty("mu", integrator.getMu());
+        node.setDoubleProperty("a", integrator.getA());
+        node.setDoubleProperty("b", integrator.getB());
+        node.setBoolProperty("weighted", integrator.getWeighted());
+        node.setIntProperty("fastForceGroups", integrator.getFastForceGroups());
+        SerializationNode& particles = node.createChildNode("PolymerParticles");
+        for (int p : integrator.getPolymerParticles())
+            particles.createChildNode("Particle").setIntProperty("index", p);
+    }
+    static void read(const SerializationNode& node, StaggeredDPDIntegrator& integrator) {
+        integrator.setBaseScheme((StaggeredDPDIntegrator::BaseScheme) node.getIntProperty("baseScheme"));
+        integrator.setNumSubSteps(node.getIntProperty("numSubSteps"));
+        integrator.setLambda(node.getDoubleProperty("lambda"));
+        integrator.setRelaxationParameters(node.getDoubleProperty("mu"), node.getDoubleProperty("a"), node.getDoubleProperty("b"));
+        integrator.setWeighted(node.getBoolProperty("weighted"));
+        integrator.setFastForceGroups(node.getIntProperty("fastForceGroups"));
+        std::vector<int> particles;
+        for (const SerializationNode& particle : node.getChildNode("PolymerParticles").getChildren())
+            particles.push_back(particle.getIntProperty("index"));
+        integrator.setPolymerParticles(particles);
+    }
+};
+
 const char* proxyName(const DPDVVIntegrator*) { return "DPDVVIntegrator"; }
 const char* proxyName(const EDPDIntegrator*) { return "EDPDIntegrator"; }
 const char* proxyName(const ShardlowIntegrator*) { return "ShardlowIntegrator"; }
 const char* proxyName(const LoweAndersenIntegrator*) { return "LoweAndersenIntegrator"; }
+const char* proxyName(const StaggeredDPDIntegrator*) { return "StaggeredDPDIntegrator"; }
 
 } // namespace
 
@@ -114,3 +145,4 @@ template class DPDPlugin::DPDIntegratorProxy<DPDVVIntegrator>;
 template class DPDPlugin::DPDIntegratorProxy<ShardlowIntegrator>;
 template class DPDPlugin::DPDIntegratorProxy<LoweAndersenIntegrator>;
 template class DPDPlugin::DPDIntegratorProxy<EDPDIntegrator>;
+template class DPDPlugin::DPDIntegratorProxy<StaggeredDPDIntegrator>;

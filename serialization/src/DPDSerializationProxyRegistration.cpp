@@ -4,6 +4,7 @@
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 
 using namespace DPDPlugin;
 
@@ -14,5 +15,6 @@ extern "C" void __attribute__((constructor)) registerDPDSerializationProxies() {
     OpenMM::SerializationProxy::registerProxy(typeid(ShardlowIntegrator), new DPDIntegratorProxy<ShardlowIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(LoweAndersenIntegrator), new DPDIntegratorProxy<LoweAndersenIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(EDPDIntegrator), new DPDIntegratorProxy<EDPDIntegrator>());
+    OpenMM::SerializationProxy::registerProxy(typeid(StaggeredDPDIntegrator), new DPDIntegratorProxy<StaggeredDPDIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(DPDSoftRepulsionForce), new DPDSoftRepulsionForceProxy());
 }

@@ -9,6 +9,7 @@
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/OpenMMException.h"
 #include <exception>
 %}
@@ -18,6 +19,7 @@
 %include "std_string.i"
 %include "std_vector.i"
 %template(ParticleTypeMap) std::map<int, int>;
+%template(IntVector) std::vector<int>;
 
 // Errors reach Python as openmm.OpenMMException, as OpenMM's own do.
 %exception {
@@ -74,6 +76,21 @@ from openmmdpd.units import strip_units as _strip
 %}
 %pythonappend DPDPlugin::EDPDIntegrator::getPairVariable %{
     val = _unit.Quantity(val, _unit.kilojoule_per_mole / _unit.nanometer)
+%}
+%pythonprepend DPDPlugin::StaggeredDPDIntegrator::StaggeredDPDIntegrator %{
+    temperature = _strip(temperature, _unit.kelvin)
+    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
+    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
+    stepSize = _strip(stepSize, _unit.picosecond)
+%}
+%pythonappend DPDPlugin::StaggeredDPDIntegrator::getSubStepSize %{
+    val = _unit.Quantity(val, _unit.picosecond)
+%}
+%pythonappend DPDPlugin::StaggeredDPDIntegrator::getPolymerParticles %{
+    val = tuple(val)
+%}
+%pythonappend DPDPlugin::StaggeredDPDIntegrator::findPolymerParticles %{
+    val = tuple(val)
 %}
 %pythonprepend DPDPlugin::DPDSoftRepulsionForce::DPDSoftRepulsionForce %{
     defaultA = _strip(defaultA, _unit.kilojoule_per_mole / _unit.nanometer)
@@ -146,6 +163,7 @@ from openmmdpd.units import strip_units as _strip
 // Only the public interface: the protected Integrator hooks are for OpenMM.
 %ignore DPDPlugin::DPDThermostatIntegrator::validate;
 %ignore DPDPlugin::LoweAndersenIntegrator::validate;
+%ignore DPDPlugin::StaggeredDPDIntegrator::validate;
 %ignore DPDPlugin::DPDSoftRepulsionForce::getTypeTable;
 
 %include "openmmdpd/DPDThermostatIntegrator.h"
@@ -153,6 +171,7 @@ from openmmdpd.units import strip_units as _strip
 %include "openmmdpd/ShardlowIntegrator.h"
 %include "openmmdpd/LoweAndersenIntegrator.h"
 %include "openmmdpd/EDPDIntegrator.h"
+%include "openmmdpd/StaggeredDPDIntegrator.h"
 %include "openmmdpd/DPDSoftRepulsionForce.h"
 
 %clear int& type1, int& type2, int& particle1, int& particle2;
@@ -201,4 +220,5 @@ DPD_EXTRAS(DPDVVIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(ShardlowIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(LoweAndersenIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(EDPDIntegrator, OpenMM::Integrator)
+DPD_EXTRAS(StaggeredDPDIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(DPDSoftRepulsionForce, OpenMM::Force)

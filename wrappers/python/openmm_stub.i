@@ -13,4 +13,5 @@ public:
     virtual ~Force();
 };
 class Context;
+class System;
 }

@@ -21,6 +21,7 @@ public:
     static std::string DPDVVName() { return "IntegrateDPDVVStep"; }
     static std::string ShardlowName() { return "IntegrateShardlowStep"; }
     static std::string LoweAndersenName() { return "IntegrateLoweAndersenStep"; }
+    static std::string StaggeredName() { return "IntegrateStaggeredDPDStep"; }
     IntegrateDPDStepKernel(std::string name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {}
     virtual void initialize(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) = 0;
     virtual void execute(OpenMM::ContextImpl& context, const DPDThermostatIntegrator& integrator) = 0;

@@ -28,6 +28,19 @@ void PairDynamics::checkFinite(const std::vector<Vec3>& values, const char* what
         }
 }
 
+void PairDynamics::checkFinite(const std::vector<Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,
+                               const char* what, long long step) const {
+    for (size_t k = 0; k < particles.size(); k++) {
+        const Vec3& x = values[indexedByParticle ? particles[k] : k];
+        if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))) {
+            std::ostringstream message;
+            message << name << ": the simulation blew up at step " << step << ": particle " << particles[k] << " has a non-finite "
+                    << what << ". Reduce the step size, or check the starting configuration and the forces.";
+            throw OpenMM::OpenMMException(message.str());
+        }
+    }
+}
+
 void PairDynamics::finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const {
     checkFinite(*data.velocities, "velocity", data.stepCount + 1);
     // The Context's counters are ours to advance (Simulation.currentStep reads them).
@@ -114,6 +127,29 @@ SoftRepulsionKernel* PairDynamics::softForceToFuse(OpenMM::ContextImpl& context,
 
 void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    softForceFromPairs = nullptr;
+    computeConservative(context, forceGroups);
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    thermostat.updatePairs(*data.positions, box);
+    if (softForceFromPairs != nullptr) {
+        const SoftRepulsionKernel& soft = *softForceFromPairs;
+        const std::vector<PairGeometry>& pairs = thermostat.getPairs();
+        const DPDPairParameters& parameters = thermostat.getParameters();
+        pairSoftForce.resize(pairs.size());
+        softForce.resize(conservative.size());
+        forEachParticle(pairs.size(), [&](size_t k) {
+            const PairGeometry& p = pairs[k];
+            const double r = parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
+            pairSoftForce[k] = soft.pairForce(p.i, p.j, r);
+        });
+        thermostat.sumAlongPairs(pairSoftForce, softForce);
+        forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += softForce[i]; });
+    }
+    checkFinite(conservative, "conservative force", step);
+}
+
+void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {
     SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
     if (soft != nullptr) {
         soft->setDeferred(true);
@@ -125,27 +161,11 @@ void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int
             throw;
         }
         soft->setDeferred(false);
+        softForceFromPairs = soft;
     }
     else
         context.calcForcesAndEnergy(true, false, forceGroups);
-    conservative = *data.forces;
-    Vec3 box[3];
-    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    thermostat.updatePairs(*data.positions, box);
-    if (soft != nullptr) {
-        const std::vector<PairGeometry>& pairs = thermostat.getPairs();
-        const DPDPairParameters& parameters = thermostat.getParameters();
-        pairSoftForce.resize(pairs.size());
-        softForce.resize(conservative.size());
-        forEachParticle(pairs.size(), [&](size_t k) {
-            const PairGeometry& p = pairs[k];
-            const double r = parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
-            pairSoftForce[k] = soft->pairForce(p.i, p.j, r);
-        });
-        thermostat.sumAlongPairs(pairSoftForce, softForce);
-        forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += softForce[i]; });
-    }
-    checkFinite(conservative, "conservative force", step);
+    conservative = *platformData(context).forces;
 }
 
 void PairDynamics::invalidateForces() {

@@ -8,11 +8,11 @@ import os as _os
 import openmm as _openmm  # loads OpenMM's own plugins (the CPU platform) first
 
 from .dpdplugin import (DPDSoftRepulsionForce, DPDThermostatIntegrator, DPDVVIntegrator, EDPDIntegrator,
-                        LoweAndersenIntegrator, ShardlowIntegrator)
+                        LoweAndersenIntegrator, ShardlowIntegrator, StaggeredDPDIntegrator)
 from .units import KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units
 
 __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
-           "LoweAndersenIntegrator", "EDPDIntegrator", "KT_TEMPERATURE", "kT_from_temperature",
+           "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "KT_TEMPERATURE", "kT_from_temperature",
            "reduced_temperature", "strip_units", "loaded_plugins"]
 
 

@@ -5,6 +5,12 @@ one (size, threads) are interleaved and the best of --repeats kept, because a sh
 machine's noise only ever slows a run down.
 
     /usr/bin/python3 -m openmmdpd.bench [--sizes 4000 32000] [--threads 1 2] [--dt 0.04]
+
+--staggered instead measures StaggeredDPDIntegrator on scene fene-chains (4 chains of M
+beads in 4000 particles): for each M and K, the wall time per unit of simulated time at the
+same inner step dt (speed-up against K = 1) and the chain and total <kT> error:
+
+    /usr/bin/python3 -m openmmdpd.bench --staggered [--chain-lengths 20 100] [--sub-steps 1 2 5 10 20]
 """
 import argparse
 import sys
@@ -15,6 +21,7 @@ import openmm
 from .catalog import integrators
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
+from . import staggered
 
 DEFAULT_INTEGRATORS = ["Langevin", "GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU"]
 
@@ -110,6 +117,67 @@ def print_table(rows):
             print(f"{n:>6} {threads:>7}  {label:<16} {rate:>9.1f}  {ratio:>21}  {speedup:>20}")
 
 
+def measure_staggered(args):
+    """Rows (M, K, Dt, seconds per unit time, speed-up, run) for --staggered.
+
+    Timing: best of --repeats interleaved runs of --timed-time simulated time per K (a
+    shared machine's noise only ever slows a run down). <kT>: one run of --sample-time per K,
+    every K starting from the same equilibrated state."""
+    threads = args.threads[0]
+    rows = []
+    for m in args.chain_lengths:
+        print(f"equilibrating fene-chains M={m} ...", file=sys.stderr, flush=True)
+        scene, state = staggered.equilibrated_fene_chains(chain_length=m, threads=threads)
+        contexts = {}
+        for k in args.sub_steps:
+            integrator = staggered.staggered_integrator(k, args.inner_dt, args.base)
+            context = openmm.Context(scene.system, integrator, openmm.Platform.getPlatformByName("CPU"),
+                                     {"Threads": str(threads)})
+            context.setState(state)
+            integrator.step(2)
+            contexts[k] = (context, integrator, max(1, round(args.timed_time / (k * args.inner_dt))))
+        # The non-staggered reference: DPDVVIntegrator GW (lambda 0.65) at dt, the same System.
+        gw = integrators()["GW0.65"](args.inner_dt)
+        context = openmm.Context(scene.system, gw, openmm.Platform.getPlatformByName("CPU"), {"Threads": str(threads)})
+        context.setState(state)
+        gw.step(2)
+        contexts["GW"] = (context, gw, max(1, round(args.timed_time / args.inner_dt)))
+        best = {k: float("inf") for k in contexts}
+        for _ in range(args.repeats):
+            for k, (context, integrator, steps) in contexts.items():
+                start = time.perf_counter()
+                integrator.step(steps)
+                outer = args.inner_dt * (1 if k == "GW" else k)
+                best[k] = min(best[k], (time.perf_counter() - start) / (steps * outer))
+        del contexts
+        rows.append((m, "GW", args.inner_dt, best["GW"], best[args.sub_steps[0]] / best["GW"], None))
+        for k in args.sub_steps:
+            print(f"sampling M={m} K={k} ...", file=sys.stderr, flush=True)
+            run = staggered.run_fene_chains(scene, state, k, args.inner_dt, args.sample_time, base=args.base,
+                                            threads=threads)
+            rows.append((m, k, k * args.inner_dt, best[k], best[args.sub_steps[0]] / best[k], run, best["GW"] / best[k]))
+    return rows
+
+
+def print_staggered_table(rows, args):
+    print(f"scene fene-chains (4 chains x M beads, 4000 particles), StaggeredDPDIntegrator base {args.base} "
+          f"(paper 002 recommended parameters), CPU platform, {args.threads[0]} thread(s), inner dt={args.inner_dt:g}; "
+          f"speed-up at equal simulated time against K={args.sub_steps[0]} (best of {args.repeats}); "
+          f"<kT> - 1 over {args.sample_time:g} time units (+- standard error)")
+    print("(row GW: DPDVVIntegrator Groot-Warren, lambda 0.65, at dt on the same System; 'vs GW' is the "
+          "speed-up against it)")
+    print(f"{'M':>4} {'K':>3} {'Dt':>6}  {'s per unit time':>15} {'speed-up':>8} {'vs GW':>6}  "
+          f"{'chain <kT> - 1':>20}  {'total <kT> - 1':>20}")
+    for m, k, outer, seconds, speedup, run, *versus in rows:
+        if run is None:
+            print(f"{m:>4} {k:>3} {outer:>6.3f}  {seconds:>15.2f} {speedup:>8.2f} {1:>6.2f}")
+            continue
+        chain, chain_error = run["chain_kT"]
+        total, total_error = run["total_kT"]
+        print(f"{m:>4} {k:>3} {outer:>6.3f}  {seconds:>15.2f} {speedup:>8.2f} {versus[0]:>6.2f}  "
+              f"{chain - 1:>+10.4f} +- {chain_error:.4f}  {total - 1:>+10.4f} +- {total_error:.4f}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[4000, 32000])
@@ -126,7 +194,21 @@ def main(argv=None):
                         help="interleaved measurements; best kept")
     parser.add_argument("--soft-force", action="store_true",
                         help="also compare DPDSoftRepulsionForce with the same CustomNonbondedForce")
+    parser.add_argument("--staggered", action="store_true",
+                        help="measure StaggeredDPDIntegrator on fene-chains instead (see the module help)")
+    parser.add_argument("--chain-lengths", type=int, nargs="+", default=[20, 100], help="--staggered: M")
+    parser.add_argument("--sub-steps", type=int, nargs="+", default=[1, 2, 5, 10, 20], help="--staggered: K")
+    parser.add_argument("--inner-dt", type=float, default=0.001, help="--staggered: the polymer step dt")
+    parser.add_argument("--base", choices=["vv", "lowe"], default="vv", help="--staggered: base scheme")
+    parser.add_argument("--timed-time", type=float, default=0.3,
+                        help="--staggered: simulated time of one timed run")
+    parser.add_argument("--sample-time", type=float, default=4.0,
+                        help="--staggered: simulated time over which <kT> is sampled")
     args = parser.parse_args(argv)
+
+    if args.staggered:
+        print_staggered_table(measure_staggered(args), args)
+        return
 
     catalog = integrators()
     factories = [(name, catalog[name]) for name in args.integrators]

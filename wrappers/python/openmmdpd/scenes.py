@@ -9,7 +9,8 @@ import numpy as np
 import openmm
 from openmm import app, unit
 
-__all__ = ["Scene", "SCENES", "build_scene", "ideal_scene", "soft_scene", "polymer_scene",
+__all__ = ["Scene", "SCENES", "build_scene", "ideal_scene", "soft_scene", "polymer_scene", "fene_chains_scene",
+           "FAST_FORCE_GROUP",
            "soft_repulsion_force", "harmonic_bond_force", "wca_force", "fene_bond_force",
            "wlc_bond_force", "periodic_marker_force", "random_positions", "random_walk"]
 
@@ -19,7 +20,11 @@ Scene.__doc__ = """A ready-to-simulate system.
 chain_particles: tuple of chains, each a tuple of particle indices in bond order
 (empty for scenes without chains)."""
 
-SCENES = ("ideal", "soft", "polymer")
+SCENES = ("ideal", "soft", "polymer", "fene-chains")
+
+# The force group of the stiff polymer forces (FENE, WCA) in the scenes made for the
+# staggered integrator; StaggeredDPDIntegrator's default fastForceGroups is this group.
+FAST_FORCE_GROUP = 1
 
 
 def soft_repulsion_force(num_particles, a, types=None, cutoff=1.0, native=True):
@@ -143,19 +148,21 @@ def random_positions(rng, num_particles, box_length):
     return rng.uniform(0.0, box_length, size=(num_particles, 3))
 
 
-def random_walk(rng, num_beads, start, box_length, bond_length=0.5, min_distance=0.9):
+def random_walk(rng, num_beads, start, box_length, bond_length=0.5, min_distance=0.9, avoid=None):
     """A chain as a random walk of fixed step length from `start` (unwrapped), (n, 3) in nm.
 
     Steps that bring a bead closer than min_distance (minimum image) to any bead but its
     predecessor are redrawn: the WCA energy of a random walk's overlaps would blow up the
-    first steps, while at 0.9 it is below 1 kT.
+    first steps, while at 0.9 it is below 1 kT. `avoid`: other beads ((m, 3), e.g. earlier
+    chains) to keep as far away.
     """
+    avoid = np.zeros((0, 3)) if avoid is None else np.asarray(avoid, dtype=float).reshape(-1, 3)
     beads = [np.asarray(start, dtype=float)]
     for _ in range(num_beads - 1):
         for _attempt in range(1000):
             step = rng.normal(size=3)
             candidate = beads[-1] + bond_length * step / np.linalg.norm(step)
-            d = candidate - np.array(beads[:-1]).reshape(-1, 3)
+            d = candidate - np.vstack([np.array(beads[:-1]).reshape(-1, 3), avoid])
             d -= box_length * np.round(d / box_length)
             if np.all(np.sum(d * d, axis=1) >= min_distance ** 2):
                 break
@@ -251,7 +258,59 @@ def polymer_scene(num_particles=4000, density=4.0, chain_length=20, a=0.0, seed=
     return scene
 
 
-_BUILDERS = {"ideal": ideal_scene, "soft": soft_scene, "polymer": polymer_scene}
+def fene_chains_scene(chain_length=20, num_chains=4, num_particles=4000, density=4.0, a=18.75, seed=1,
+                      native_force=True):
+    """Polymers in a soft DPD solvent (paper 002 §5.1): num_chains chains of chain_length
+    beads, FENE bonds k = 7, rmax = 3, WCA between all beads (bonded pairs included), soft
+    repulsion a = 75 kT/rho = 18.75 between all particles. Particles 0..num_chains*chain_length-1
+    are the chains, chain c being c*chain_length .. (c+1)*chain_length-1.
+
+    The stiff forces, FENE and WCA, are in force group FAST_FORCE_GROUP (1); the soft
+    repulsion is in group 0. This is what StaggeredDPDIntegrator expects by default: it
+    sub-cycles the fast group and takes the chain beads as the particles that group acts on.
+    FENE past rmax gives NaN forces, which the integrators report as an error naming the step.
+    """
+    if chain_length < 2 or num_chains < 1 or num_chains * chain_length > num_particles:
+        raise ValueError("need chain_length >= 2, num_chains >= 1 and room for the chains")
+    rng = np.random.default_rng(seed)
+    box_length = _box_length(num_particles, density)
+    chains = [list(range(c * chain_length, (c + 1) * chain_length)) for c in range(num_chains)]
+    walks = []
+    for _ in chains:
+        avoid = np.vstack(walks) if walks else None
+        for _attempt in range(100):
+            start = rng.uniform(0, box_length, 3)
+            if avoid is not None:
+                d = start - avoid
+                d -= box_length * np.round(d / box_length)
+                if np.min(np.sum(d * d, axis=1)) < 0.9 ** 2:
+                    continue
+            # FENE bonds relax near 0.97; WCA (cutoff 1) makes closer contacts costly
+            try:
+                walks.append(random_walk(rng, chain_length, start, box_length,
+                                         bond_length=0.97, min_distance=0.9, avoid=avoid))
+                break
+            except RuntimeError:
+                continue
+        else:
+            raise RuntimeError("could not place the chains apart; use fewer or shorter chains")
+    num_beads = num_chains * chain_length
+    positions = np.vstack(walks + [random_positions(rng, num_particles - num_beads, box_length)])
+    scene = _make_scene("fene-chains", num_particles, density, positions, chains)
+    bonds = [(i, j) for chain in chains for i, j in zip(chain[:-1], chain[1:])]
+    system = scene.system
+    beads = list(range(num_beads))
+    # WCA acts between all bead pairs, bonded ones included (as in Kremer-Grest chains):
+    # with FENE k = 7, rmax = 3 the bonds then sit near 0.97 and 5-bead chains have
+    # <Rg> ~ 1, as in paper 002 Table 4.
+    for fast in (fene_bond_force(bonds), wca_force(num_particles, beads)):
+        fast.setForceGroup(FAST_FORCE_GROUP)
+        system.addForce(fast)
+    system.addForce(soft_repulsion_force(num_particles, a, native=native_force))
+    return scene
+
+
+_BUILDERS = {"ideal": ideal_scene, "soft": soft_scene, "polymer": polymer_scene, "fene-chains": fene_chains_scene}
 
 
 def build_scene(name, **kwargs):

@@ -31,14 +31,17 @@ def make(scheme, dt, seed=11, gamma=4.5):
 
 
 def sample_kT(scheme, dt, n=2000, samples=1500, scene_name="ideal", gamma=4.5):
+    """Block-averaged <kT> over at least 60 time units (kT at small dt is correlated over
+    ~1 time unit, so 1500 consecutive steps at dt = 0.01 underestimate its error ~2x)."""
     scene = scenes.build_scene(scene_name, num_particles=n)
     integrator = make(scheme, dt, gamma=gamma)
     context = make_context(scene, integrator, "CPU")
     set_velocities(context, scene.system, 3)
     integrator.step(max(200, int(2 / dt)))
+    every = max(1, int(60 / dt) // samples)
     values = []
     for _ in range(samples):
-        integrator.step(1)
+        integrator.step(every)
         values.append(reduced_kT(context, n))
     return analysis.block_average(values, nblocks=10)
 
@@ -57,14 +60,16 @@ def test_exact_temperature_for_the_ideal_gas_at_any_step(scheme, dt):
 def test_shardlow_s1_keeps_the_ideal_gas_within_half_a_percent(dt):
     mean, stderr = sample_kT("S1", dt)
     print(f"\n<kT> ideal S1 dt={dt}: {mean:.4f} +- {stderr:.4f}")
-    assert stderr < 0.002
+    assert stderr < 0.0025
     assert abs(mean - 1) < 0.005
 
 
 def test_shardlow_s2_on_soft():
     mean, stderr = sample_kT("S2", 0.04, scene_name="soft")
     print(f"\n<kT> soft S2 dt=0.04: {mean:.4f} +- {stderr:.4f}")
-    assert abs(mean - 1) < 0.01
+    # S2 is second order in the conservative step: +0.8 % at dt = 0.04 on soft (the
+    # committed compare run: 1.0081 +- 0.0025), -- not exact like the ideal gas.
+    assert abs(mean - 1) < 0.015
 
 
 def test_lowe_ideal_gas_radial_distribution_is_flat():

@@ -29,14 +29,14 @@ protected:
     std::unique_ptr<PairDynamics> dynamics;
 };
 
-/** The step kernel of DPDVVIntegrator, ShardlowIntegrator and LoweAndersenIntegrator. */
+/** The step kernel of DPDVVIntegrator, ShardlowIntegrator, LoweAndersenIntegrator and StaggeredDPDIntegrator. */
 class DPDStepKernel : public PairDynamicsKernel<IntegrateDPDStepKernel> {
 public:
     using PairDynamicsKernel::PairDynamicsKernel;
     void initialize(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) override;
     /** The kernel names a platform registers DPDStepKernel under. */
     static std::vector<std::string> names() {
-        return {DPDVVName(), ShardlowName(), LoweAndersenName()};
+        return {DPDVVName(), ShardlowName(), LoweAndersenName(), StaggeredName()};
     }
 };
 

@@ -57,6 +57,12 @@ protected:
      */
     void computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step);
     /**
+     * conservative <- the forces of these groups at the current positions (the Context's by
+     * default; there a soft force that can be is left to the thermostat pair list, see
+     * computeConservativeAndPairs).
+     */
+    virtual void computeConservative(OpenMM::ContextImpl& context, int forceGroups);
+    /**
      * r[i] += displacement(i) for every particle, in parallel, then the blow-up checks
      * (non-finite, or a jump of more than MAX_MOVE_PER_STEP cutoffs).
      */
@@ -72,7 +78,16 @@ protected:
                 body(i);
         });
     }
+    /**
+     * r[i] += displacement(i) for the listed particles only (serially: meant for a small
+     * subset, e.g. a staggered scheme's polymer), then the same blow-up checks on them.
+     */
+    template <class Displacement>
+    void moveParticles(const std::vector<int>& particles, std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement);
     void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long long step) const;
+    /** The same check on values[particles[k]] (or values[k] with indexedByParticle false), naming particles[k]. */
+    void checkFinite(const std::vector<OpenMM::Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,
+                     const char* what, long long step) const;
     /** End a step: the velocities must be finite; the Context's step count and time advance. */
     void finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const;
     double sumMV2(const std::vector<OpenMM::Vec3>& velocities) const;
@@ -91,6 +106,7 @@ private:
     /** The soft force to evaluate from the thermostat pairs, if there is one that can be. */
     SoftRepulsionKernel* softForceToFuse(OpenMM::ContextImpl& context, int forceGroups);
     SoftRepulsionKernel* fusedSoftForce = nullptr;
+    SoftRepulsionKernel* softForceFromPairs = nullptr;  // deferred by this step's computeConservative
     int fusedForceGroups = 0, fusedVersion = -1;
     std::vector<double> pairSoftForce;
     std::vector<OpenMM::Vec3> softForce;
@@ -112,6 +128,21 @@ void PairDynamics::movePositions(std::vector<OpenMM::Vec3>& r, long long step, D
         workerSums[w] = maxMove2;
     });
     checkFinite(r, "position", step);
+    checkMoves(step);
+}
+
+template <class Displacement>
+void PairDynamics::moveParticles(const std::vector<int>& particles, std::vector<OpenMM::Vec3>& r, long long step,
+                                 Displacement displacement) {
+    double maxMove2 = 0;
+    for (size_t k = 0; k < particles.size(); k++) {
+        const OpenMM::Vec3 move = displacement(k);
+        r[particles[k]] += move;
+        maxMove2 = std::max(maxMove2, move.dot(move));
+    }
+    std::fill(workerSums.begin(), workerSums.end(), 0.0);
+    workerSums[0] = maxMove2;
+    checkFinite(r, particles, true, "position", step);
     checkMoves(step);
 }
 

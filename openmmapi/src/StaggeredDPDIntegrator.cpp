@@ -1,0 +1,245 @@
+#include "openmmdpd/StaggeredDPDIntegrator.h"
+#include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/internal/ParameterChecks.h"
+#include "openmm/CustomAngleForce.h"
+#include "openmm/CustomBondForce.h"
+#include "openmm/CustomCompoundBondForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/CustomTorsionForce.h"
+#include "openmm/HarmonicAngleForce.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/PeriodicTorsionForce.h"
+#include "openmm/RBTorsionForce.h"
+#include "openmm/System.h"
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <typeinfo>
+
+using namespace DPDPlugin;
+using OpenMM::OpenMMException;
+
+namespace {
+
+void requireRelaxation(double value, const char* name) {
+    require(std::isfinite(value) && value >= -1 && value <= 1,
+            std::string("StaggeredDPDIntegrator: ") + name + " must be in [-1, 1], got " + numberText(value));
+}
+
+std::string forceName(const OpenMM::Force& force, int index) {
+    std::string name = force.getName();
+    return "force " + std::to_string(index) + " (" + (name.empty() ? "unnamed" : name) + ")";
+}
+
+} // namespace
+
+StaggeredDPDIntegrator::StaggeredDPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize,
+                                               int numSubSteps) :
+        DPDThermostatIntegrator(temperature, defaultFriction, defaultCutoff, stepSize), baseScheme(VelocityVerlet),
+        numSubSteps(1), fastForceGroups(1 << 1), lambda(0.65), mu(0), a(0.6), b(0), weighted(true) {
+    setNumSubSteps(numSubSteps);
+}
+
+void StaggeredDPDIntegrator::setBaseScheme(BaseScheme scheme) {
+    require(scheme == VelocityVerlet || scheme == LoweAndersen,
+            "baseScheme must be VelocityVerlet (0) or LoweAndersen (1), got " + std::to_string((int) scheme));
+    baseScheme = scheme;
+}
+
+void StaggeredDPDIntegrator::setNumSubSteps(int steps) {
+    require(steps >= 1, "StaggeredDPDIntegrator: numSubSteps (K) must be >= 1, got " + std::to_string(steps));
+    numSubSteps = steps;
+}
+
+void StaggeredDPDIntegrator::setLambda(double value) {
+    require(std::isfinite(value) && value >= 0 && value <= 1, "StaggeredDPDIntegrator: lambda must be in [0, 1], got " + numberText(value));
+    lambda = value;
+}
+
+void StaggeredDPDIntegrator::setMu(double value) {
+    requireRelaxation(value, "mu");
+    mu = value;
+}
+
+void StaggeredDPDIntegrator::setA(double value) {
+    requireRelaxation(value, "a");
+    a = value;
+}
+
+void StaggeredDPDIntegrator::setB(double value) {
+    requireRelaxation(value, "b");
+    b = value;
+}
+
+void StaggeredDPDIntegrator::setRelaxationParameters(double muValue, double aValue, double bValue) {
+    requireRelaxation(muValue, "mu");
+    requireRelaxation(aValue, "a");
+    requireRelaxation(bValue, "b");
+    mu = muValue;
+    a = aValue;
+    b = bValue;
+}
+
+void StaggeredDPDIntegrator::setFastForceGroups(int groups) {
+    require(groups != 0, "StaggeredDPDIntegrator: fastForceGroups must name at least one force group (a non-zero bitmask), got 0");
+    fastForceGroups = groups;
+}
+
+void StaggeredDPDIntegrator::useRecommendedParameters() {
+    weighted = true;
+    if (baseScheme == VelocityVerlet) {
+        mu = 0;
+        a = 0.6;
+        b = 0;
+        lambda = 0.65;
+    }
+    else {
+        mu = 0;
+        a = 0;
+        b = 0.4;
+    }
+}
+
+void StaggeredDPDIntegrator::setPolymerParticles(const std::vector<int>& particles) {
+    for (int p : particles)
+        require(p >= 0, "StaggeredDPDIntegrator: polymer particle indices must be >= 0, got " + std::to_string(p));
+    polymerParticles = particles;
+}
+
+void StaggeredDPDIntegrator::addPolymerParticle(int particle) {
+    require(particle >= 0, "StaggeredDPDIntegrator: polymer particle indices must be >= 0, got " + std::to_string(particle));
+    polymerParticles.push_back(particle);
+}
+
+std::vector<int> StaggeredDPDIntegrator::findPolymerParticles(const OpenMM::System& system) const {
+    const int n = system.getNumParticles();
+    std::set<int> found;
+    if (!polymerParticles.empty()) {
+        for (int p : polymerParticles) {
+            require(p < n, "StaggeredDPDIntegrator: polymer particle " + std::to_string(p) + " is not in the System (" +
+                    std::to_string(n) + " particles)");
+            found.insert(p);
+        }
+        return std::vector<int>(found.begin(), found.end());
+    }
+    for (int f = 0; f < system.getNumForces(); f++) {
+        const OpenMM::Force& force = system.getForce(f);
+        if ((fastForceGroups & (1 << force.getForceGroup())) == 0)
+            continue;
+        std::vector<int> particles;
+        if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force)) {
+            for (int k = 0; k < bond->getNumBonds(); k++) {
+                int i, j;
+                double length, kb;
+                bond->getBondParameters(k, i, j, length, kb);
+                found.insert(i);
+                found.insert(j);
+            }
+        }
+        else if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force)) {
+            std::vector<double> parameters;
+            for (int k = 0; k < bond->getNumBonds(); k++) {
+                int i, j;
+                bond->getBondParameters(k, i, j, parameters);
+                found.insert(i);
+                found.insert(j);
+            }
+        }
+        else if (auto* angle = dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force)) {
+            for (int k = 0; k < angle->getNumAngles(); k++) {
+                int i, j, l;
+                double theta, ka;
+                angle->getAngleParameters(k, i, j, l, theta, ka);
+                found.insert({i, j, l});
+            }
+        }
+        else if (auto* angle = dynamic_cast<const OpenMM::CustomAngleForce*>(&force)) {
+            std::vector<double> parameters;
+            for (int k = 0; k < angle->getNumAngles(); k++) {
+                int i, j, l;
+                angle->getAngleParameters(k, i, j, l, parameters);
+                found.insert({i, j, l});
+            }
+        }
+        else if (auto* torsion = dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&force)) {
+            for (int k = 0; k < torsion->getNumTorsions(); k++) {
+                int i, j, l, m, periodicity;
+                double phase, kt;
+                torsion->getTorsionParameters(k, i, j, l, m, periodicity, phase, kt);
+                found.insert({i, j, l, m});
+            }
+        }
+        else if (auto* torsion = dynamic_cast<const OpenMM::RBTorsionForce*>(&force)) {
+            for (int k = 0; k < torsion->getNumTorsions(); k++) {
+                int i, j, l, m;
+                double c0, c1, c2, c3, c4, c5;
+                torsion->getTorsionParameters(k, i, j, l, m, c0, c1, c2, c3, c4, c5);
+                found.insert({i, j, l, m});
+            }
+        }
+        else if (auto* torsion = dynamic_cast<const OpenMM::CustomTorsionForce*>(&force)) {
+            std::vector<double> parameters;
+            for (int k = 0; k < torsion->getNumTorsions(); k++) {
+                int i, j, l, m;
+                torsion->getTorsionParameters(k, i, j, l, m, parameters);
+                found.insert({i, j, l, m});
+            }
+        }
+        else if (auto* compound = dynamic_cast<const OpenMM::CustomCompoundBondForce*>(&force)) {
+            std::vector<double> parameters;
+            for (int k = 0; k < compound->getNumBonds(); k++) {
+                compound->getBondParameters(k, particles, parameters);
+                found.insert(particles.begin(), particles.end());
+            }
+        }
+        else if (auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force)) {
+            require(nonbonded->getNumInteractionGroups() > 0,
+                    "StaggeredDPDIntegrator: " + forceName(force, f) + " in a fast force group is a CustomNonbondedForce "
+                    "without interaction groups, which acts on every particle; give it interaction groups (polymer with "
+                    "polymer), or set the polymer particles explicitly with setPolymerParticles()");
+            for (int g = 0; g < nonbonded->getNumInteractionGroups(); g++) {
+                std::set<int> set1, set2;
+                nonbonded->getInteractionGroupParameters(g, set1, set2);
+                found.insert(set1.begin(), set1.end());
+                found.insert(set2.begin(), set2.end());
+            }
+        }
+        else
+            throw OpenMMException("StaggeredDPDIntegrator: cannot tell which particles " + forceName(force, f) +
+                                  " in a fast force group acts on; set the polymer particles explicitly with "
+                                  "setPolymerParticles()");
+    }
+    require(!found.empty(), "StaggeredDPDIntegrator: the forces in the fast force groups act on no particle, so there is no "
+            "polymer to sub-cycle; put the stiff polymer forces in a fast group, or set the polymer particles explicitly with "
+            "setPolymerParticles()");
+    return std::vector<int>(found.begin(), found.end());
+}
+
+void StaggeredDPDIntegrator::validate(const OpenMM::System& system) const {
+    DPDThermostatIntegrator::validate(system);
+    require((fastForceGroups & ~getIntegrationForceGroups()) == 0,
+            "StaggeredDPDIntegrator: fastForceGroups (" + std::to_string(fastForceGroups) + ") must be a subset of the "
+            "integration force groups (" + std::to_string(getIntegrationForceGroups()) + ")");
+    bool anyFast = false;
+    for (int f = 0; f < system.getNumForces(); f++)
+        anyFast = anyFast || (fastForceGroups & (1 << system.getForce(f).getForceGroup())) != 0;
+    require(anyFast, "StaggeredDPDIntegrator: no force of the System is in a fast force group (fastForceGroups = " +
+            std::to_string(fastForceGroups) + "); put the stiff polymer forces in one, e.g. force.setForceGroup(1)");
+    for (int p : polymerParticles)
+        require(p < system.getNumParticles(), "StaggeredDPDIntegrator: polymer particle " + std::to_string(p) +
+                " is not in the System (" + std::to_string(system.getNumParticles()) + " particles)");
+    // Gamma Dt is a probability.
+    if (baseScheme == LoweAndersen && getMaxFriction() * getStepSize() > 1) {
+        std::ostringstream message;
+        message << "StaggeredDPDIntegrator: with the LoweAndersen base, Gamma Dt must be <= 1 (it is a collision probability), "
+                << "but the largest Gamma (" << getMaxFriction() << " /ps) times the outer step size (" << getStepSize()
+                << " ps) is " << getMaxFriction() * getStepSize();
+        throw OpenMMException(message.str());
+    }
+}
+
+std::string StaggeredDPDIntegrator::kernelName() const {
+    return IntegrateDPDStepKernel::StaggeredName();
+}

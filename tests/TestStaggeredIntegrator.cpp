@@ -1,0 +1,350 @@
+#include "TestHelpers.h"
+#include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
+#include "openmm/CustomBondForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicAngleForce.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/State.h"
+#include "openmm/serialization/XmlSerializer.h"
+#include <set>
+#include <sstream>
+
+using namespace DPDPlugin;
+
+namespace {
+
+const int CHAINS = 4;
+
+/**
+ * The fene-chains scene in small: a soft DPD fluid (a = 18.75, or the ideal gas with a = 0)
+ * of n particles, the first CHAINS * m of which are straight chains with FENE bonds
+ * (k = 7, rmax = 3) and WCA between beads, both in force group 1.
+ */
+System* makeChains(int n, int m, double a, std::vector<Vec3>& positions) {
+    System* system = makeFluid(n, 0, positions);
+    // The plugin's soft force: double precision on both platforms, like the scenes use.
+    if (a > 0) {
+        DPDSoftRepulsionForce* soft = new DPDSoftRepulsionForce(a, 1.0);
+        soft->setNonbondedMethod(DPDSoftRepulsionForce::CutoffPeriodic);
+        system->addForce(soft);
+    }
+    const double box = std::cbrt(n / 4.0);
+    CustomBondForce* fene = new CustomBondForce("-k*rmax^2*log(sqrt(1 - (r/rmax)^2)); k=7; rmax=3");
+    fene->setUsesPeriodicBoundaryConditions(true);
+    CustomNonbondedForce* wca = new CustomNonbondedForce("4*((l/r)^12 - (l/r)^6 + 0.25); l=0.8908987181403393");
+    wca->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+    wca->setCutoffDistance(1.0);
+    std::set<int> beads;
+    for (int i = 0; i < n; i++)
+        wca->addParticle({});
+    for (int c = 0; c < CHAINS; c++)
+        for (int k = 0; k < m; k++) {
+            const int i = c * m + k;
+            beads.insert(i);
+            positions[i] = Vec3(0.2 + 0.97 * k, 0.3 + 0.5 * box * (c % 2), 0.4 + 0.5 * box * (c / 2));
+            if (k > 0) {
+                fene->addBond(i - 1, i, {});
+                wca->addExclusion(i - 1, i);
+            }
+        }
+    wca->addInteractionGroup(beads, beads);
+    fene->setForceGroup(1);
+    wca->setForceGroup(1);
+    system->addForce(fene);
+    system->addForce(wca);
+    return system;
+}
+
+std::unique_ptr<StaggeredDPDIntegrator> makeStaggered(StaggeredDPDIntegrator::BaseScheme base, double dt, int k, int seed = 42) {
+    std::unique_ptr<StaggeredDPDIntegrator> integrator(new StaggeredDPDIntegrator(KT_KELVIN, 4.5, 1.0, dt, k));
+    integrator->setBaseScheme(base);
+    integrator->useRecommendedParameters();
+    integrator->setRandomNumberSeed(seed);
+    return integrator;
+}
+
+const StaggeredDPDIntegrator::BaseScheme BASES[] = {StaggeredDPDIntegrator::VelocityVerlet, StaggeredDPDIntegrator::LoweAndersen};
+
+State runState(System& system, Integrator& integrator, const std::string& platform, const std::vector<Vec3>& positions, int steps) {
+    auto context = makeContext(system, integrator, platform, positions);
+    integrator.step(steps);
+    return context->getState(State::Positions | State::Velocities);
+}
+
+double maxDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double worst = 0;
+    for (size_t i = 0; i < a.size(); i++)
+        for (int d = 0; d < 3; d++)
+            worst = std::max(worst, std::fabs(a[i][d] - b[i][d]));
+    return worst;
+}
+
+} // namespace
+
+TEST(StaggeredIntegrator, InvalidParametersNameThemselves) {
+    expectErrorNaming([] { StaggeredDPDIntegrator(KT_KELVIN, 4.5, 1.0, 0.01, 0); }, "numSubSteps");
+    StaggeredDPDIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01, 5);
+    expectErrorNaming([&] { integrator.setNumSubSteps(0); }, "numSubSteps");
+    expectErrorNaming([&] { integrator.setMu(1.5); }, "mu");
+    expectErrorNaming([&] { integrator.setA(-1.01); }, "a must be");
+    expectErrorNaming([&] { integrator.setB(2); }, "b must be");
+    expectErrorNaming([&] { integrator.setRelaxationParameters(0, 0, NAN); }, "b must be");
+    expectErrorNaming([&] { integrator.setLambda(1.1); }, "lambda");
+    expectErrorNaming([&] { integrator.setFastForceGroups(0); }, "fastForceGroups");
+    expectErrorNaming([&] { integrator.setBaseScheme((StaggeredDPDIntegrator::BaseScheme) 4); }, "baseScheme");
+    expectErrorNaming([&] { integrator.addPolymerParticle(-1); }, "polymer particle");
+    // Nothing changed; the defaults are paper 002's recommendation for the vV base.
+    EXPECT_EQ(integrator.getNumSubSteps(), 5);
+    EXPECT_EQ(integrator.getMu(), 0.0);
+    EXPECT_EQ(integrator.getA(), 0.6);
+    EXPECT_EQ(integrator.getB(), 0.0);
+    EXPECT_EQ(integrator.getLambda(), 0.65);
+    EXPECT_TRUE(integrator.getWeighted());
+    EXPECT_EQ(integrator.getFastForceGroups(), 2);
+    EXPECT_DOUBLE_EQ(integrator.getSubStepSize(), 0.002);
+    integrator.setBaseScheme(StaggeredDPDIntegrator::LoweAndersen);
+    EXPECT_EQ(integrator.getA(), 0.6);  // setBaseScheme changes nothing else
+    integrator.useRecommendedParameters();
+    EXPECT_EQ(integrator.getA(), 0.0);
+    EXPECT_EQ(integrator.getB(), 0.4);
+
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> chains(makeChains(500, 5, 18.75, positions));
+    Platform& reference = Platform::getPlatformByName("Reference");
+    // No force in the fast groups.
+    StaggeredDPDIntegrator none(KT_KELVIN, 4.5, 1.0, 0.01, 5);
+    none.setFastForceGroups(1 << 4);
+    expectErrorNaming([&] { Context c(*chains, none, reference); }, "no force of the System is in a fast force group");
+    // Fast groups outside the integration groups.
+    StaggeredDPDIntegrator outside(KT_KELVIN, 4.5, 1.0, 0.01, 5);
+    outside.setIntegrationForceGroups(1);
+    expectErrorNaming([&] { Context c(*chains, outside, reference); }, "subset of the integration force groups");
+    // Gamma Dt is a probability with the Lowe base.
+    StaggeredDPDIntegrator lowe(KT_KELVIN, 20, 1.0, 0.1, 5);
+    lowe.setBaseScheme(StaggeredDPDIntegrator::LoweAndersen);
+    expectErrorNaming([&] { Context c(*chains, lowe, reference); }, "Gamma Dt");
+    // A polymer particle that is not in the System.
+    StaggeredDPDIntegrator beyond(KT_KELVIN, 4.5, 1.0, 0.01, 5);
+    beyond.addPolymerParticle(500);
+    expectErrorNaming([&] { Context c(*chains, beyond, reference); }, "polymer particle 500");
+    // A fast force that acts on every particle gives no polymer to derive.
+    std::vector<Vec3> fluidPositions;
+    std::unique_ptr<System> fluid(makeFluid(500, 18.75, fluidPositions));
+    fluid->getForce(0).setForceGroup(1);
+    StaggeredDPDIntegrator everything(KT_KELVIN, 4.5, 1.0, 0.01, 5);
+    expectErrorNaming([&] { Context c(*fluid, everything, reference); }, "without interaction groups");
+    // An explicit polymer list that leaves out particles the fast forces act on.
+    StaggeredDPDIntegrator partial(KT_KELVIN, 4.5, 1.0, 0.01, 5);
+    partial.setPolymerParticles({0, 1, 2, 3});
+    auto context = makeContext(*chains, partial, "Reference", positions);
+    expectErrorNaming([&] { partial.step(1); }, "not a polymer particle");
+}
+
+TEST(StaggeredIntegrator, PolymerParticlesDerivedFromFastForces) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeChains(500, 5, 18.75, positions));
+    StaggeredDPDIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01, 5);
+    std::vector<int> expected(CHAINS * 5);
+    for (int i = 0; i < CHAINS * 5; i++)
+        expected[i] = i;
+    EXPECT_EQ(integrator.findPolymerParticles(*system), expected);
+    // Bonds of a HarmonicBondForce in a fast group count too.
+    HarmonicBondForce* extra = new HarmonicBondForce();
+    extra->addBond(100, 101, 0, 7);
+    extra->setForceGroup(2);
+    system->addForce(extra);
+    integrator.setFastForceGroups(2 | 4);
+    expected.push_back(100);
+    expected.push_back(101);
+    EXPECT_EQ(integrator.findPolymerParticles(*system), expected);
+    // The explicit list wins.
+    integrator.setPolymerParticles({7, 3, 3});
+    EXPECT_EQ(integrator.findPolymerParticles(*system), std::vector<int>({3, 7}));
+}
+
+TEST(StaggeredIntegrator, OneSubStepIsTheBaseIntegrator) {
+    // K = 1 with (mu, a, b) = (0, 0, 1) is Groot-Warren velocity Verlet, or velocity Verlet
+    // followed by Lowe-Andersen, step for step with the same random numbers.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeChains(500, 5, 18.75, positions));
+    for (const std::string& platform : platforms()) {
+        DPDVVIntegrator gw(KT_KELVIN, 4.5, 1.0, 0.01);
+        gw.setLambda(0.65);
+        gw.setRandomNumberSeed(42);
+        LoweAndersenIntegrator lowe(KT_KELVIN, 4.5, 1.0, 0.01);
+        lowe.setRandomNumberSeed(42);
+        for (auto base : BASES) {
+            auto staggered = makeStaggered(base, 0.01, 1);
+            staggered->setRelaxationParameters(0, 0, 1);
+            Integrator& reference = (base == StaggeredDPDIntegrator::VelocityVerlet ? (Integrator&) gw : (Integrator&) lowe);
+            State expected = runState(*system, reference, platform, positions, 20);
+            State actual = runState(*system, *staggered, platform, positions, 20);
+            // positions ~ 5 nm, velocities ~ 1 nm/ps
+            EXPECT_LE(maxDifference(expected.getPositions(), actual.getPositions()), 5e-12) << platform << " base " << base;
+            EXPECT_LE(maxDifference(expected.getVelocities(), actual.getVelocities()), 1e-12) << platform << " base " << base;
+            EXPECT_EQ(actual.getStepCount(), 20);
+            EXPECT_NEAR(actual.getTime(), 0.2, 1e-12);
+        }
+    }
+}
+
+TEST(StaggeredIntegrator, MomentumConservedToRounding) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeChains(500, 5, 18.75, positions));
+    // Reference: double-precision forces (the CPU platform's WCA is single precision, whose
+    // pair forces do not cancel to double rounding).
+    for (const std::string platform : {"Reference"})
+        for (auto base : BASES)
+            for (bool weighted : {true, false}) {
+                auto integrator = makeStaggered(base, 0.01, 5);
+                integrator->setWeighted(weighted);
+                auto context = makeContext(*system, *integrator, platform, positions);
+                auto momentum = [&] {
+                    Vec3 p;
+                    const State state = context->getState(State::Velocities);
+                    for (const Vec3& v : state.getVelocities())
+                        p += v;
+                    return p;
+                };
+                const Vec3 before = momentum();
+                integrator->step(50);
+                const Vec3 change = momentum() - before;
+                EXPECT_LT(std::sqrt(change.dot(change)), 1e-10) << platform << " base " << base << " weighted " << weighted;
+            }
+}
+
+TEST(StaggeredIntegrator, SolventTakesOneStepPerOuterStep) {
+    // The sub-steps move the polymer only: after one outer step the solvent's positions
+    // (Dt u + Dt^2/(2m) F) and velocities (F^ is evaluated at the predicted polymer
+    // positions, which do not depend on K) are the same whatever K is -- to rounding, since
+    // K = 1 evaluates the soft force from the thermostat's pair list and K > 1 in a Context
+    // without the fast forces, which sum it in another order.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeChains(500, 5, 18.75, positions));
+    std::vector<State> states;
+    for (int k : {1, 2, 5}) {
+        auto integrator = makeStaggered(StaggeredDPDIntegrator::VelocityVerlet, 0.01, k);
+        auto context = makeContext(*system, *integrator, "Reference", positions);
+        integrator->step(1);
+        states.push_back(context->getState(State::Positions | State::Velocities));
+    }
+    for (size_t s = 1; s < states.size(); s++)
+        for (int i = CHAINS * 5; i < 500; i++) {
+            const Vec3 dr = states[0].getPositions()[i] - states[s].getPositions()[i];
+            const Vec3 dv = states[0].getVelocities()[i] - states[s].getVelocities()[i];
+            ASSERT_LT(std::sqrt(dr.dot(dr)), 1e-12) << "solvent particle " << i;
+            ASSERT_LT(std::sqrt(dv.dot(dv)), 1e-12) << "solvent particle " << i;
+        }
+    // ... while the polymer did take different paths.
+    EXPECT_NE(states[0].getPositions()[0], states[2].getPositions()[0]);
+}
+
+TEST(StaggeredIntegrator, CheckpointContinuesBitForBit) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> soft(makeChains(500, 5, 18.75, positions)), ideal(makeChains(500, 5, 0, positions));
+    for (const std::string& platform : platforms())
+        for (auto base : BASES) {
+            // As for DPDVVIntegrator: on CPU the soft force's summation order depends on when
+            // its neighbour list was built, so there the solvent is the ideal gas.
+            System* system = (platform == "CPU" ? ideal.get() : soft.get());
+            auto integrator = makeStaggered(base, 0.01, 5, 0);
+            std::map<std::string, std::string> properties;
+            if (platform == "CPU")
+                properties["DeterministicForces"] = "true";
+            Context context(*system, *integrator, Platform::getPlatformByName(platform), properties);
+            context.setPositions(positions);
+            context.setVelocitiesToTemperature(KT_KELVIN, 11);
+            integrator->step(10);
+            std::stringstream checkpoint;
+            context.createCheckpoint(checkpoint);
+            integrator->step(10);
+            State first = context.getState(State::Positions | State::Velocities);
+            context.setVelocitiesToTemperature(KT_KELVIN, 99);
+            integrator->step(3);
+            context.loadCheckpoint(checkpoint);
+            EXPECT_EQ(context.getState(0).getStepCount(), 10);
+            integrator->step(10);
+            State second = context.getState(State::Positions | State::Velocities);
+            EXPECT_EQ(second.getStepCount(), 20);
+            for (size_t i = 0; i < positions.size(); i++) {
+                ASSERT_EQ(first.getPositions()[i], second.getPositions()[i]) << platform << " base " << base << " particle " << i;
+                ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << platform << " base " << base << " particle " << i;
+            }
+        }
+}
+
+TEST(StaggeredIntegrator, XmlRoundTrip) {
+    StaggeredDPDIntegrator integrator(250.0, 3.5, 1.0, 0.02, 7);
+    integrator.setBaseScheme(StaggeredDPDIntegrator::LoweAndersen);
+    integrator.setRelaxationParameters(-0.5, 0.25, 0.4);
+    integrator.setLambda(0.55);
+    integrator.setWeighted(false);
+    integrator.setFastForceGroups(6);
+    integrator.setPolymerParticles({4, 2, 9});
+    integrator.setRandomNumberSeed(17);
+    std::stringstream buffer;
+    XmlSerializer::serialize<Integrator>(&integrator, "Integrator", buffer);
+    std::unique_ptr<Integrator> copy(XmlSerializer::deserialize<Integrator>(buffer));
+    StaggeredDPDIntegrator* c = dynamic_cast<StaggeredDPDIntegrator*>(copy.get());
+    ASSERT_NE(c, nullptr);
+    EXPECT_EQ(c->getStepSize(), 0.02);
+    EXPECT_EQ(c->getNumSubSteps(), 7);
+    EXPECT_EQ(c->getBaseScheme(), StaggeredDPDIntegrator::LoweAndersen);
+    EXPECT_EQ(c->getMu(), -0.5);
+    EXPECT_EQ(c->getA(), 0.25);
+    EXPECT_EQ(c->getB(), 0.4);
+    EXPECT_EQ(c->getLambda(), 0.55);
+    EXPECT_FALSE(c->getWeighted());
+    EXPECT_EQ(c->getFastForceGroups(), 6);
+    EXPECT_EQ(c->getPolymerParticles(), std::vector<int>({4, 2, 9}));
+    EXPECT_EQ(c->getRandomNumberSeed(), 17);
+}
+
+TEST(StaggeredIntegrator, FeneBeyondRmaxStopsWithTheStep) {
+    // Two bonded beads pulled apart faster than FENE can hold them: past rmax the force is
+    // NaN, and the step must say so instead of carrying it on.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeChains(500, 5, 0, positions));
+    for (const std::string& platform : platforms())
+        for (auto base : BASES) {
+            auto integrator = makeStaggered(base, 0.01, 5);
+            auto context = makeContext(*system, *integrator, platform, positions);
+            std::vector<Vec3> velocities = context->getState(State::Velocities).getVelocities();
+            velocities[0] = Vec3(-150, 0, 0);
+            velocities[1] = Vec3(150, 0, 0);
+            context->setVelocities(velocities);
+            try {
+                integrator->step(100);
+                FAIL() << "no error on " << platform;
+            }
+            catch (const OpenMMException& e) {
+                const std::string message = e.what();
+                EXPECT_NE(message.find("blew up at step"), std::string::npos) << message;
+                EXPECT_LT(context->getState(0).getStepCount(), 100);
+            }
+        }
+}
+
+TEST(StaggeredIntegrator, SideContextsMatchTheFullContext) {
+    // For K > 1 the fast forces come from a Context of the polymer alone and the slow ones
+    // from a Context without the fast forces.  A fast force that cannot be copied (here an
+    // empty HarmonicAngleForce) makes the integrator evaluate everything in the Context
+    // itself: the two must follow the same trajectory, to rounding.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> copyable(makeChains(500, 5, 18.75, positions));
+    std::unique_ptr<System> fallback(makeChains(500, 5, 18.75, positions));
+    HarmonicAngleForce* angles = new HarmonicAngleForce();
+    angles->setForceGroup(1);
+    fallback->addForce(angles);
+    for (auto base : BASES) {
+        auto a = makeStaggered(base, 0.01, 5), b = makeStaggered(base, 0.01, 5);
+        State sa = runState(*copyable, *a, "Reference", positions, 10);
+        State sb = runState(*fallback, *b, "Reference", positions, 10);
+        EXPECT_LE(maxDifference(sa.getPositions(), sb.getPositions()), 1e-11) << "base " << base;
+        EXPECT_LE(maxDifference(sa.getVelocities(), sb.getVelocities()), 1e-10) << "base " << base;
+        EXPECT_GT(maxDifference(sa.getPositions(), positions), 0.01);
+    }
+}
