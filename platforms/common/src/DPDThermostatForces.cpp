@@ -46,7 +46,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     // number of workers.
     executor.execute([&](int w) {
         size_t begin, end;
-        executor.range(w, numCells, begin, end);
+        search.workerCells(w, executor.getNumWorkers(), begin, end);
         std::vector<PairGeometry>& out = workerPairs[w];
         out.clear();
         PairGeometry g;
@@ -67,7 +67,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     pairs.resize(offset[workers]);
     executor.execute([&](int w) {
         size_t begin, end;
-        executor.range(w, numCells, begin, end);
+        search.workerCells(w, executor.getNumWorkers(), begin, end);
         for (size_t cell = begin; cell < end; cell++)
             cellPairStart[cell] += (int) offset[w];
         std::copy(workerPairs[w].begin(), workerPairs[w].end(), pairs.begin() + offset[w]);

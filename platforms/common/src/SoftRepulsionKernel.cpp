@@ -56,7 +56,7 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
             std::fill(out.begin(), out.end(), Vec3());
         double energy = 0;
         size_t begin, end;
-        executor->range(w, search->getNumCells(), begin, end);
+        search->workerCells(w, workers, begin, end);
         search->forEachPair((int) begin, (int) end, [&](int i, int j, const Vec3& d) {
             const int t = table->index(i, j);
             const double r2 = d.dot(d);

@@ -2,6 +2,7 @@
 #define OPENMMDPD_PAIRSEARCH_H_
 
 #include "openmm/Vec3.h"
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -47,6 +48,19 @@ public:
     /** Bin the particles into cells (serial, O(N)). */
     void build(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     int getNumCells() const { return (int) cellStart.size() - 1; }
+    /**
+     * The cells [begin, end) that worker w of `workers` visits: consecutive ranges holding
+     * equal shares of the particles (cells hold unequal numbers, and the slowest worker
+     * sets the pace).
+     */
+    void workerCells(int w, int workers, size_t& begin, size_t& end) const {
+        auto boundary = [&](int k) {
+            const int target = (int) ((long long) cellStart.back() * k / workers);
+            return (size_t) (std::lower_bound(cellStart.begin(), cellStart.end() - 1, target) - cellStart.begin());
+        };
+        begin = (w == 0 ? 0 : boundary(w));
+        end = (w == workers - 1 ? (size_t) getNumCells() : boundary(w + 1));
+    }
     bool isPeriodic() const { return periodic; }
     /**
      * Whether the cells can be given 27 colours such that the pairs found from two cells of

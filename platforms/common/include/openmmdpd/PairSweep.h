@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DPDThermostatForces.h"
 #include "openmmdpd/ParallelExecutor.h"
+#include <algorithm>
 #include <vector>
 
 namespace DPDPlugin {
@@ -28,9 +29,12 @@ private:
     template <class Rule>
     void runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end,
                   std::vector<OpenMM::Vec3>& velocities, const Rule& rule, bool reverse) const;
+    /** The cells [begin, end) of a colour that worker w sweeps: equal shares of its pairs. */
+    void workerCells(int colour, int w, size_t& begin, size_t& end) const;
     ParallelExecutor& executor;
     bool parallel = false;
     std::vector<std::vector<int>> colourCells;
+    std::vector<std::vector<int>> colourPairsBefore;  // pairs in the colour's cells before each
 };
 
 inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
@@ -42,6 +46,25 @@ inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
     for (int cell = 0; cell < search.getNumCells(); cell++)
         if (start[cell + 1] > start[cell])
             colourCells[colours == 27 ? search.getColour(cell) : 0].push_back(cell);
+    colourPairsBefore.resize(colours);
+    for (int c = 0; c < colours; c++) {
+        std::vector<int>& before = colourPairsBefore[c];
+        before.assign(1, 0);
+        for (int cell : colourCells[c])
+            before.push_back(before.back() + start[cell + 1] - start[cell]);
+    }
+}
+
+inline void PairSweep::workerCells(int colour, int w, size_t& begin, size_t& end) const {
+    // Split by pairs, not cells: a colour's cells hold unequal numbers of pairs, and each of
+    // the 27 colours ends with all workers waiting for the slowest.
+    const std::vector<int>& before = colourPairsBefore[colour];
+    const long long total = before.back(), workers = executor.getNumWorkers();
+    auto boundary = [&](long long k) {
+        return (size_t) (std::lower_bound(before.begin(), before.end(), (int) (total * k / workers)) - before.begin());
+    };
+    begin = (w == 0 ? 0 : boundary(w));
+    end = (w == workers - 1 ? colourCells[colour].size() : boundary(w + 1));
 }
 
 template <class Rule>
@@ -64,14 +87,15 @@ template <class Rule>
 void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule, bool reverse) {
     const int colours = (int) colourCells.size();
     for (int c = 0; c < colours; c++) {
-        const std::vector<int>& cells = colourCells[reverse ? colours - 1 - c : c];
+        const int colour = reverse ? colours - 1 - c : c;
+        const std::vector<int>& cells = colourCells[colour];
         if (!parallel) {
             runCells(pairs, cells, 0, cells.size(), velocities, rule, reverse);
             continue;
         }
         executor.execute([&](int w) {
             size_t begin, end;
-            executor.range(w, cells.size(), begin, end);
+            workerCells(colour, w, begin, end);
             runCells(pairs, cells, begin, end, velocities, rule, reverse);
         });
     }
