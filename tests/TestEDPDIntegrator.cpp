@@ -26,14 +26,6 @@ System* makeTwoParticles() {
     return system;
 }
 
-Vec3 totalMomentum(Context& context) {
-    const State state = context.getState(State::Velocities);
-    Vec3 p;
-    for (const Vec3& v : state.getVelocities())
-        p += v;
-    return p;
-}
-
 } // namespace
 
 TEST(EDPDIntegrator, InvalidParametersNameThemselves) {

@@ -8,6 +8,7 @@
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
+#include "openmm/State.h"
 #include "openmm/System.h"
 #include <gtest/gtest.h>
 #include <cmath>
@@ -72,6 +73,15 @@ std::vector<std::string> platforms() {
     names.push_back("CPU");
 #endif
     return names;
+}
+
+// The total momentum of unit-mass particles.
+inline Vec3 totalMomentum(Context& context) {
+    const State state = context.getState(State::Velocities);
+    Vec3 p;
+    for (const Vec3& v : state.getVelocities())
+        p += v;
+    return p;
 }
 
 void expectErrorNaming(const std::function<void()>& action, const std::string& name) {

@@ -28,14 +28,6 @@ std::unique_ptr<DPDThermostatIntegrator> makeScheme(const std::string& scheme, d
     return integrator;
 }
 
-Vec3 totalMomentum(Context& context) {
-    const State state = context.getState(State::Velocities);
-    Vec3 p;
-    for (const Vec3& v : state.getVelocities())
-        p += v;
-    return p;
-}
-
 void expectSameState(Context& a, Context& b, const std::string& what) {
     const State sa = a.getState(State::Positions | State::Velocities), sb = b.getState(State::Positions | State::Velocities);
     for (size_t i = 0; i < sa.getPositions().size(); i++) {
