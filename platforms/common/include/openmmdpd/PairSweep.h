@@ -86,19 +86,19 @@ void PairSweep::runCells(const DPDThermostatForces& pairs, const std::vector<int
 template <class Rule>
 void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule, bool reverse) {
     const int colours = (int) colourCells.size();
-    for (int c = 0; c < colours; c++) {
-        const int colour = reverse ? colours - 1 - c : c;
-        const std::vector<int>& cells = colourCells[colour];
-        if (!parallel) {
+    if (!parallel) {
+        for (int c = 0; c < colours; c++) {
+            const std::vector<int>& cells = colourCells[reverse ? colours - 1 - c : c];
             runCells(pairs, cells, 0, cells.size(), velocities, rule, reverse);
-            continue;
         }
-        executor.execute([&](int w) {
-            size_t begin, end;
-            workerCells(colour, w, begin, end);
-            runCells(pairs, cells, begin, end, velocities, rule, reverse);
-        });
+        return;
     }
+    executor.executePhases(colours, [&](int w, int c) {
+        const int colour = reverse ? colours - 1 - c : c;
+        size_t begin, end;
+        workerCells(colour, w, begin, end);
+        runCells(pairs, colourCells[colour], begin, end, velocities, rule, reverse);
+    });
 }
 
 } // namespace DPDPlugin

@@ -17,6 +17,15 @@ public:
     virtual int getNumWorkers() const = 0;
     /** Run task(worker) for every worker and wait for all of them. */
     virtual void execute(const std::function<void(int worker)>& task) = 0;
+    /**
+     * Run task(worker, phase) for phase = 0 .. phases-1, every worker finishing a phase
+     * (and seeing all its writes) before any starts the next.  Same as one execute() per
+     * phase, which is what this default does; a thread pool can do it with one dispatch.
+     */
+    virtual void executePhases(int phases, const std::function<void(int worker, int phase)>& task) {
+        for (int phase = 0; phase < phases; phase++)
+            execute([&](int w) { task(w, phase); });
+    }
     /** The half-open range [begin, end) of n items that a worker handles. */
     void range(int worker, size_t n, size_t& begin, size_t& end) const {
         const size_t w = getNumWorkers();
