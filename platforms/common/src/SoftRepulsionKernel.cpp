@@ -18,6 +18,7 @@ void SoftRepulsionKernel::initialize(const OpenMM::System& system, const DPDSoft
     }
     for (auto& partners : exclusions)
         std::sort(partners.begin(), partners.end());
+    hasExclusions = (force.getNumExclusions() > 0);
     const int workers = executor->getNumWorkers();
     workerEnergy.assign(workers, 0.0);
     workerForces.assign(workers, std::vector<Vec3>(numParticles));
@@ -47,40 +48,48 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     search->build(*data.positions, box);
+    const std::vector<int>& sortedIndex = search->getSortedIndex();
+    const size_t slots = sortedIndex.size();
+    sortedType.resize(slots);
+    for (size_t k = 0; k < slots; k++)
+        sortedType[k] = table->typeOf(sortedIndex[k]);
     const int workers = executor->getNumWorkers();
+    // Each worker sums its cells' pairs into its own buffer, by sorted slot (neighbouring
+    // pairs touch neighbouring slots); the buffers are then added to the Context's forces
+    // in worker order.
     executor->execute([&](int w) {
-        // One worker adds straight into the Context's forces; several use their own buffers.
-        const bool direct = (workers == 1 && includeForces);
-        std::vector<Vec3>& out = (direct ? forces : workerForces[w]);
-        if (!direct)
-            std::fill(out.begin(), out.end(), Vec3());
+        std::vector<Vec3>& out = workerForces[w];
+        std::fill(out.begin(), out.begin() + slots, Vec3());
         double energy = 0;
         size_t begin, end;
         search->workerCells(w, workers, begin, end);
-        search->forEachPair((int) begin, (int) end, [&](int i, int j, const Vec3& d) {
-            const int t = table->index(i, j);
+        search->forEachSortedPair((int) begin, (int) end, [&](int p, int q, const Vec3& d) {
+            const int t = table->indexOfTypes(sortedType[p], sortedType[q]);
             const double r2 = d.dot(d);
-            if (r2 >= table->cutoff2(t) || excluded(i, j))
+            if (r2 >= table->cutoff2(t) || (hasExclusions && excluded(sortedIndex[p], sortedIndex[q])))
                 return;
             const double r = std::sqrt(r2), rc = table->cutoff(t), a = table->value(t);
             const double x = 1 - r / rc;
             // F = a (1 - r/rc) e;  E = a rc (1 - r/rc)^2 / 2
             if (r > 0) {
                 const Vec3 f = d * (a * x / r);
-                out[i] += f;
-                out[j] -= f;
+                out[p] += f;
+                out[q] -= f;
             }
             energy += 0.5 * a * rc * x * x;
         });
         workerEnergy[w] = energy;
     });
-    if (workers > 1 && includeForces)
+    if (includeForces)
         executor->execute([&](int w) {
             size_t begin, end;
-            executor->range(w, forces.size(), begin, end);
-            for (size_t i = begin; i < end; i++)
-                for (int k = 0; k < workers; k++)
-                    forces[i] += workerForces[k][i];
+            executor->range(w, slots, begin, end);
+            for (size_t k = begin; k < end; k++) {
+                Vec3 f;
+                for (int v = 0; v < workers; v++)
+                    f += workerForces[v][k];
+                forces[sortedIndex[k]] += f;
+            }
         });
     double energy = 0;
     for (double e : workerEnergy)

@@ -78,7 +78,18 @@ public:
      * [begin, end); d = r_i - r_j for the nearest image.  Thread safe.
      */
     template <class Visitor>
-    void forEachPair(int begin, int end, Visitor&& visit) const;
+    void forEachPair(int begin, int end, Visitor&& visit) const {
+        forEachSortedPair(begin, end, [&](int p, int q, const OpenMM::Vec3& d) { visit(sortedIndex[p], sortedIndex[q], d); });
+    }
+    /**
+     * The same pairs in the same order, named by their slots in the cell-sorted order
+     * (particle getSortedIndex()[p]): per-slot arrays are read and written close together,
+     * where per-particle arrays would be hit at random.
+     */
+    template <class Visitor>
+    void forEachSortedPair(int begin, int end, Visitor&& visit) const;
+    /** The particle in each sorted slot (active particles only, cell by cell). */
+    const std::vector<int>& getSortedIndex() const { return sortedIndex; }
 
 private:
     /**
@@ -108,7 +119,7 @@ private:
 };
 
 template <class Visitor>
-void PairSearch::forEachPair(int begin, int end, Visitor&& visit) const {
+void PairSearch::forEachSortedPair(int begin, int end, Visitor&& visit) const {
     const double cutoff2 = cutoff * cutoff;
     for (int cell = begin; cell < end; cell++) {
         const Neighbour* firstNeighbour = &neighbourTable[neighbourStart[cell]];
@@ -123,14 +134,14 @@ void PairSearch::forEachPair(int begin, int end, Visitor&& visit) const {
                     for (int q = first; q < last; q++) {
                         const OpenMM::Vec3 d = rpShifted - sortedPositions[q];
                         if (d.dot(d) < cutoff2)
-                            visit(sortedIndex[p], sortedIndex[q], d);
+                            visit(p, q, d);
                     }
                 }
                 else
                     for (int q = first; q < last; q++) {
                         const OpenMM::Vec3 d = minimumImage(rp - sortedPositions[q], box, periodic);
                         if (d.dot(d) < cutoff2)
-                            visit(sortedIndex[p], sortedIndex[q], d);
+                            visit(p, q, d);
                     }
             }
         }

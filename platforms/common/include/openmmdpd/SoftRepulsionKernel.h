@@ -38,7 +38,7 @@ public:
     double pairForce(int i, int j, double r) const {
         const int t = table->index(i, j);
         const double rc = table->cutoff(t);
-        if (r >= rc || excluded(i, j))
+        if (r >= rc || (hasExclusions && excluded(i, j)))
             return 0;
         return table->value(t) * (1 - r / rc);
     }
@@ -52,10 +52,11 @@ private:
     std::unique_ptr<ParallelExecutor> executor;
     std::unique_ptr<TypePairTable> table;
     std::unique_ptr<PairSearch> search;
-    bool periodic = false, deferred = false;
+    bool periodic = false, deferred = false, hasExclusions = false;
     int numParticles = 0, version = 0;
     std::vector<std::vector<int>> exclusions;  // sorted partners of each particle
-    std::vector<std::vector<OpenMM::Vec3>> workerForces;
+    std::vector<std::vector<OpenMM::Vec3>> workerForces;  // by sorted slot
+    std::vector<int> sortedType;                          // the type of each sorted slot
     std::vector<double> workerEnergy;
 };
 
