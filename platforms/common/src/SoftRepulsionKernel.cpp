@@ -63,20 +63,25 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
         double energy = 0;
         size_t begin, end;
         search->workerCells(w, workers, begin, end);
-        search->forEachSortedPair((int) begin, (int) end, [&](int p, int q, const Vec3& d) {
-            const int t = table->indexOfTypes(sortedType[p], sortedType[q]);
-            const double r2 = d.dot(d);
-            if (r2 >= table->cutoff2(t) || (hasExclusions && excluded(sortedIndex[p], sortedIndex[q])))
-                return;
-            const double r = std::sqrt(r2), rc = table->cutoff(t), a = table->value(t);
-            const double x = 1 - r / rc;
-            // F = a (1 - r/rc) e;  E = a rc (1 - r/rc)^2 / 2
-            if (r > 0) {
-                const Vec3 f = d * (a * x / r);
-                out[p] += f;
-                out[q] -= f;
+        search->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+            const int typeP = sortedType[p];
+            Vec3 forceP;  // summed here, not in out[p], to keep the loop free of a store-load chain
+            for (int k = 0; k < count; k++) {
+                const int t = table->indexOfTypes(typeP, sortedType[q[k]]);
+                const double r2 = d[k].dot(d[k]);
+                if (r2 >= table->cutoff2(t) || (hasExclusions && excluded(sortedIndex[p], sortedIndex[q[k]])))
+                    continue;
+                const double r = std::sqrt(r2), rc = table->cutoff(t), a = table->value(t);
+                const double x = 1 - r / rc;
+                // F = a (1 - r/rc) e;  E = a rc (1 - r/rc)^2 / 2
+                if (r > 0) {
+                    const Vec3 f = d[k] * (a * x / r);
+                    forceP += f;
+                    out[q[k]] -= f;
+                }
+                energy += 0.5 * a * rc * x * x;
             }
-            energy += 0.5 * a * rc * x * x;
+            out[p] += forceP;
         });
         workerEnergy[w] = energy;
     });

@@ -39,6 +39,7 @@ inline OpenMM::Vec3 minimumImage(OpenMM::Vec3 d, const OpenMM::Vec3* box, bool p
  */
 class PairSearch {
 public:
+    static constexpr int MAX_BLOCK = 256;
     /**
      * @param active        particles that take part (e.g. those with non-zero mass)
      * @param cellMultiple  make the number of cells along each periodic axis a multiple of
@@ -88,6 +89,13 @@ public:
      */
     template <class Visitor>
     void forEachSortedPair(int begin, int end, Visitor&& visit) const;
+    /**
+     * The same pairs in the same order, in blocks sharing their first slot p:
+     * visit(p, q, d, count) with the other slots q[k] and displacements d[k], for
+     * k < count <= MAX_BLOCK (usually all of p's pairs in one block).
+     */
+    template <class BlockVisitor>
+    void forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit) const;
     /** The particle in each sorted slot (active particles only, cell by cell). */
     const std::vector<int>& getSortedIndex() const { return sortedIndex; }
 
@@ -118,34 +126,63 @@ private:
     OpenMM::Vec3 tableBox[3];
 };
 
-template <class Visitor>
-void PairSearch::forEachSortedPair(int begin, int end, Visitor&& visit) const {
+template <class BlockVisitor>
+void PairSearch::forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit) const {
     const double cutoff2 = cutoff * cutoff;
+    // About one candidate in seven is within the cutoff, so a branch per candidate would be
+    // mispredicted often: candidates are tested in chunks, their hits gathered without
+    // branches, and a particle's hits from all its neighbour cells visited together.
+    constexpr int CHUNK = 64, CAPACITY = MAX_BLOCK;
+    int hits[CAPACITY];
+    OpenMM::Vec3 d[CAPACITY];
     for (int cell = begin; cell < end; cell++) {
         const Neighbour* firstNeighbour = &neighbourTable[neighbourStart[cell]];
         const Neighbour* endNeighbour = &neighbourTable[0] + neighbourStart[cell + 1];
         for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
             const OpenMM::Vec3 rp = sortedPositions[p];
+            int count = 0;
             for (const Neighbour* other = firstNeighbour; other != endNeighbour; ++other) {
                 const int first = (other->firstCell == cell ? p + 1 : cellStart[other->firstCell]);
                 const int last = cellStart[other->lastCell + 1];
-                if (other->exactShift) {
-                    const OpenMM::Vec3 rpShifted = rp - other->shift;
-                    for (int q = first; q < last; q++) {
-                        const OpenMM::Vec3 d = rpShifted - sortedPositions[q];
-                        if (d.dot(d) < cutoff2)
-                            visit(p, q, d);
+                const OpenMM::Vec3 rpShifted = rp - other->shift;
+                for (int chunkStart = first; chunkStart < last; chunkStart += CHUNK) {
+                    if (count + CHUNK > CAPACITY) {
+                        visit(p, (const int*) hits, (const OpenMM::Vec3*) d, count);
+                        count = 0;
+                    }
+                    const int chunkEnd = std::min(last, chunkStart + CHUNK), chunkHits = count;
+                    if (other->exactShift) {
+                        for (int q = chunkStart; q < chunkEnd; q++) {
+                            const OpenMM::Vec3 dq = rpShifted - sortedPositions[q];
+                            hits[count] = q;
+                            count += (dq.dot(dq) < cutoff2);
+                        }
+                        for (int k = chunkHits; k < count; k++)
+                            d[k] = rpShifted - sortedPositions[hits[k]];
+                    }
+                    else {
+                        for (int q = chunkStart; q < chunkEnd; q++) {
+                            const OpenMM::Vec3 dq = minimumImage(rp - sortedPositions[q], box, periodic);
+                            hits[count] = q;
+                            count += (dq.dot(dq) < cutoff2);
+                        }
+                        for (int k = chunkHits; k < count; k++)
+                            d[k] = minimumImage(rp - sortedPositions[hits[k]], box, periodic);
                     }
                 }
-                else
-                    for (int q = first; q < last; q++) {
-                        const OpenMM::Vec3 d = minimumImage(rp - sortedPositions[q], box, periodic);
-                        if (d.dot(d) < cutoff2)
-                            visit(p, q, d);
-                    }
             }
+            if (count > 0)
+                visit(p, (const int*) hits, (const OpenMM::Vec3*) d, count);
         }
     }
+}
+
+template <class Visitor>
+void PairSearch::forEachSortedPair(int begin, int end, Visitor&& visit) const {
+    forEachSortedPairBlock(begin, end, [&](int p, const int* q, const OpenMM::Vec3* d, int count) {
+        for (int k = 0; k < count; k++)
+            visit(p, q[k], d[k]);
+    });
 }
 
 } // namespace DPDPlugin
