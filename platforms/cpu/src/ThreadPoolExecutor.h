@@ -14,6 +14,12 @@ public:
     explicit ThreadPoolExecutor(OpenMM::ThreadPool& pool) : pool(pool) {}
     int getNumWorkers() const override { return pool.getNumThreads(); }
     void execute(const std::function<void(int worker)>& task) override {
+        // One worker runs in the calling thread: waking a pool thread and waiting for it
+        // costs a few microseconds per call, several times per step.
+        if (pool.getNumThreads() == 1) {
+            task(0);
+            return;
+        }
         pool.execute([&task](OpenMM::ThreadPool&, int thread) { task(thread); });
         pool.waitForThreads();
     }
@@ -24,6 +30,11 @@ public:
      */
     void executePhases(int phases, const std::function<void(int worker, int phase)>& task) override {
         const int workers = getNumWorkers();
+        if (workers == 1) {
+            for (int phase = 0; phase < phases; phase++)
+                task(0, phase);
+            return;
+        }
         std::atomic<int> arrived(0), generation(0);
         pool.execute([&](OpenMM::ThreadPool&, int thread) {
             for (int phase = 0; phase < phases; phase++) {
