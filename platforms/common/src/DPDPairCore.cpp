@@ -57,6 +57,24 @@ DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDTher
         active[i] = (mass[i] > 0);
         invMass[i] = active[i] ? 1 / mass[i] : 0;
     }
+    uniformMass = true;
+    int first = -1;
+    for (int i = 0; i < n; i++)
+        if (active[i]) {
+            if (first < 0)
+                first = i;
+            uniformMass = uniformMass && mass[i] == mass[first];
+        }
+    if (uniformMass && first >= 0) {
+        // The same arithmetic as pairGamma() and noiseAmplitude(), so either path gives the same bits.
+        for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++) {
+            const double gamma = 2 * mass[first] * mass[first] / (mass[first] + mass[first]) * table.value(t);
+            typeGamma.push_back(gamma);
+            typeSigma.push_back(noiseAmplitude(gamma));
+        }
+    }
+    else
+        uniformMass = false;
 }
 
 namespace {

@@ -1,4 +1,5 @@
 #include "openmmdpd/DPDThermostatForces.h"
+#include "openmmdpd/SoftRepulsionKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/OSRngSeed.h"
 #include <algorithm>
@@ -23,13 +24,12 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
         random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
     const int workers = executor.getNumWorkers();
     workerPairs.resize(workers);
-    if (workers > 1) {
-        workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
+    workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
+    if (workers > 1)
         workerRandom.assign(workers, std::vector<Vec3>(system.getNumParticles()));
-    }
 }
 
-void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
+void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {
     if (search.isPeriodic()) {
         const double halfWidth = 0.5 * std::min(box[0][0], std::min(box[1][1], box[2][2]));
         if (parameters.getMaxCutoff() > halfWidth) {
@@ -39,6 +39,10 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
             throw OpenMM::OpenMMException(message.str());
         }
     }
+}
+
+void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
+    checkCutoffFitsBox(box);
     search.build(positions, box);
     const int numCells = search.getNumCells();
     cellPairStart.resize(numCells + 1);
@@ -143,4 +147,66 @@ void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vecto
         accumulate(begin, end, workerDissipative[w]);
     });
     reduceWorkerBuffers(workerDissipative, out);
+}
+
+void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<Vec3>& velocities,
+                                           long long step, double dt, const SoftRepulsionKernel* soft, std::vector<Vec3>& out) {
+    checkCutoffFitsBox(box);
+    search.build(positions, box);
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const size_t slots = sortedIndex.size();
+    const int workers = executor.getNumWorkers();
+    const double invSqrtDt = 1 / std::sqrt(dt);
+    sortedVelocities.resize(slots);
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, slots, begin, end);
+        for (size_t k = begin; k < end; k++)
+            sortedVelocities[k] = velocities[sortedIndex[k]];
+    });
+    // Each worker sums its cells' pairs into its own buffer, by slot (neighbouring pairs
+    // touch neighbouring slots); the buffers are then added in worker order.
+    executor.execute([&](int w) {
+        std::vector<Vec3>& slotForce = workerDissipative[w];
+        zero(slotForce, 0, slots);
+        size_t begin, end;
+        search.workerCells(w, workers, begin, end);
+        PairGeometry g[PairSearch::MAX_BLOCK];
+        int slot[PairSearch::MAX_BLOCK];
+        r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
+        double xi[PairSearch::MAX_BLOCK];
+        search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+            const int i = sortedIndex[p];
+            int n = 0;
+            for (int k = 0; k < count; k++)
+                if (parameters.pairGeometry(i, sortedIndex[q[k]], d[k], g[n]))
+                    slot[n++] = q[k];
+            // The same numbers as random.gaussian(), drawn for the whole block at once.
+            for (int k = 0; k < n; k++)
+                bits[k] = random.bits(PairRandom::RandomForce, step, g[k].i, g[k].j);
+            PairRandom::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+            const Vec3 vp = sortedVelocities[p];
+            Vec3 forceP;
+            for (int k = 0; k < n; k++) {
+                Vec3 f = DPDPairForce::dissipative(g[k], vp - sortedVelocities[slot[k]]) + DPDPairForce::random(g[k], xi[k], invSqrtDt);
+                if (soft != nullptr)
+                    f += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
+                forceP += f;
+                slotForce[slot[k]] -= f;
+            }
+            slotForce[p] += forceP;
+        });
+    });
+    if (slots < out.size())
+        zero(out, 0, out.size());  // particles outside the thermostat get nothing
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, slots, begin, end);
+        for (size_t k = begin; k < end; k++) {
+            Vec3 f;
+            for (int v = 0; v < workers; v++)
+                f += workerDissipative[v][k];
+            out[sortedIndex[k]] = f;
+        }
+    });
 }

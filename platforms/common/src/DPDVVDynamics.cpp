@@ -8,17 +8,14 @@ using OpenMM::Vec3;
 DPDVVDynamics::DPDVVDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator, ParallelExecutor& executor) :
         PairDynamics(system, integrator, executor, 1) {
     const int n = system.getNumParticles();
-    for (auto* v : {&dissipative, &random, &predicted, &velocityNoFD})
+    for (auto* v : {&dissipative, &random, &predicted, &velocityNoFD, &newForce})
         v->resize(n);
 }
 
 void DPDVVDynamics::computeInitialForce(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
-    const long long step = data.stepCount;
-    computeConservativeAndPairs(context, integrator.getIntegrationForceGroups(), step);
-    thermostat.compute(DissipativeTerm | RandomTerm, *data.velocities, step, integrator.getStepSize(), dissipative, dissipative);
-    for (size_t i = 0; i < force.size(); i++)
-        force[i] = conservative[i] + dissipative[i];
+    computeForceInOnePass(context, integrator.getIntegrationForceGroups(), *data.velocities, data.stepCount,
+                          integrator.getStepSize(), force);
     setCarriedForceValid();
 }
 
@@ -42,13 +39,11 @@ void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDThermostatIntegr
             return v[i] * dt + force[i] * (0.5 * dt * dt * invMass[i]);
         });
         // F(t+dt) = FC(r) + FD(r, v~) + FR(r)
-        computeConservativeAndPairs(context, integrator.getIntegrationForceGroups(), next);
-        thermostat.compute(DissipativeTerm | RandomTerm, predicted, next, dt, dissipative, dissipative);
+        computeForceInOnePass(context, integrator.getIntegrationForceGroups(), predicted, next, dt, newForce);
         // v += dt/(2m) [F + F(t+dt)]
         forEachParticle(n, [&](size_t i) {
-            Vec3 newForce = conservative[i] + dissipative[i];
-            v[i] += (force[i] + newForce) * (0.5 * dt * invMass[i]);
-            force[i] = newForce;
+            v[i] += (force[i] + newForce[i]) * (0.5 * dt * invMass[i]);
+            force[i] = newForce[i];
         });
     }
     else {

@@ -149,6 +149,19 @@ void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int
     checkFinite(conservative, "conservative force", step);
 }
 
+void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int forceGroups, const std::vector<Vec3>& velocities,
+                                         long long step, double dt, std::vector<Vec3>& out) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    softForceFromPairs = nullptr;
+    computeConservative(context, forceGroups);
+    checkFinite(conservative, "conservative force", step);
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    pairForce.resize(conservative.size());
+    thermostat.computeInOnePass(*data.positions, box, velocities, step, dt, softForceFromPairs, pairForce);
+    forEachParticle(out.size(), [&](size_t i) { out[i] = conservative[i] + pairForce[i]; });
+}
+
 void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {
     SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
     if (soft != nullptr) {

@@ -23,7 +23,7 @@ StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const Stagger
         baseScheme(integrator.getBaseScheme()), polymerGroups(0), pairSweep(executor), fastContextTried(false),
         numSubSteps(integrator.getNumSubSteps()) {
     const int n = system.getNumParticles();
-    for (auto* v : {&dissipative, &predicted, &newForce})
+    for (auto* v : {&predicted, &newForce})
         v->resize(n);
     updatePolymer(system, integrator);
 }
@@ -252,14 +252,12 @@ void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const Sta
 void StaggeredDynamics::computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     const long long step = data.stepCount;
-    computeConservativeAndPairs(context, slowGroups(integrator), step);
-    if (baseScheme == StaggeredDPDIntegrator::VelocityVerlet) {
-        thermostat.compute(DissipativeTerm | RandomTerm, *data.velocities, step, integrator.getStepSize(), dissipative, dissipative);
-        for (size_t i = 0; i < force.size(); i++)
-            force[i] = conservative[i] + dissipative[i];
-    }
-    else
+    if (baseScheme == StaggeredDPDIntegrator::VelocityVerlet)
+        computeForceInOnePass(context, slowGroups(integrator), *data.velocities, step, integrator.getStepSize(), force);
+    else {
+        computeConservativeAndPairs(context, slowGroups(integrator), step);
         force = conservative;
+    }
     computeFastForce(context, integrator, step, fastForce, true);
     setCarriedForceValid();
 }
@@ -322,15 +320,12 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const DPDThermostatIn
     });
 
     // F^: the one slow evaluation (and pair search) of the outer step.
-    computeConservativeAndPairs(context, slowGroups(integrator), next);
-    if (verlet) {
-        thermostat.compute(DissipativeTerm | RandomTerm, predicted, next, Dt, dissipative, dissipative);
-        forEachParticle(n, [&](size_t i) {
-            newForce[i] = conservative[i] + dissipative[i];
-        });
-    }
-    else
+    if (verlet)
+        computeForceInOnePass(context, slowGroups(integrator), predicted, next, Dt, newForce);
+    else {
+        computeConservativeAndPairs(context, slowGroups(integrator), next);
         newForce = conservative;
+    }
 
     // Solvent: u += Dt/(2m) (F + F^).
     forEachParticle(n, [&](size_t i) {

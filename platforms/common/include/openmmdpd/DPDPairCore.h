@@ -49,6 +49,7 @@ public:
     double cutoff(int t) const { return cutoffs[t]; }
     double cutoff2(int t) const { return cutoffs2[t]; }
     double getMaxCutoff() const { return maxCutoff; }
+    int getNumTypes() const { return numTypes; }
 
 private:
     int numTypes;
@@ -83,18 +84,27 @@ public:
         if (r2 >= table.cutoff2(t) || r2 == 0)
             return false;
         const double r = std::sqrt(r2);
-        const double mu = mass[i] * mass[j] / (mass[i] + mass[j]);
         const double wR = 1 - r / table.cutoff(t);
-        const double gamma = 2 * mu * table.value(t);
+        double gamma, sigma;
+        if (uniformMass) {
+            gamma = typeGamma[t];
+            sigma = typeSigma[t];
+        }
+        else {
+            gamma = pairGamma(i, j);
+            sigma = noiseAmplitude(gamma);
+        }
         out.i = i;
         out.j = j;
         out.e = d / r;
         out.wR = wR;
         out.gammaWD = gamma * wR * wR;
-        out.sigmaWR = std::sqrt(2 * gamma * kT) * wR;
+        out.sigmaWR = sigma * wR;
         out.rate = table.value(t);
         return true;
     }
+    /** sigma = sqrt(2 gamma kT), the fluctuation-dissipation partner of a friction gamma. */
+    double noiseAmplitude(double gamma) const { return std::sqrt(2 * gamma * kT); }
 
     /** The friction coefficient gamma_ij = 2 mu_ij friction_ij of any pair (amu/ps). */
     double pairGamma(int i, int j) const {
@@ -108,6 +118,10 @@ private:
     double kT;
     std::vector<double> mass, invMass;
     std::vector<bool> active;
+    // When every particle has one mass (the usual DPD fluid), gamma and sigma depend on the
+    // type pair alone and are looked up instead of computed per pair.
+    bool uniformMass;
+    std::vector<double> typeGamma, typeSigma;
 };
 
 /**

@@ -13,6 +13,8 @@ namespace DPDPlugin {
  * ParallelExecutor.  Integrators with a pair-force update rule (DPD-VV family, the
  * staggered scheme) call this; pairwise-sequential rules use the same pair list.
  */
+class SoftRepulsionKernel;
+
 class DPDThermostatForces {
 public:
     /**
@@ -39,10 +41,22 @@ public:
      * the per-particle force of pair forces c_k e_k given per pair (in getPairs() order).
      */
     void sumAlongPairs(const std::vector<double>& c, std::vector<OpenMM::Vec3>& out);
+    /**
+     * out = FD(velocities) + FR at these positions, plus soft's pair forces when soft is
+     * given (its pairs must all lie within the thermostat's): the same pairs and numbers as
+     * updatePairs() and compute(), for update rules that use every pair once per
+     * evaluation.  Pairs are found and used in one pass over the cell-sorted slots, so no
+     * pair list is written and read back; getPairs() is left stale.
+     */
+    void computeInOnePass(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
+                          const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
+                          const SoftRepulsionKernel* soft, std::vector<OpenMM::Vec3>& out);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     uint32_t getSeed() const { return random.getSeed(); }
 
 private:
+    /** The pair search needs the cutoff to fit in half the periodic box. */
+    void checkCutoffFitsBox(const OpenMM::Vec3* box) const;
     /** out[i] = the sum of the workers' buffers at i, in worker order, for i in parallel. */
     void reduceWorkerBuffers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, std::vector<OpenMM::Vec3>& out);
     DPDPairParameters parameters;
@@ -53,6 +67,7 @@ private:
     std::vector<int> cellPairStart;
     std::vector<std::vector<PairGeometry>> workerPairs;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
+    std::vector<OpenMM::Vec3> sortedVelocities;
 };
 
 } // namespace DPDPlugin

@@ -57,6 +57,13 @@ protected:
      */
     void computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step);
     /**
+     * out <- the integration force groups' forces + FD(velocities) + FR at the current
+     * positions, in one pass over the pairs (DPDThermostatForces::computeInOnePass): for
+     * update rules that need only that sum.  The pair list is not updated.
+     */
+    void computeForceInOnePass(OpenMM::ContextImpl& context, int forceGroups, const std::vector<OpenMM::Vec3>& velocities,
+                               long long step, double dt, std::vector<OpenMM::Vec3>& out);
+    /**
      * conservative <- the forces of these groups at the current positions (the Context's by
      * default; there a soft force that can be is left to the thermostat pair list, see
      * computeConservativeAndPairs).
@@ -109,7 +116,7 @@ private:
     SoftRepulsionKernel* softForceFromPairs = nullptr;  // deferred by this step's computeConservative
     int fusedForceGroups = 0, fusedVersion = -1;
     std::vector<double> pairSoftForce;
-    std::vector<OpenMM::Vec3> softForce;
+    std::vector<OpenMM::Vec3> softForce, pairForce;
     bool forcesValid, verifyRestoredState;
     std::vector<OpenMM::Vec3> restoredPositions, restoredVelocities;
 };

@@ -63,7 +63,7 @@ private:
     std::vector<int> polymerExplicit, polymer;
     std::vector<int> polymerIndex;  // k with polymer[k] = i, or -1, by particle i
     PairSweep pairSweep;
-    std::vector<OpenMM::Vec3> dissipative, predicted, newForce;
+    std::vector<OpenMM::Vec3> predicted, newForce;
     // Per polymer particle (index k of polymer[k]): the fast force, the one at the new
     // sub-step positions, the start of the outer step, the slow force driving the sub-steps.
     std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, drivingForce, fastPositions;
