@@ -1,5 +1,6 @@
 #include "TestHelpers.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DPDThermostatForces.h"
 #include "openmm/Context.h"
 #include "openmm/CustomBondForce.h"
 #include "openmm/CustomNonbondedForce.h"
@@ -289,5 +290,41 @@ TEST(DPDVVIntegrator, ParticleTypesSelectPairParameters) {
             EXPECT_EQ(v0, Vec3(0.1, 0, 0));
         else
             EXPECT_NE(v0, Vec3(0.1, 0, 0));
+    }
+}
+
+// The one-pass evaluation that GW steps use gives the pair-list result: same pairs, same
+// random numbers, only the order of the sums differs.  With one mass (gamma and sigma looked
+// up per type pair) and with mixed masses (computed per pair), and two types.
+TEST(DPDVVIntegrator, OnePassForcesEqualThePairListOnes) {
+    for (bool mixedMasses : {false, true}) {
+        std::vector<Vec3> positions;
+        std::unique_ptr<System> system(makeFluid(1500, 0, positions));
+        std::mt19937 rng(3);
+        std::uniform_real_distribution<double> uniform(-1, 1);
+        std::vector<Vec3> velocities(positions.size());
+        for (size_t i = 0; i < positions.size(); i++) {
+            velocities[i] = Vec3(uniform(rng), uniform(rng), uniform(rng));
+            if (mixedMasses)
+                system->setParticleMass(i, 1.5 + uniform(rng));
+        }
+        DPDVVIntegrator integrator = makeIntegrator(DPDVVIntegrator::GrootWarren, 0.04);
+        for (int i = 0; i < (int) positions.size(); i += 3)
+            integrator.setParticleType(i, 1);
+        integrator.addTypePair(0, 1, 9.0, 0.8);
+        Vec3 box[3];
+        system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+        SerialExecutor executor;
+        DPDThermostatForces thermostat(*system, integrator, executor);
+        std::vector<Vec3> fromList(positions.size()), onePass(positions.size());
+        thermostat.updatePairs(positions, box);
+        ASSERT_GT(thermostat.getPairs().size(), 5000u);
+        thermostat.compute(DissipativeTerm | RandomTerm, velocities, 7, 0.04, fromList, fromList);
+        thermostat.computeInOnePass(positions, box, velocities, 7, 0.04, nullptr, onePass);
+        for (size_t i = 0; i < positions.size(); i++) {
+            const Vec3 d = onePass[i] - fromList[i];
+            ASSERT_LT(std::sqrt(d.dot(d)), 1e-11 * (1 + std::sqrt(fromList[i].dot(fromList[i]))))
+                    << "particle " << i << (mixedMasses ? " (mixed masses)" : "");
+        }
     }
 }

@@ -1,6 +1,7 @@
 #include "openmmdpd/PairRandom.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <vector>
 
 using namespace DPDPlugin;
 
@@ -50,4 +51,23 @@ TEST(PairRandom, UniformInUnitInterval) {
         sum += u;
     }
     EXPECT_NEAR(sum / n, 0.5, 4 * std::sqrt(1.0 / 12 / n));
+}
+
+TEST(PairRandom, BatchedNormalsEqualOneAtATime) {
+    // Each number is the same whatever its position in a batch (lane, tail) or batch size.
+    PairRandom random(31);
+    std::vector<r123::Philox4x32::ctr_type> draws;
+    for (int k = 0; k < 7; k++)
+        draws.push_back(random.bits(PairRandom::RandomForce, 3, k, 100 + k));
+    for (int n = 1; n <= 7; n++) {
+        std::vector<double> batch(n);
+        PairRandom::boxMuller(&draws[0][0], &draws[0][1], n, 4, batch.data());
+        for (int k = 0; k < n; k++)
+            EXPECT_EQ(batch[k], PairRandom::boxMuller(draws[k])) << "batch of " << n << ", number " << k;
+    }
+    // ...and agrees with the textbook formula to rounding.
+    for (int k = 0; k < 7; k++) {
+        const double u1 = ((double) draws[k][0] + 1.0) / 4294967296.0, u2 = (double) draws[k][1] / 4294967296.0;
+        EXPECT_NEAR(PairRandom::boxMuller(draws[k]), std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2), 1e-13);
+    }
 }

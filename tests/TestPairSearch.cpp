@@ -1,6 +1,7 @@
 #include "openmmdpd/PairSearch.h"
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <iostream>
 #include <cmath>
 #include <random>
 #include <set>
@@ -122,4 +123,37 @@ TEST(PairSearch, SkipsInactiveParticles) {
     search.forEachPair(0, search.getNumCells(), [&](int i, int j, const Vec3&) { found.push_back({std::min(i, j), std::max(i, j)}); });
     ASSERT_EQ(found.size(), 1u);
     EXPECT_EQ(found[0], std::make_pair(0, 2));
+}
+
+TEST(PairSearch, CrowdedCellsMatchBruteForce) {
+    // Over 256 candidates per particle: the search goes through its chunked path.
+    Vec3 box[3] = {Vec3(4, 0, 0), Vec3(0, 4, 0), Vec3(0, 0, 4)};
+    std::vector<Vec3> pos = randomPositions(box, 2000, 9);
+    EXPECT_EQ(searchPairs(pos, box, true, 1.0, 1), bruteForcePairs(pos, box, true, 1.0));
+}
+
+TEST(PairSearch, VectorScanFindsTheSamePairsInTheSameOrder) {
+    Vec3 box[3] = {Vec3(6, 0, 0), Vec3(1.5, 5.5, 0), Vec3(-2.0, 1.2, 5.2)};
+    for (int n : {900, 5000}) {  // sparse cells, and cells too full for one block
+        std::vector<Vec3> pos = randomPositions(box, n, 10 + n);
+        auto visit = [&](bool vector, bool& vectorUsed) {
+            PairSearch search(std::vector<bool>(pos.size(), true), 1.0, true);
+            vectorUsed = search.setVectorScan(vector);
+            search.build(pos, box);
+            std::vector<std::pair<std::pair<int, int>, Vec3>> pairs;
+            search.forEachPair(0, search.getNumCells(), [&](int i, int j, const Vec3& d) { pairs.push_back({{i, j}, d}); });
+            return pairs;
+        };
+        bool usedScalar, usedVector;
+        auto scalar = visit(false, usedScalar), vector = visit(true, usedVector);
+        EXPECT_FALSE(usedScalar);
+        if (!usedVector)
+            std::cout << "no AVX2 here: only the scalar scan was tested\n";
+        ASSERT_EQ(scalar.size(), vector.size());
+        for (size_t k = 0; k < scalar.size(); k++) {
+            ASSERT_EQ(scalar[k].first, vector[k].first);
+            // Bit for bit: the same arithmetic either way.
+            ASSERT_EQ(scalar[k].second, vector[k].second);
+        }
+    }
 }

@@ -2,12 +2,82 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define OPENMMDPD_GATHER_AVX2
+#endif
+
 using namespace DPDPlugin;
 using OpenMM::Vec3;
 
+namespace {
+
+// The separate multiplies and adds of Vec3::dot, in its order (no fused multiply-add), so
+// every version finds the same pairs.
+int gatherScalar(const double* x, const double* y, const double* z, const PairSearch::ScanRun* runs, int numRuns,
+                 double cutoff2, int* hits, int* runEnd) {
+    int count = 0;
+    for (int k = 0; k < numRuns; k++) {
+        const Vec3 r = runs[k].r;
+        for (int q = runs[k].first; q < runs[k].last; q++) {
+            const double dx = r[0] - x[q], dy = r[1] - y[q], dz = r[2] - z[q];
+            hits[count] = q;
+            count += (dx * dx + dy * dy + dz * dz < cutoff2);
+        }
+        runEnd[k] = count;
+    }
+    return count;
+}
+
+#ifdef OPENMMDPD_GATHER_AVX2
+// AVX2 without FMA: the compiler cannot contract the products into fused operations.
+__attribute__((target("avx2"))) int gatherAVX2(const double* x, const double* y, const double* z,
+                                               const PairSearch::ScanRun* runs, int numRuns, double cutoff2, int* hits,
+                                               int* runEnd) {
+    // For each 4-bit mask of slots within the cutoff: the offsets of its set bits, in order.
+    alignas(16) static const int offsets[16][4] = {
+        {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0}, {1, 2, 0, 0}, {0, 1, 2, 0},
+        {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0}, {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
+    const __m256d limit = _mm256_set1_pd(cutoff2);
+    const __m128i lane = _mm_set_epi32(3, 2, 1, 0);
+    int count = 0;
+    for (int k = 0; k < numRuns; k++) {
+        const __m256d rx = _mm256_set1_pd(runs[k].r[0]), ry = _mm256_set1_pd(runs[k].r[1]), rz = _mm256_set1_pd(runs[k].r[2]);
+        const int last = runs[k].last;
+        for (int q = runs[k].first; q < last; q += 4) {
+            const __m256d dx = _mm256_sub_pd(rx, _mm256_loadu_pd(x + q));
+            const __m256d dy = _mm256_sub_pd(ry, _mm256_loadu_pd(y + q));
+            const __m256d dz = _mm256_sub_pd(rz, _mm256_loadu_pd(z + q));
+            const __m256d r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+            // Lanes past the run's end read padding or the next cell: masked off.
+            const int inRun = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(last - q))));
+            const int mask = _mm256_movemask_pd(_mm256_cmp_pd(r2, limit, _CMP_LT_OQ)) & inRun;
+            const __m128i slots = _mm_add_epi32(_mm_set1_epi32(q), _mm_load_si128((const __m128i*) offsets[mask]));
+            _mm_storeu_si128((__m128i*) (hits + count), slots);
+            count += __builtin_popcount(mask);
+        }
+        runEnd[k] = count;
+    }
+    return count;
+}
+#endif
+
+} // namespace
+
 PairSearch::PairSearch(const std::vector<bool>& active, double cutoff, bool periodic, int cellMultiple) :
-        active(active), cutoff(cutoff), periodic(periodic), colourable(false), cellMultiple(cellMultiple) {
+        active(active), cutoff(cutoff), periodic(periodic), colourable(false), cellMultiple(cellMultiple),
+        gatherWithinCutoff(gatherScalar) {
     numCells[0] = numCells[1] = numCells[2] = 0;
+    setVectorScan(true);
+}
+
+bool PairSearch::setVectorScan(bool enabled) {
+    gatherWithinCutoff = gatherScalar;
+#ifdef OPENMMDPD_GATHER_AVX2
+    if (enabled && __builtin_cpu_supports("avx2"))
+        gatherWithinCutoff = gatherAVX2;
+#endif
+    return gatherWithinCutoff != gatherScalar;
 }
 
 void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
@@ -81,13 +151,19 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
         cellStart[c + 1] += cellStart[c];
     sortedIndex.resize(cellStart[total]);
     sortedPositions.resize(cellStart[total]);
+    for (auto* coordinate : {&sortedX, &sortedY, &sortedZ})
+        coordinate->resize(cellStart[total] + 3, 0.0);  // padded for gatherWithinCutoff
     std::vector<int> fill(cellStart.begin(), cellStart.end() - 1);
     for (int i = 0; i < n; i++)
         if (cellOf[i] >= 0) {
             sortedIndex[fill[cellOf[i]]] = i;
             // Periodic: the image inside the box, so a neighbour cell's particles need only
             // that cell's fixed shift (see neighbourCells), not a rounding per pair.
-            sortedPositions[fill[cellOf[i]]++] = periodic ? box[0] * frac[i][0] + box[1] * frac[i][1] + box[2] * frac[i][2] : positions[i];
+            const int slot = fill[cellOf[i]]++;
+            sortedPositions[slot] = periodic ? box[0] * frac[i][0] + box[1] * frac[i][1] + box[2] * frac[i][2] : positions[i];
+            sortedX[slot] = sortedPositions[slot][0];
+            sortedY[slot] = sortedPositions[slot][1];
+            sortedZ[slot] = sortedPositions[slot][2];
         }
     updateNeighbourTable();
 }

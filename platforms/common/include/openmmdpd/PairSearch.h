@@ -40,6 +40,12 @@ inline OpenMM::Vec3 minimumImage(OpenMM::Vec3 d, const OpenMM::Vec3* box, bool p
 class PairSearch {
 public:
     static constexpr int MAX_BLOCK = 256;
+    /** Candidate slots [first, last), seen from r (the particle moved to their image). */
+    struct ScanRun {
+        int first, last;
+        OpenMM::Vec3 r;
+    };
+
     /**
      * @param active        particles that take part (e.g. those with non-zero mass)
      * @param cellMultiple  make the number of cells along each periodic axis a multiple of
@@ -63,6 +69,12 @@ public:
         end = (w == workers - 1 ? (size_t) getNumCells() : boundary(w + 1));
     }
     bool isPeriodic() const { return periodic; }
+    /**
+     * Whether candidates are tested four at a time (AVX2; on by default where the processor
+     * has it).  Both ways find the same pairs in the same order; this is for testing that.
+     * Returns whether the vector version is now in use.
+     */
+    bool setVectorScan(bool enabled);
     /**
      * Whether the cells can be given 27 colours such that the pairs found from two cells of
      * one colour share no particle: the pairs of a cell touch only it and its neighbours,
@@ -120,6 +132,16 @@ private:
     OpenMM::Vec3 box[3];
     std::vector<int> cellStart, sortedIndex;
     std::vector<OpenMM::Vec3> sortedPositions;
+    std::vector<double> sortedX, sortedY, sortedZ;  // the same, by coordinate (read four at a time)
+    /**
+     * Appends to hits, run by run, every slot q of the runs with |r - position q|^2 <
+     * cutoff2 (computed as Vec3::dot does), sets runEnd[k] to the number of hits after run
+     * k and returns the number of hits.  Four slots at a time where the processor has AVX2,
+     * with exactly the scalar arithmetic; it reads up to 3 slots past a run (the coordinate
+     * arrays are padded) and may write 3 entries past its last hit.
+     */
+    int (*gatherWithinCutoff)(const double* x, const double* y, const double* z, const ScanRun* runs, int numRuns,
+                              double cutoff2, int* hits, int* runEnd);
     std::vector<int> neighbourStart;
     std::vector<Neighbour> neighbourTable;
     int tableCells[3] = {0, 0, 0};
@@ -130,21 +152,45 @@ template <class BlockVisitor>
 void PairSearch::forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit) const {
     const double cutoff2 = cutoff * cutoff;
     // About one candidate in seven is within the cutoff, so a branch per candidate would be
-    // mispredicted often: candidates are tested in chunks, their hits gathered without
-    // branches, and a particle's hits from all its neighbour cells visited together.
+    // mispredicted often: the hits are gathered without branches (gatherWithinCutoff), and
+    // a particle's hits from all its neighbour cells are visited together.
     constexpr int CHUNK = 64, CAPACITY = MAX_BLOCK;
-    int hits[CAPACITY];
+    int hits[CAPACITY + 4], runEnd[27];
     OpenMM::Vec3 d[CAPACITY];
+    ScanRun runs[27];
     for (int cell = begin; cell < end; cell++) {
         const Neighbour* firstNeighbour = &neighbourTable[neighbourStart[cell]];
         const Neighbour* endNeighbour = &neighbourTable[0] + neighbourStart[cell + 1];
+        const int numRuns = (int) (endNeighbour - firstNeighbour);
         for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
             const OpenMM::Vec3 rp = sortedPositions[p];
             int count = 0;
+            if (firstNeighbour->exactShift) {  // a cell's neighbours all are, or none
+                // The usual case: all the particle's candidates in one call.
+                int candidates = 0;
+                for (int k = 0; k < numRuns; k++) {
+                    const Neighbour& other = firstNeighbour[k];
+                    runs[k].first = (other.firstCell == cell ? p + 1 : cellStart[other.firstCell]);
+                    runs[k].last = cellStart[other.lastCell + 1];
+                    runs[k].r = rp - other.shift;
+                    candidates += runs[k].last - runs[k].first;
+                }
+                if (candidates <= CAPACITY) {
+                    count = gatherWithinCutoff(sortedX.data(), sortedY.data(), sortedZ.data(), runs, numRuns, cutoff2, hits, runEnd);
+                    for (int k = 0, run = 0; run < numRuns; run++)
+                        for (; k < runEnd[run]; k++)
+                            d[k] = runs[run].r - sortedPositions[hits[k]];
+                    if (count > 0)
+                        visit(p, (const int*) hits, (const OpenMM::Vec3*) d, count);
+                    continue;
+                }
+            }
+            // Crowded cells, and grids too small for one image per neighbour cell: in chunks.
             for (const Neighbour* other = firstNeighbour; other != endNeighbour; ++other) {
+                ScanRun run;
+                run.r = rp - other->shift;
                 const int first = (other->firstCell == cell ? p + 1 : cellStart[other->firstCell]);
                 const int last = cellStart[other->lastCell + 1];
-                const OpenMM::Vec3 rpShifted = rp - other->shift;
                 for (int chunkStart = first; chunkStart < last; chunkStart += CHUNK) {
                     if (count + CHUNK > CAPACITY) {
                         visit(p, (const int*) hits, (const OpenMM::Vec3*) d, count);
@@ -152,13 +198,12 @@ void PairSearch::forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit
                     }
                     const int chunkEnd = std::min(last, chunkStart + CHUNK), chunkHits = count;
                     if (other->exactShift) {
-                        for (int q = chunkStart; q < chunkEnd; q++) {
-                            const OpenMM::Vec3 dq = rpShifted - sortedPositions[q];
-                            hits[count] = q;
-                            count += (dq.dot(dq) < cutoff2);
-                        }
+                        run.first = chunkStart;
+                        run.last = chunkEnd;
+                        count += gatherWithinCutoff(sortedX.data(), sortedY.data(), sortedZ.data(), &run, 1, cutoff2, hits + count,
+                                                    runEnd);
                         for (int k = chunkHits; k < count; k++)
-                            d[k] = rpShifted - sortedPositions[hits[k]];
+                            d[k] = run.r - sortedPositions[hits[k]];
                     }
                     else {
                         for (int q = chunkStart; q < chunkEnd; q++) {
