@@ -28,8 +28,11 @@ TypePairTable::TypePairTable(int numParticles, const std::map<int, int>& particl
     }
     maxCutoff = *std::max_element(cutoffs.begin(), cutoffs.end());
     cutoffs2.resize(cutoffs.size());
-    for (size_t k = 0; k < cutoffs.size(); k++)
+    inverseCutoffs.resize(cutoffs.size());
+    for (size_t k = 0; k < cutoffs.size(); k++) {
         cutoffs2[k] = cutoffs[k] * cutoffs[k];
+        inverseCutoffs[k] = 1 / cutoffs[k];
+    }
 }
 
 namespace {

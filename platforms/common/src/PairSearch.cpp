@@ -12,6 +12,14 @@ using OpenMM::Vec3;
 
 namespace {
 
+/** std::floor, which is a library call on baseline x86-64 and was a tenth of a force evaluation. */
+inline double floorOf(double x) {
+    if (!(std::fabs(x) < 4503599627370496.0))  // 2^52: already an integer (or not finite)
+        return std::floor(x);
+    const double t = (double) (long long) x;
+    return t > x ? t - 1 : t;
+}
+
 // The separate multiplies and adds of Vec3::dot, in its order (no fused multiply-add), so
 // every version finds the same pairs.
 int gatherScalar(const double* x, const double* y, const double* z, const PairSearch::ScanRun* runs, int numRuns,
@@ -85,7 +93,7 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
     // Fractional coordinate s_d of a particle, and the fractional distance R_d that a
     // displacement as long as the cutoff can span along d.  A cell at least R_d wide means
     // that pairs within the cutoff sit in the same or adjacent cells.
-    std::vector<Vec3> frac(n);
+    frac.resize(n);
     double reach[3];
     for (int k = 0; k < 3; k++)
         box[k] = newBox[k];
@@ -101,7 +109,7 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
         for (int i = 0; i < n; i++)
             for (int k = 0; k < 3; k++) {
                 double s = rows[k].dot(positions[i]);
-                frac[i][k] = s - std::floor(s);
+                frac[i][k] = s - floorOf(s);
             }
     }
     else {
@@ -136,7 +144,7 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
         total *= numCells[k];
     }
     // Counting sort of the active particles by cell; within a cell, by particle index.
-    std::vector<int> cellOf(n, -1);
+    cellOf.assign(n, -1);
     cellStart.assign(total + 1, 0);
     for (int i = 0; i < n; i++) {
         if (!active[i])
@@ -153,18 +161,21 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
     sortedPositions.resize(cellStart[total]);
     for (auto* coordinate : {&sortedX, &sortedY, &sortedZ})
         coordinate->resize(cellStart[total] + 3, 0.0);  // padded for gatherWithinCutoff
-    std::vector<int> fill(cellStart.begin(), cellStart.end() - 1);
+    fill.assign(cellStart.begin(), cellStart.end() - 1);
     for (int i = 0; i < n; i++)
-        if (cellOf[i] >= 0) {
-            sortedIndex[fill[cellOf[i]]] = i;
-            // Periodic: the image inside the box, so a neighbour cell's particles need only
-            // that cell's fixed shift (see neighbourCells), not a rounding per pair.
-            const int slot = fill[cellOf[i]]++;
-            sortedPositions[slot] = periodic ? box[0] * frac[i][0] + box[1] * frac[i][1] + box[2] * frac[i][2] : positions[i];
-            sortedX[slot] = sortedPositions[slot][0];
-            sortedY[slot] = sortedPositions[slot][1];
-            sortedZ[slot] = sortedPositions[slot][2];
-        }
+        if (cellOf[i] >= 0)
+            sortedIndex[fill[cellOf[i]]++] = i;
+    // Then the positions slot by slot: the four arrays are written in order.
+    for (int slot = 0; slot < cellStart[total]; slot++) {
+        const int i = sortedIndex[slot];
+        // Periodic: the image inside the box, so a neighbour cell's particles need only
+        // that cell's fixed shift (see neighbourCells), not a rounding per pair.
+        const Vec3 r = periodic ? box[0] * frac[i][0] + box[1] * frac[i][1] + box[2] * frac[i][2] : positions[i];
+        sortedPositions[slot] = r;
+        sortedX[slot] = r[0];
+        sortedY[slot] = r[1];
+        sortedZ[slot] = r[2];
+    }
     updateNeighbourTable();
 }
 

@@ -71,15 +71,19 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
                 const double r2 = d[k].dot(d[k]);
                 if (r2 >= table->cutoff2(t) || (hasExclusions && excluded(sortedIndex[p], sortedIndex[q[k]])))
                     continue;
-                const double r = std::sqrt(r2), rc = table->cutoff(t), a = table->value(t);
-                const double x = 1 - r / rc;
-                // F = a (1 - r/rc) e;  E = a rc (1 - r/rc)^2 / 2
-                if (r > 0) {
-                    const Vec3 f = d[k] * (a * x / r);
+                const double a = table->value(t), inverseRc = table->inverseCutoff(t);
+                if (r2 > 0) {
+                    // F = a (1 - r/rc) e = a (1/r - 1/rc) d: one division.
+                    const double inverseR = 1 / std::sqrt(r2);
+                    const Vec3 f = d[k] * (a * (inverseR - inverseRc));
                     forceP += f;
                     out[q[k]] -= f;
                 }
-                energy += 0.5 * a * rc * x * x;
+                if (includeEnergy) {
+                    // E = a rc (1 - r/rc)^2 / 2
+                    const double x = 1 - std::sqrt(r2) * inverseRc;
+                    energy += 0.5 * a * table->cutoff(t) * x * x;
+                }
             }
             out[p] += forceP;
         });

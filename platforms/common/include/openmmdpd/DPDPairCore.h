@@ -48,6 +48,7 @@ public:
     double value(int t) const { return values[t]; }
     double cutoff(int t) const { return cutoffs[t]; }
     double cutoff2(int t) const { return cutoffs2[t]; }
+    double inverseCutoff(int t) const { return inverseCutoffs[t]; }
     double getMaxCutoff() const { return maxCutoff; }
     int getNumTypes() const { return numTypes; }
 
@@ -55,7 +56,7 @@ private:
     int numTypes;
     double maxCutoff;
     std::vector<int> typeIndex;
-    std::vector<double> values, cutoffs, cutoffs2;
+    std::vector<double> values, cutoffs, cutoffs2, inverseCutoffs;
 };
 
 /**

@@ -131,6 +131,8 @@ private:
     int cellMultiple, numCells[3];
     OpenMM::Vec3 box[3];
     std::vector<int> cellStart, sortedIndex;
+    std::vector<OpenMM::Vec3> frac;   // build()'s work space, kept to save allocations
+    std::vector<int> cellOf, fill;
     std::vector<OpenMM::Vec3> sortedPositions;
     std::vector<double> sortedX, sortedY, sortedZ;  // the same, by coordinate (read four at a time)
     /**

@@ -37,10 +37,9 @@ public:
     /** The force on i along e = (r_i - r_j)/r of a pair at distance r (kJ/mol/nm). */
     double pairForce(int i, int j, double r) const {
         const int t = table->index(i, j);
-        const double rc = table->cutoff(t);
-        if (r >= rc || (hasExclusions && excluded(i, j)))
+        if (r >= table->cutoff(t) || (hasExclusions && excluded(i, j)))
             return 0;
-        return table->value(t) * (1 - r / rc);
+        return table->value(t) * (1 - r * table->inverseCutoff(t));
     }
 
 private:
