@@ -86,13 +86,24 @@ template <bool Dissipative, bool Random, bool Sum>
 void accumulate(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, const std::vector<Vec3>& velocities,
                 const PairRandom& random, long long step, double invSqrtDt, std::vector<Vec3>& dissipative,
                 std::vector<Vec3>& randomForce) {
+    // The normal numbers are drawn a chunk of pairs at a time (PairRandom::boxMuller's batches).
+    constexpr size_t CHUNK = 64;
+    r123::Philox4x32::ctr_type bits[CHUNK];
+    double xi[CHUNK];
     for (size_t k = begin; k < end; k++) {
+        const size_t inChunk = (k - begin) % CHUNK;
+        if (Random && inChunk == 0) {
+            const int n = (int) std::min(CHUNK, end - k);
+            for (int c = 0; c < n; c++)
+                bits[c] = random.bits(PairRandom::RandomForce, step, pairs[k + c].i, pairs[k + c].j);
+            PairRandom::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+        }
         const PairGeometry& p = pairs[k];
         Vec3 fd, fr;
         if (Dissipative)
             fd = DPDPairForce::dissipative(p, velocities[p.i] - velocities[p.j]);
         if (Random)
-            fr = DPDPairForce::random(p, random.gaussian(PairRandom::RandomForce, step, p.i, p.j), invSqrtDt);
+            fr = DPDPairForce::random(p, xi[inChunk], invSqrtDt);
         if (Sum) {
             const Vec3 f = fd + fr;
             dissipative[p.i] += f;
