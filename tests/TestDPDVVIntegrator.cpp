@@ -320,7 +320,7 @@ TEST(DPDVVIntegrator, OnePassForcesEqualThePairListOnes) {
         thermostat.updatePairs(positions, box);
         ASSERT_GT(thermostat.getPairs().size(), 5000u);
         thermostat.compute(DissipativeTerm | RandomTerm, velocities, 7, 0.04, fromList, fromList);
-        thermostat.computeInOnePass(positions, box, velocities, 7, 0.04, nullptr, onePass);
+        thermostat.computeInOnePass(positions, box, velocities, 7, 0.04, nullptr, nullptr, onePass);
         for (size_t i = 0; i < positions.size(); i++) {
             const Vec3 d = onePass[i] - fromList[i];
             ASSERT_LT(std::sqrt(d.dot(d)), 1e-11 * (1 + std::sqrt(fromList[i].dot(fromList[i]))))

@@ -150,7 +150,8 @@ void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vecto
 }
 
 void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<Vec3>& velocities,
-                                           long long step, double dt, const SoftRepulsionKernel* soft, std::vector<Vec3>& out) {
+                                           long long step, double dt, const SoftRepulsionKernel* soft,
+                                           const std::vector<Vec3>* base, std::vector<Vec3>& out) {
     checkCutoffFitsBox(box);
     search.build(positions, box);
     const std::vector<int>& sortedIndex = search.getSortedIndex();
@@ -158,18 +159,33 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
     const int workers = executor.getNumWorkers();
     const double invSqrtDt = 1 / std::sqrt(dt);
     sortedVelocities.resize(slots);
-    executor.execute([&](int w) {
+    if (slots < out.size())  // particles outside the thermostat get no pair force
+        for (size_t i = 0; i < out.size(); i++)
+            out[i] = (base != nullptr ? (*base)[i] : Vec3());
+    // Three phases in one dispatch (waking a thread pool costs tens of microseconds):
+    // velocities by slot; each worker's cells' pairs summed into its own buffer, by slot
+    // (neighbouring pairs touch neighbouring slots); the buffers added in worker order.
+    executor.executePhases(3, [&](int w, int phase) {
         size_t begin, end;
-        executor.range(w, slots, begin, end);
-        for (size_t k = begin; k < end; k++)
-            sortedVelocities[k] = velocities[sortedIndex[k]];
-    });
-    // Each worker sums its cells' pairs into its own buffer, by slot (neighbouring pairs
-    // touch neighbouring slots); the buffers are then added in worker order.
-    executor.execute([&](int w) {
+        if (phase == 0) {
+            executor.range(w, slots, begin, end);
+            for (size_t k = begin; k < end; k++)
+                sortedVelocities[k] = velocities[sortedIndex[k]];
+            return;
+        }
+        if (phase == 2) {
+            executor.range(w, slots, begin, end);
+            for (size_t k = begin; k < end; k++) {
+                const int i = sortedIndex[k];
+                Vec3 f = (base != nullptr ? (*base)[i] : Vec3());
+                for (int v = 0; v < workers; v++)
+                    f += workerDissipative[v][k];
+                out[i] = f;
+            }
+            return;
+        }
         std::vector<Vec3>& slotForce = workerDissipative[w];
         zero(slotForce, 0, slots);
-        size_t begin, end;
         search.workerCells(w, workers, begin, end);
         PairGeometry g[PairSearch::MAX_BLOCK];
         int slot[PairSearch::MAX_BLOCK];
@@ -196,17 +212,5 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
             }
             slotForce[p] += forceP;
         });
-    });
-    if (slots < out.size())
-        zero(out, 0, out.size());  // particles outside the thermostat get nothing
-    executor.execute([&](int w) {
-        size_t begin, end;
-        executor.range(w, slots, begin, end);
-        for (size_t k = begin; k < end; k++) {
-            Vec3 f;
-            for (int v = 0; v < workers; v++)
-                f += workerDissipative[v][k];
-            out[sortedIndex[k]] = f;
-        }
     });
 }

@@ -157,9 +157,7 @@ void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int force
     checkFinite(conservative, "conservative force", step);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    pairForce.resize(conservative.size());
-    thermostat.computeInOnePass(*data.positions, box, velocities, step, dt, softForceFromPairs, pairForce);
-    forEachParticle(out.size(), [&](size_t i) { out[i] = conservative[i] + pairForce[i]; });
+    thermostat.computeInOnePass(*data.positions, box, velocities, step, dt, softForceFromPairs, &conservative, out);
 }
 
 void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {

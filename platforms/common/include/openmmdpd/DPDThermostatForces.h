@@ -42,15 +42,16 @@ public:
      */
     void sumAlongPairs(const std::vector<double>& c, std::vector<OpenMM::Vec3>& out);
     /**
-     * out = FD(velocities) + FR at these positions, plus soft's pair forces when soft is
-     * given (its pairs must all lie within the thermostat's): the same pairs and numbers as
-     * updatePairs() and compute(), for update rules that use every pair once per
-     * evaluation.  Pairs are found and used in one pass over the cell-sorted slots, so no
-     * pair list is written and read back; getPairs() is left stale.
+     * out = base + FD(velocities) + FR at these positions, plus soft's pair forces when soft
+     * is given (its pairs must all lie within the thermostat's; base may be null): the same
+     * pairs and numbers as updatePairs() and compute(), for update rules that use every
+     * pair once per evaluation.  Pairs are found and used in one pass over the cell-sorted
+     * slots, so no pair list is written and read back; getPairs() is left stale.
      */
     void computeInOnePass(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
                           const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
-                          const SoftRepulsionKernel* soft, std::vector<OpenMM::Vec3>& out);
+                          const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base,
+                          std::vector<OpenMM::Vec3>& out);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     uint32_t getSeed() const { return random.getSeed(); }
 

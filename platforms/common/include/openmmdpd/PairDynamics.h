@@ -75,9 +75,19 @@ protected:
      */
     template <class Displacement>
     void movePositions(std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement);
-    /** body(i) for every particle, in parallel. */
+    /**
+     * Element-wise loops over fewer items than this run in the calling thread: waking the
+     * thread pool (tens of microseconds on a virtual machine) costs more than the loop.
+     */
+    static constexpr size_t SERIAL_LOOP_LIMIT = 16384;
+    /** body(i) for i in [0, n), in parallel when n is large enough to pay for it. */
     template <class Body>
     void forEachParticle(size_t n, Body body) {
+        if (n < SERIAL_LOOP_LIMIT) {
+            for (size_t i = 0; i < n; i++)
+                body(i);
+            return;
+        }
         executor.execute([&](int w) {
             size_t begin, end;
             executor.range(w, n, begin, end);
@@ -116,24 +126,32 @@ private:
     SoftRepulsionKernel* softForceFromPairs = nullptr;  // deferred by this step's computeConservative
     int fusedForceGroups = 0, fusedVersion = -1;
     std::vector<double> pairSoftForce;
-    std::vector<OpenMM::Vec3> softForce, pairForce;
+    std::vector<OpenMM::Vec3> softForce;
     bool forcesValid, verifyRestoredState;
     std::vector<OpenMM::Vec3> restoredPositions, restoredVelocities;
 };
 
 template <class Displacement>
 void PairDynamics::movePositions(std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement) {
-    executor.execute([&](int w) {
-        size_t begin, end;
-        executor.range(w, r.size(), begin, end);
+    auto move = [&](size_t begin, size_t end) {
         double maxMove2 = 0;
         for (size_t i = begin; i < end; i++) {
             const OpenMM::Vec3 move = displacement(i);
             r[i] += move;
             maxMove2 = std::max(maxMove2, move.dot(move));
         }
-        workerSums[w] = maxMove2;
-    });
+        return maxMove2;
+    };
+    if (r.size() < SERIAL_LOOP_LIMIT) {
+        std::fill(workerSums.begin(), workerSums.end(), 0.0);
+        workerSums[0] = move(0, r.size());
+    }
+    else
+        executor.execute([&](int w) {
+            size_t begin, end;
+            executor.range(w, r.size(), begin, end);
+            workerSums[w] = move(begin, end);
+        });
     checkFinite(r, "position", step);
     checkMoves(step);
 }
