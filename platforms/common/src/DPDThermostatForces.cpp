@@ -47,34 +47,39 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     const int numCells = search.getNumCells();
     cellPairStart.resize(numCells + 1);
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
-    // number of workers.
-    executor.execute([&](int w) {
+    // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
+    // copied by one thread it would be a serial part of every step).  All in one dispatch:
+    // search; size the list; copy.
+    const int workers = executor.getNumWorkers();
+    executor.executePhases(3, [&](int w, int phase) {
         size_t begin, end;
-        search.workerCells(w, executor.getNumWorkers(), begin, end);
+        search.workerCells(w, workers, begin, end);
         std::vector<PairGeometry>& out = workerPairs[w];
-        out.clear();
-        PairGeometry g;
-        for (size_t cell = begin; cell < end; cell++) {
-            cellPairStart[cell] = (int) out.size();  // local offset, made global below
-            search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
-                if (parameters.pairGeometry(i, j, d, g))
-                    out.push_back(g);
-            });
+        if (phase == 0) {
+            out.clear();
+            PairGeometry g;
+            for (size_t cell = begin; cell < end; cell++) {
+                cellPairStart[cell] = (int) out.size();  // local offset, made global below
+                search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
+                    if (parameters.pairGeometry(i, j, d, g))
+                        out.push_back(g);
+                });
+            }
+            return;
         }
-    });
-    // Concatenate in worker order, each worker copying its own part (the list is ~15 MB at
-    // N = 32000: copied by one thread it would be a serial part of every step).
-    const int workers = (int) workerPairs.size();
-    std::vector<size_t> offset(workers + 1, 0);
-    for (int w = 0; w < workers; w++)
-        offset[w + 1] = offset[w] + workerPairs[w].size();
-    pairs.resize(offset[workers]);
-    executor.execute([&](int w) {
-        size_t begin, end;
-        search.workerCells(w, executor.getNumWorkers(), begin, end);
+        size_t offset = 0, total = 0;
+        for (int v = 0; v < workers; v++) {
+            offset += (v < w ? workerPairs[v].size() : 0);
+            total += workerPairs[v].size();
+        }
+        if (phase == 1) {
+            if (w == 0)
+                pairs.resize(total);
+            return;
+        }
         for (size_t cell = begin; cell < end; cell++)
-            cellPairStart[cell] += (int) offset[w];
-        std::copy(workerPairs[w].begin(), workerPairs[w].end(), pairs.begin() + offset[w]);
+            cellPairStart[cell] += (int) offset;
+        std::copy(out.begin(), out.end(), pairs.begin() + offset);
     });
     cellPairStart[numCells] = (int) pairs.size();
 }
@@ -94,8 +99,15 @@ void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities
         return;
     }
     // Each worker sums its pair range into its own buffers; then each worker reduces a
-    // particle range over all buffers, always in worker order.
-    executor.execute([&](int w) {
+    // particle range over all buffers, always in worker order.  One dispatch.
+    executor.executePhases(2, [&](int w, int phase) {
+        if (phase == 1) {
+            if (writeDissipative)
+                reduceWorkerBuffers(w, workerDissipative, dissipative);
+            if (writeRandom)
+                reduceWorkerBuffers(w, workerRandom, randomForce);
+            return;
+        }
         std::vector<Vec3>& ownDissipative = workerDissipative[w];
         std::vector<Vec3>& ownRandom = sum ? workerDissipative[w] : workerRandom[w];
         if (writeDissipative)
@@ -106,24 +118,18 @@ void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities
         executor.range(w, pairs.size(), begin, end);
         accumulateDPDForces(pairs, begin, end, terms, velocities, random, step, dt, ownDissipative, ownRandom);
     });
-    if (writeDissipative)
-        reduceWorkerBuffers(workerDissipative, dissipative);
-    if (writeRandom)
-        reduceWorkerBuffers(workerRandom, randomForce);
 }
 
-void DPDThermostatForces::reduceWorkerBuffers(const std::vector<std::vector<Vec3>>& buffers, std::vector<Vec3>& out) {
+void DPDThermostatForces::reduceWorkerBuffers(int w, const std::vector<std::vector<Vec3>>& buffers, std::vector<Vec3>& out) const {
     const int workers = executor.getNumWorkers();
-    executor.execute([&](int w) {
-        size_t begin, end;
-        executor.range(w, out.size(), begin, end);
-        for (size_t i = begin; i < end; i++) {
-            Vec3 f;
-            for (int k = 0; k < workers; k++)
-                f += buffers[k][i];
-            out[i] = f;
-        }
-    });
+    size_t begin, end;
+    executor.range(w, out.size(), begin, end);
+    for (size_t i = begin; i < end; i++) {
+        Vec3 f;
+        for (int k = 0; k < workers; k++)
+            f += buffers[k][i];
+        out[i] = f;
+    }
 }
 
 void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vector<Vec3>& out) {
@@ -140,13 +146,16 @@ void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vecto
         accumulate(0, pairs.size(), out);
         return;
     }
-    executor.execute([&](int w) {
+    executor.executePhases(2, [&](int w, int phase) {
+        if (phase == 1) {
+            reduceWorkerBuffers(w, workerDissipative, out);
+            return;
+        }
         zero(workerDissipative[w], 0, out.size());
         size_t begin, end;
         executor.range(w, pairs.size(), begin, end);
         accumulate(begin, end, workerDissipative[w]);
     });
-    reduceWorkerBuffers(workerDissipative, out);
 }
 
 void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<Vec3>& velocities,

@@ -58,8 +58,8 @@ public:
 private:
     /** The pair search needs the cutoff to fit in half the periodic box. */
     void checkCutoffFitsBox(const OpenMM::Vec3* box) const;
-    /** out[i] = the sum of the workers' buffers at i, in worker order, for i in parallel. */
-    void reduceWorkerBuffers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, std::vector<OpenMM::Vec3>& out);
+    /** out[i] = the sum of the workers' buffers at i, in worker order, for worker w's range of i. */
+    void reduceWorkerBuffers(int w, const std::vector<std::vector<OpenMM::Vec3>>& buffers, std::vector<OpenMM::Vec3>& out) const;
     DPDPairParameters parameters;
     ParallelExecutor& executor;
     PairSearch search;

@@ -125,6 +125,8 @@ private:
     SoftRepulsionKernel* fusedSoftForce = nullptr;
     SoftRepulsionKernel* softForceFromPairs = nullptr;  // deferred by this step's computeConservative
     int fusedForceGroups = 0, fusedVersion = -1;
+    bool fusedIsAlone = false;        // the fused force is the only force in fusedForceGroups
+    bool conservativeIsZero = false;  // this step's computeConservative had nothing to add
     std::vector<double> pairSoftForce;
     std::vector<OpenMM::Vec3> softForce;
     bool forcesValid, verifyRestoredState;
