@@ -162,7 +162,8 @@ void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int force
     softForceFromPairs = nullptr;
     conservativeIsZero = false;
     computeConservative(context, forceGroups);
-    checkFinite(conservative, "conservative force", step);
+    if (!conservativeIsZero)
+        checkFinite(conservative, "conservative force", step);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     thermostat.computeInOnePass(*data.positions, box, velocities, step, dt, softForceFromPairs,
