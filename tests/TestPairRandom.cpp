@@ -71,3 +71,25 @@ TEST(PairRandom, BatchedNormalsEqualOneAtATime) {
         EXPECT_NEAR(PairRandom::boxMuller(draws[k]), std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2), 1e-13);
     }
 }
+
+TEST(PairRandom, BatchedDrawsEqualOneAtATime) {
+    // Four at a time (AVX2 where available) or one at a time: the same words, for either
+    // order of the pair, large indices and steps past 2^32, and every tail length.
+    PairRandom random(0xDEADBEEF);
+    std::vector<int> first, second;
+    for (int k = 0; k < 11; k++) {
+        first.push_back(k % 2 == 0 ? 1000003 * k : k);
+        second.push_back(k % 2 == 0 ? k + 1 : 2000000000 - k);
+    }
+    for (long long step : {0LL, 12345LL, (1LL << 32) + 77}) {
+        for (int n = 0; n <= 11; n++) {
+            std::vector<r123::Philox4x32::ctr_type> batch(n);
+            random.bits(PairRandom::AuxiliaryNoise, step, first.data(), second.data(), n, batch.data());
+            for (int k = 0; k < n; k++) {
+                const auto one = random.bits(PairRandom::AuxiliaryNoise, step, first[k], second[k]);
+                for (int w = 0; w < 4; w++)
+                    ASSERT_EQ(batch[k][w], one[w]) << "step " << step << ", batch of " << n << ", draw " << k << ", word " << w;
+            }
+        }
+    }
+}

@@ -89,13 +89,17 @@ void accumulate(const std::vector<PairGeometry>& pairs, size_t begin, size_t end
     // The normal numbers are drawn a chunk of pairs at a time (PairRandom::boxMuller's batches).
     constexpr size_t CHUNK = 64;
     r123::Philox4x32::ctr_type bits[CHUNK];
+    int first[CHUNK], second[CHUNK];
     double xi[CHUNK];
     for (size_t k = begin; k < end; k++) {
         const size_t inChunk = (k - begin) % CHUNK;
         if (Random && inChunk == 0) {
             const int n = (int) std::min(CHUNK, end - k);
-            for (int c = 0; c < n; c++)
-                bits[c] = random.bits(PairRandom::RandomForce, step, pairs[k + c].i, pairs[k + c].j);
+            for (int c = 0; c < n; c++) {
+                first[c] = pairs[k + c].i;
+                second[c] = pairs[k + c].j;
+            }
+            random.bits(PairRandom::RandomForce, step, first, second, n, bits);
             PairRandom::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
         }
         const PairGeometry& p = pairs[k];

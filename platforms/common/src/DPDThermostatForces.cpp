@@ -197,18 +197,22 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
         zero(slotForce, 0, slots);
         search.workerCells(w, workers, begin, end);
         PairGeometry g[PairSearch::MAX_BLOCK];
-        int slot[PairSearch::MAX_BLOCK];
+        int slot[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
         r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
         double xi[PairSearch::MAX_BLOCK];
         search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
             const int i = sortedIndex[p];
             int n = 0;
-            for (int k = 0; k < count; k++)
-                if (parameters.pairGeometry(i, sortedIndex[q[k]], d[k], g[n]))
-                    slot[n++] = q[k];
+            for (int k = 0; k < count; k++) {
+                const int j = sortedIndex[q[k]];
+                if (parameters.pairGeometry(i, j, d[k], g[n])) {
+                    slot[n] = q[k];
+                    first[n] = i;
+                    second[n++] = j;
+                }
+            }
             // The same numbers as random.gaussian(), drawn for the whole block at once.
-            for (int k = 0; k < n; k++)
-                bits[k] = random.bits(PairRandom::RandomForce, step, g[k].i, g[k].j);
+            random.bits(PairRandom::RandomForce, step, first, second, n, bits);
             PairRandom::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
             const Vec3 vp = sortedVelocities[p];
             Vec3 forceP;

@@ -45,6 +45,12 @@ public:
         return r123::Philox4x32()(counter, key);
     }
 
+    /**
+     * bits(stream, step, i[k], j[k]) into out[k] for k < n: the same words, four pairs at a
+     * time where the processor has AVX2.
+     */
+    void bits(Stream stream, long long step, const int* i, const int* j, int n, r123::Philox4x32::ctr_type* out) const;
+
     /** A standard normal number for the pair (Box-Muller on the first two words). */
     double gaussian(Stream stream, long long step, int i, int j) const {
         return boxMuller(bits(stream, step, i, j));
