@@ -1,5 +1,6 @@
 #include "openmmdpd/StaggeredDynamics.h"
 #include "openmmdpd/PairRules.h"
+#include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmm/CustomBondForce.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/HarmonicBondForce.h"
@@ -186,9 +187,16 @@ void StaggeredDynamics::makeFastContext(OpenMM::ContextImpl& context, const Stag
 
 void StaggeredDynamics::makeSlowContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
     std::unique_ptr<OpenMM::System> system(OpenMM::XmlSerializer::clone<OpenMM::System>(context.getSystem()));
+    // A soft force that the thermostat pairs can carry is added from them (as at K = 1), not
+    // searched again here.
+    slowOmitsSoftForce = (softForceToFuse(context, slowGroups(integrator)) != nullptr);
     for (int f = system->getNumForces() - 1; f >= 0; f--)
-        if ((integrator.getFastForceGroups() & (1 << system->getForce(f).getForceGroup())) != 0)
+        if ((integrator.getFastForceGroups() & (1 << system->getForce(f).getForceGroup())) != 0 ||
+            (slowOmitsSoftForce && dynamic_cast<const DPDSoftRepulsionForce*>(&system->getForce(f)) != nullptr))
             system->removeForce(f);
+    slowContext.reset();
+    if (system->getNumForces() == 0)
+        return;  // nothing left for it: the main Context's path skips the evaluation
     slowSystem = std::move(system);
     slowIntegrator.reset(new OpenMM::VerletIntegrator(1.0));
     slowContext.reset(new OpenMM::Context(*slowSystem, *slowIntegrator, context.getPlatform(), contextProperties(context)));
@@ -214,6 +222,16 @@ void StaggeredDynamics::computeConservative(OpenMM::ContextImpl& context, int fo
     if (!slowContext || numSubSteps == 1) {
         PairDynamics::computeConservative(context, forceGroups);
         return;
+    }
+    if (slowOmitsSoftForce) {
+        SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
+        if (soft == nullptr) {
+            // Its parameters changed so that the pairs no longer carry it: the main Context
+            // evaluates every slow force (slower, not wrong).
+            PairDynamics::computeConservative(context, forceGroups);
+            return;
+        }
+        addSoftForceFromPairs(soft);
     }
     syncContext(context, *slowContext, slowBox);
     slowContext->setPositions(*platformData(context).positions);

@@ -118,10 +118,20 @@ protected:
     std::vector<OpenMM::Vec3> force, conservative;
     mutable std::vector<double> workerSums;
 
+    /**
+     * The DPDSoftRepulsionForce of these groups that the thermostat pairs can carry (one
+     * such force, every particle in the thermostat, no force cutoff beyond the thermostat
+     * cutoff of the same pair), or null.
+     */
+    SoftRepulsionKernel* softForceToFuse(OpenMM::ContextImpl& context, int forceGroups);
+    /**
+     * For a computeConservative() that evaluates the other forces elsewhere: this step adds
+     * `soft` (from softForceToFuse) from the thermostat pairs.
+     */
+    void addSoftForceFromPairs(SoftRepulsionKernel* soft) { softForceFromPairs = soft; }
+
 private:
     void checkMoves(long long step) const;
-    /** The soft force to evaluate from the thermostat pairs, if there is one that can be. */
-    SoftRepulsionKernel* softForceToFuse(OpenMM::ContextImpl& context, int forceGroups);
     SoftRepulsionKernel* fusedSoftForce = nullptr;
     SoftRepulsionKernel* softForceFromPairs = nullptr;  // deferred by this step's computeConservative
     int fusedForceGroups = 0, fusedVersion = -1;

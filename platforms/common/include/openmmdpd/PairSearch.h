@@ -39,6 +39,7 @@ inline OpenMM::Vec3 minimumImage(OpenMM::Vec3 d, const OpenMM::Vec3* box, bool p
  */
 class PairSearch {
 public:
+    /** The most pairs forEachSortedPairBlock() hands over in one block. */
     static constexpr int MAX_BLOCK = 256;
     /** Candidate slots [first, last), seen from r (the particle moved to their image). */
     struct ScanRun {
