@@ -70,7 +70,7 @@ void DPDThermostatIntegrator::initialize(OpenMM::ContextImpl& contextRef) {
         throw OpenMMException("This Integrator is already bound to a context");
     validate(contextRef.getSystem());
     kernel = contextRef.getPlatform().createKernel(kernelName(), contextRef);
-    kernel.getAs<IntegrateDPDStepKernel>().initialize(contextRef.getSystem(), *this);
+    initializeStepKernel(kernel, contextRef.getSystem());
     context = &contextRef;
     owner = &contextRef.getOwner();
 }
@@ -86,11 +86,11 @@ std::vector<std::string> DPDThermostatIntegrator::getKernelNames() {
 
 void DPDThermostatIntegrator::stateChanged(OpenMM::State::DataType changed) {
     if (context != nullptr)
-        kernel.getAs<IntegrateDPDStepKernel>().invalidateForces();
+        kernel.getAs<DPDStepKernel>().invalidateForces();
 }
 
 double DPDThermostatIntegrator::computeKineticEnergy() {
-    return kernel.getAs<IntegrateDPDStepKernel>().computeKineticEnergy(*context);
+    return kernel.getAs<DPDStepKernel>().computeKineticEnergy(*context);
 }
 
 void DPDThermostatIntegrator::step(int steps) {
@@ -98,11 +98,11 @@ void DPDThermostatIntegrator::step(int steps) {
         throw OpenMMException("This Integrator is not bound to a context!");
     // Parameters may have been changed since the Context was created.
     validate(context->getSystem());
-    IntegrateDPDStepKernel& stepKernel = kernel.getAs<IntegrateDPDStepKernel>();
+    DPDStepKernel& stepKernel = kernel.getAs<DPDStepKernel>();
     for (int i = 0; i < steps; i++) {
         if (context->updateContextState())
             stepKernel.invalidateForces();
-        stepKernel.execute(*context, *this);
+        executeStepKernel(kernel, *context);
     }
 }
 
@@ -113,9 +113,9 @@ const OpenMM::Kernel& DPDThermostatIntegrator::getStepKernel() const {
 }
 
 void DPDThermostatIntegrator::createCheckpoint(std::ostream& stream) const {
-    kernel.getAs<const IntegrateDPDStepKernel>().createCheckpoint(*context, stream);
+    kernel.getAs<const DPDStepKernel>().createCheckpoint(*context, stream);
 }
 
 void DPDThermostatIntegrator::loadCheckpoint(std::istream& stream) {
-    kernel.getAs<IntegrateDPDStepKernel>().loadCheckpoint(*context, stream);
+    kernel.getAs<DPDStepKernel>().loadCheckpoint(*context, stream);
 }

@@ -37,5 +37,13 @@ void DPDVVIntegrator::setTolerance(double tol) {
 }
 
 std::string DPDVVIntegrator::kernelName() const {
-    return IntegrateDPDStepKernel::DPDVVName();
+    return IntegrateDPDVVStepKernel::Name();
+}
+
+void DPDVVIntegrator::initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const {
+    kernel.getAs<IntegrateDPDVVStepKernel>().initialize(system, *this);
+}
+
+void DPDVVIntegrator::executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const {
+    kernel.getAs<IntegrateDPDVVStepKernel>().execute(context, *this);
 }

@@ -43,3 +43,11 @@ long long EDPDIntegrator::getNumPairVariables() const {
 std::string EDPDIntegrator::kernelName() const {
     return IntegrateEDPDStepKernel::Name();
 }
+
+void EDPDIntegrator::initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const {
+    kernel.getAs<IntegrateEDPDStepKernel>().initialize(system, *this);
+}
+
+void EDPDIntegrator::executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const {
+    kernel.getAs<IntegrateEDPDStepKernel>().execute(context, *this);
+}

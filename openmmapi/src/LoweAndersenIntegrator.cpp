@@ -27,5 +27,13 @@ void LoweAndersenIntegrator::validate(const OpenMM::System& system) const {
 }
 
 std::string LoweAndersenIntegrator::kernelName() const {
-    return IntegrateDPDStepKernel::LoweAndersenName();
+    return IntegrateLoweAndersenStepKernel::Name();
+}
+
+void LoweAndersenIntegrator::initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const {
+    kernel.getAs<IntegrateLoweAndersenStepKernel>().initialize(system, *this);
+}
+
+void LoweAndersenIntegrator::executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const {
+    kernel.getAs<IntegrateLoweAndersenStepKernel>().execute(context, *this);
 }

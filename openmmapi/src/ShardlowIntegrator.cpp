@@ -15,5 +15,13 @@ void ShardlowIntegrator::setOrder(int value) {
 }
 
 std::string ShardlowIntegrator::kernelName() const {
-    return IntegrateDPDStepKernel::ShardlowName();
+    return IntegrateShardlowStepKernel::Name();
+}
+
+void ShardlowIntegrator::initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const {
+    kernel.getAs<IntegrateShardlowStepKernel>().initialize(system, *this);
+}
+
+void ShardlowIntegrator::executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const {
+    kernel.getAs<IntegrateShardlowStepKernel>().execute(context, *this);
 }

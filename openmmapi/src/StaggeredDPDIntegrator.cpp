@@ -241,5 +241,13 @@ void StaggeredDPDIntegrator::validate(const OpenMM::System& system) const {
 }
 
 std::string StaggeredDPDIntegrator::kernelName() const {
-    return IntegrateDPDStepKernel::StaggeredName();
+    return IntegrateStaggeredDPDStepKernel::Name();
+}
+
+void StaggeredDPDIntegrator::initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const {
+    kernel.getAs<IntegrateStaggeredDPDStepKernel>().initialize(system, *this);
+}
+
+void StaggeredDPDIntegrator::executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const {
+    kernel.getAs<IntegrateStaggeredDPDStepKernel>().execute(context, *this);
 }

@@ -2,7 +2,11 @@
 #define OPENMMDPD_DPDKERNELS_H_
 
 #include "openmmdpd/DPDSoftRepulsionForce.h"
-#include "openmmdpd/DPDThermostatIntegrator.h"
+#include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/EDPDIntegrator.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/KernelImpl.h"
 #include "openmm/System.h"
 #include <iosfwd>
@@ -11,20 +15,13 @@
 namespace DPDPlugin {
 
 /**
- * Takes steps with one of the DPD integrators.  Each integrator class has its own kernel
- * name; every platform implements them all with this interface.  The kernel owns the
- * per-Context integrator state (e.g. the force carried from one step to the next), so it
- * also writes and reads checkpoints.
+ * What the step kernel of every DPD integrator answers, whatever its update rule.  The
+ * kernel owns the per-Context integrator state (e.g. the force carried from one step to
+ * the next), so it also writes and reads checkpoints.
  */
-class IntegrateDPDStepKernel : public OpenMM::KernelImpl {
+class DPDStepKernel : public OpenMM::KernelImpl {
 public:
-    static std::string DPDVVName() { return "IntegrateDPDVVStep"; }
-    static std::string ShardlowName() { return "IntegrateShardlowStep"; }
-    static std::string LoweAndersenName() { return "IntegrateLoweAndersenStep"; }
-    static std::string StaggeredName() { return "IntegrateStaggeredDPDStep"; }
-    IntegrateDPDStepKernel(std::string name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {}
-    virtual void initialize(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) = 0;
-    virtual void execute(OpenMM::ContextImpl& context, const DPDThermostatIntegrator& integrator) = 0;
+    DPDStepKernel(std::string name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {}
     virtual double computeKineticEnergy(OpenMM::ContextImpl& context) = 0;
     /** Positions, velocities or parameters were changed from outside: carried forces are stale. */
     virtual void invalidateForces() = 0;
@@ -32,11 +29,52 @@ public:
     virtual void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) = 0;
 };
 
-/** The step kernel of EDPDIntegrator, which also answers for its pair variables. */
-class IntegrateEDPDStepKernel : public IntegrateDPDStepKernel {
+/**
+ * The step kernel interface of one integrator class: initialize() and execute() take that
+ * class, so no platform needs to find out which integrator it was given.
+ */
+template <class Integrator>
+class TypedDPDStepKernel : public DPDStepKernel {
+public:
+    TypedDPDStepKernel(std::string name, const OpenMM::Platform& platform) : DPDStepKernel(name, platform) {}
+    virtual void initialize(const OpenMM::System& system, const Integrator& integrator) = 0;
+    /** Take one step. */
+    virtual void execute(OpenMM::ContextImpl& context, const Integrator& integrator) = 0;
+};
+
+/** Takes steps of DPDVVIntegrator (GW-lambda, DPD-VV, SC-VV). */
+class IntegrateDPDVVStepKernel : public TypedDPDStepKernel<DPDVVIntegrator> {
+public:
+    static std::string Name() { return "IntegrateDPDVVStep"; }
+    IntegrateDPDVVStepKernel(std::string name, const OpenMM::Platform& platform) : TypedDPDStepKernel(name, platform) {}
+};
+
+/** Takes steps of ShardlowIntegrator (S1, S2). */
+class IntegrateShardlowStepKernel : public TypedDPDStepKernel<ShardlowIntegrator> {
+public:
+    static std::string Name() { return "IntegrateShardlowStep"; }
+    IntegrateShardlowStepKernel(std::string name, const OpenMM::Platform& platform) : TypedDPDStepKernel(name, platform) {}
+};
+
+/** Takes steps of LoweAndersenIntegrator (Lowe-Andersen, pair Ornstein-Uhlenbeck). */
+class IntegrateLoweAndersenStepKernel : public TypedDPDStepKernel<LoweAndersenIntegrator> {
+public:
+    static std::string Name() { return "IntegrateLoweAndersenStep"; }
+    IntegrateLoweAndersenStepKernel(std::string name, const OpenMM::Platform& platform) : TypedDPDStepKernel(name, platform) {}
+};
+
+/** Takes steps of StaggeredDPDIntegrator (both base schemes). */
+class IntegrateStaggeredDPDStepKernel : public TypedDPDStepKernel<StaggeredDPDIntegrator> {
+public:
+    static std::string Name() { return "IntegrateStaggeredDPDStep"; }
+    IntegrateStaggeredDPDStepKernel(std::string name, const OpenMM::Platform& platform) : TypedDPDStepKernel(name, platform) {}
+};
+
+/** Takes steps of EDPDIntegrator, and answers for its pair variables. */
+class IntegrateEDPDStepKernel : public TypedDPDStepKernel<EDPDIntegrator> {
 public:
     static std::string Name() { return "IntegrateEDPDStep"; }
-    IntegrateEDPDStepKernel(std::string name, const OpenMM::Platform& platform) : IntegrateDPDStepKernel(name, platform) {}
+    IntegrateEDPDStepKernel(std::string name, const OpenMM::Platform& platform) : TypedDPDStepKernel(name, platform) {}
     /** The pair's s (kJ/mol/nm) and the step it belongs to; false if the pair is not remembered. */
     virtual bool getPairVariable(int i, int j, double& value, long long& step) const = 0;
     virtual long long getNumPairVariables() const = 0;

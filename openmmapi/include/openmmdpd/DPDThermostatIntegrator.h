@@ -97,6 +97,10 @@ public:
 protected:
     /** The name of the kernel that takes the steps. */
     virtual std::string kernelName() const = 0;
+    /** Initialize the step kernel (of this class's typed interface) for a System. */
+    virtual void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const = 0;
+    /** Take one step with the step kernel. */
+    virtual void executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const = 0;
     void initialize(OpenMM::ContextImpl& context) override;
     void cleanup() override;
     std::vector<std::string> getKernelNames() override;

@@ -53,6 +53,8 @@ public:
 
 protected:
     std::string kernelName() const override;
+    void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const override;
+    void executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const override;
 
 private:
     Variant variant;

@@ -1,5 +1,5 @@
-#include "ThreadPoolExecutor.h"
-#include "openmmdpd/DPDStepKernel.h"
+#include "openmmdpd/CpuDPDKernels.h"
+#include "openmmdpd/SoftRepulsionKernel.h"
 #include "CpuPlatform.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
@@ -10,13 +10,26 @@ using namespace OpenMM;
 
 namespace {
 
+const std::vector<std::string> kernelNames = {
+    IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(), IntegrateLoweAndersenStepKernel::Name(),
+    IntegrateEDPDStepKernel::Name(), IntegrateStaggeredDPDStepKernel::Name(), CalcDPDSoftRepulsionForceKernel::Name()};
+
 class CpuDPDKernelFactory : public KernelFactory {
 public:
     KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
         ThreadPool& threads = CpuPlatform::getPlatformData(context).threads;
-        KernelImpl* kernel = createDPDKernel(name, platform, [&] { return std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(threads)); });
-        if (kernel != nullptr)
-            return kernel;
+        if (name == IntegrateDPDVVStepKernel::Name())
+            return new CpuIntegrateDPDVVStepKernel(name, platform, threads);
+        if (name == IntegrateShardlowStepKernel::Name())
+            return new CpuIntegrateShardlowStepKernel(name, platform, threads);
+        if (name == IntegrateLoweAndersenStepKernel::Name())
+            return new CpuIntegrateLoweAndersenStepKernel(name, platform, threads);
+        if (name == IntegrateEDPDStepKernel::Name())
+            return new CpuIntegrateEDPDStepKernel(name, platform, threads);
+        if (name == IntegrateStaggeredDPDStepKernel::Name())
+            return new CpuIntegrateStaggeredDPDStepKernel(name, platform, threads);
+        if (name == CalcDPDSoftRepulsionForceKernel::Name())
+            return new SoftRepulsionKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(threads)));
         throw OpenMMException("openmm-dpd CPU plugin: unknown kernel '" + name + "'");
     }
 };
@@ -26,7 +39,7 @@ public:
 extern "C" OPENMM_EXPORT void registerDPDCpuKernelFactories() {
     Platform& platform = Platform::getPlatformByName("CPU");
     KernelFactory* factory = new CpuDPDKernelFactory();
-    for (const std::string& name : dpdKernelNames())
+    for (const std::string& name : kernelNames)
         platform.registerKernelFactory(name, factory);
 }
 

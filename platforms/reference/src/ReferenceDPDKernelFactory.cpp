@@ -1,4 +1,5 @@
-#include "openmmdpd/DPDStepKernel.h"
+#include "openmmdpd/ReferenceDPDKernels.h"
+#include "openmmdpd/ReferenceSoftRepulsionKernel.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
@@ -9,12 +10,25 @@ using namespace OpenMM;
 
 namespace {
 
+const std::vector<std::string> kernelNames = {
+    IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(), IntegrateLoweAndersenStepKernel::Name(),
+    IntegrateEDPDStepKernel::Name(), IntegrateStaggeredDPDStepKernel::Name(), CalcDPDSoftRepulsionForceKernel::Name()};
+
 class ReferenceDPDKernelFactory : public KernelFactory {
 public:
     KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
-        KernelImpl* kernel = createDPDKernel(name, platform, [] { return std::unique_ptr<ParallelExecutor>(new SerialExecutor()); });
-        if (kernel != nullptr)
-            return kernel;
+        if (name == IntegrateDPDVVStepKernel::Name())
+            return new ReferenceIntegrateDPDVVStepKernel(name, platform);
+        if (name == IntegrateShardlowStepKernel::Name())
+            return new ReferenceIntegrateShardlowStepKernel(name, platform);
+        if (name == IntegrateLoweAndersenStepKernel::Name())
+            return new ReferenceIntegrateLoweAndersenStepKernel(name, platform);
+        if (name == IntegrateEDPDStepKernel::Name())
+            return new ReferenceIntegrateEDPDStepKernel(name, platform);
+        if (name == IntegrateStaggeredDPDStepKernel::Name())
+            return new ReferenceIntegrateStaggeredDPDStepKernel(name, platform);
+        if (name == CalcDPDSoftRepulsionForceKernel::Name())
+            return new ReferenceSoftRepulsionKernel(name, platform);
         throw OpenMMException("openmm-dpd Reference plugin: unknown kernel '" + name + "'");
     }
 };
@@ -24,7 +38,7 @@ public:
 extern "C" OPENMM_EXPORT void registerDPDReferenceKernelFactories() {
     Platform& platform = Platform::getPlatformByName("Reference");
     KernelFactory* factory = new ReferenceDPDKernelFactory();
-    for (const std::string& name : dpdKernelNames())
+    for (const std::string& name : kernelNames)
         platform.registerKernelFactory(name, factory);
 }
 

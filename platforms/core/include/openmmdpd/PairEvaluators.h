@@ -1,0 +1,163 @@
+#ifndef OPENMMDPD_PAIREVALUATORS_H_
+#define OPENMMDPD_PAIREVALUATORS_H_
+
+#include "openmmdpd/PairParameters.h"
+#include "openmmdpd/PairRandom.h"
+#include <cmath>
+#include <vector>
+
+namespace DPDPlugin {
+
+/*
+ * The formulas of one pair, shared by every platform (algorithms.md).  Each is a small
+ * struct of pure functions of the pair's geometry, velocities and random number; the
+ * platforms differ only in how they find the pairs and loop over them.
+ */
+
+/** The DPD pair forces (algorithms.md, Notation): the force on i (j gets the opposite). */
+struct DPDPairForce {
+    /** FD_ij = -gamma wD(r) (e . v_ij) e, wD = wR^2. */
+    static OpenMM::Vec3 dissipative(const PairGeometry& p, const OpenMM::Vec3& vij) {
+        return p.e * (-p.gammaWD * p.e.dot(vij));
+    }
+    /** FR_ij = sigma wR xi e / sqrt(dt). */
+    static OpenMM::Vec3 random(const PairGeometry& p, double xi, double invSqrtDt) {
+        return p.e * (p.sigmaWR * xi * invSqrtDt);
+    }
+};
+
+/** The soft repulsion of DPDSoftRepulsionForce (algorithms.md section 7), for r < rc. */
+struct SoftRepulsionPair {
+    /** The force on i along e = r_ij / r: a (1 - r/rc) (kJ/mol/nm). */
+    static double force(double a, double inverseCutoff, double r) {
+        return a * (1 - r * inverseCutoff);
+    }
+    /** The energy a rc (1 - r/rc)^2 / 2 (kJ/mol). */
+    static double energy(double a, double cutoff, double r) {
+        const double x = 1 - r / cutoff;
+        return 0.5 * a * cutoff * x * x;
+    }
+};
+
+/**
+ * One step of an EDPD pair variable's recurrence (algorithms.md section 5), for a pair with
+ * coupling lambda:  s' = rho s + (lambda dh + sqrt(2 kT lambda alpha dt) w) / d,
+ * with d = 1 + alpha dt, rho = 1/d (one-sided) or d = 1 + alpha dt/2,
+ * rho = (1 - alpha dt/2)/d (symmetric).  With h constant its stationary variance is
+ * lambda * variancePerLambda, and it forgets its state in forgetSteps steps
+ * (|rho|^forgetSteps < 1e-8).
+ */
+struct AuxiliaryRecurrence {
+    AuxiliaryRecurrence(double alpha, double dt, double kT, bool symmetric) : alpha(alpha) {
+        const double x = alpha * dt;
+        const double d = symmetric ? 1 + 0.5 * x : 1 + x;
+        invD = 1 / d;
+        rho = symmetric ? (1 - 0.5 * x) * invD : invD;
+        noisePerLambda = std::sqrt(2 * kT * x);
+        // V = (c/d)^2 / (1 - rho^2) with c^2 = 2 kT lambda alpha dt, written so that it stays
+        // exact when rho is close to 1.
+        variancePerLambda = 2 * kT * x / (d * d - (rho * d) * (rho * d));
+        const double decay = std::fabs(rho);
+        forgetSteps = (decay == 0 ? 1 : (long long) std::floor(std::log(1e-8) / std::log(decay)) + 1);
+    }
+    /**
+     * h(r') - h(r) for h = phi(r) = rc/2 (1 - wR^2) (rc/2 beyond the cutoff, phi' = wR),
+     * from the pair's wR^2 before and after (0 out of range).
+     */
+    static double dh(double cutoff, double wR2Old, double wR2New) { return -0.5 * cutoff * (wR2New - wR2Old); }
+    /** s at the next step from s, lambda, dh = h' - h and the step's normal number w. */
+    double next(double s, double lambda, double dh, double w) const {
+        return rho * s + (lambda * dh + std::sqrt(lambda) * noisePerLambda * w) * invD;
+    }
+    /**
+     * s after `gap` steps with h constant, from s (exact in distribution), given the
+     * stationary variance and a normal number; drawn anew if unknown or forgotten.
+     */
+    double recall(bool known, double s, long long gap, double variance, double xi) const {
+        if (!known || gap < 0 || gap >= forgetSteps)
+            return std::sqrt(variance) * xi;
+        const double decay = std::pow(rho, (double) gap);
+        return decay * s + std::sqrt(variance * (1 - decay * decay)) * xi;
+    }
+    double alpha, rho, invD, noisePerLambda, variancePerLambda;
+    long long forgetSteps;
+};
+
+/**
+ * Pairwise-sequential velocity updates (algorithms.md sections 2 and 3): each acts on one
+ * pair in place, with an impulse J along e (v_i += J/m_i e, v_j -= J/m_j e), so momentum is
+ * conserved pair by pair.  A sweep applies one of them to every pair in a fixed order.
+ */
+struct PairImpulse {
+    static void apply(const PairGeometry& p, double impulse, const std::vector<double>& invMass, std::vector<OpenMM::Vec3>& v) {
+        v[p.i] += p.e * (impulse * invMass[p.i]);
+        v[p.j] -= p.e * (impulse * invMass[p.j]);
+    }
+    static double reducedMass(const PairGeometry& p, const std::vector<double>& invMass) {
+        return 1 / (invMass[p.i] + invMass[p.j]);
+    }
+};
+
+/** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
+struct ShardlowPairUpdate {
+    const PairRandom& random;
+    PairRandom::Stream stream;
+    long long step;
+    double h;
+    const std::vector<double>& invMass;
+
+    void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
+        const double noise = p.sigmaWR * random.gaussian(stream, step, p.i, p.j) * std::sqrt(h);
+        const double friction = p.gammaWD * h;
+        // explicit half
+        double u = p.e.dot(v[p.i] - v[p.j]);
+        PairImpulse::apply(p, 0.5 * (noise - friction * u), invMass, v);
+        // implicit half, with u after the explicit one
+        u = p.e.dot(v[p.i] - v[p.j]);
+        const double mu = PairImpulse::reducedMass(p, invMass);
+        PairImpulse::apply(p, 0.5 * (noise - friction * u) / (1 + friction / (2 * mu)), invMass, v);
+    }
+};
+
+/** Lowe-Andersen: with probability Gamma h, the pair's relative normal velocity is drawn anew. */
+struct LowePairUpdate {
+    const PairRandom& random;
+    long long step;
+    double h, kT;
+    const std::vector<double>& invMass;
+
+    void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
+        // One draw gives both numbers; the Gaussian is only made for the pairs that collide.
+        const r123::Philox4x32::ctr_type bits = random.bits(PairRandom::PairThermalisation, step, p.i, p.j);
+        if (PairRandom::toUniform(bits[2]) >= p.rate * h)
+            return;
+        const double xi = PairRandom::boxMuller(bits);
+        const double mu = PairImpulse::reducedMass(p, invMass);
+        const double u = p.e.dot(v[p.i] - v[p.j]);
+        PairImpulse::apply(p, mu * (xi * std::sqrt(kT / mu) - u), invMass, v);
+    }
+};
+
+/**
+ * The exact solution over h of the pair's Ornstein-Uhlenbeck equation for its relative
+ * normal velocity, du = -(gamma wD/mu) u dt + noise: exact for the ideal gas at any h.
+ */
+struct PairOrnsteinUhlenbeckUpdate {
+    const PairRandom& random;
+    long long step;
+    double h, kT;
+    const std::vector<double>& invMass;
+
+    void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
+        const double mu = PairImpulse::reducedMass(p, invMass);
+        const double decay = std::exp(-p.gammaWD * h / mu);
+        const double u = p.e.dot(v[p.i] - v[p.j]);
+        const double xi = random.gaussian(PairRandom::PairThermalisation, step, p.i, p.j);
+        const double target = u * decay + std::sqrt(kT / mu * (1 - decay * decay)) * xi;
+        PairImpulse::apply(p, mu * (target - u), invMass, v);
+    }
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,129 @@
+#ifndef OPENMMDPD_PAIRPARAMETERS_H_
+#define OPENMMDPD_PAIRPARAMETERS_H_
+
+#include "openmmdpd/DPDThermostatIntegrator.h"
+#include "openmm/System.h"
+#include "openmm/Vec3.h"
+#include <cmath>
+#include <map>
+#include <vector>
+
+namespace DPDPlugin {
+
+/** Boltzmann's constant in kJ/mol/K (OpenMM's value). */
+constexpr double BOLTZMANN_KJ_PER_MOL_K = 0.00831446261815324;
+
+/**
+ * One pair within its thermostat cutoff, with everything the pair rules need at the
+ * current positions: the unit vector e = r_ij / r (minimum image), the weight
+ * wR = 1 - r/rc, and the pair's weighted friction gamma_ij wD = gamma_ij wR^2, weighted
+ * noise amplitude sigma_ij wR, and its type pair's friction rate (1/ps; Lowe-Andersen's
+ * collision rate Gamma).
+ */
+struct PairGeometry {
+    int i, j;
+    OpenMM::Vec3 e;
+    double wR, gammaWD, sigmaWR, rate;
+};
+
+/**
+ * A per-type-pair table of one parameter and a cutoff, resolved for lookup by particle:
+ * the particle types in use get dense indices, and pairs of types without an entry get
+ * the defaults.  The thermostats (friction) and the soft repulsion force (a) both use it.
+ */
+class TypePairTable {
+public:
+    struct Entry {
+        int type1, type2;
+        double value, cutoff;
+    };
+    TypePairTable(int numParticles, const std::map<int, int>& particleTypes, double defaultValue, double defaultCutoff,
+                  const std::vector<Entry>& entries);
+    /** The table index of the pair (i, j). */
+    int index(int i, int j) const { return typeIndex[i] * numTypes + typeIndex[j]; }
+    /** The dense type of a particle, and the table index of a pair of dense types. */
+    int typeOf(int particle) const { return typeIndex[particle]; }
+    int indexOfTypes(int a, int b) const { return a * numTypes + b; }
+    double value(int t) const { return values[t]; }
+    double cutoff(int t) const { return cutoffs[t]; }
+    double cutoff2(int t) const { return cutoffs2[t]; }
+    double inverseCutoff(int t) const { return inverseCutoffs[t]; }
+    double getMaxCutoff() const { return maxCutoff; }
+    int getNumTypes() const { return numTypes; }
+
+private:
+    int numTypes;
+    double maxCutoff;
+    std::vector<int> typeIndex;
+    std::vector<double> values, cutoffs, cutoffs2, inverseCutoffs;
+};
+
+/**
+ * The thermostat parameters of a System resolved per particle and per pair: the type-pair
+ * friction/cutoff table, masses and kT.  Built once per Context from any
+ * DPDThermostatIntegrator.
+ */
+class DPDPairParameters {
+public:
+    DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
+    int getNumParticles() const { return (int) mass.size(); }
+    double getMaxCutoff() const { return table.getMaxCutoff(); }
+    const TypePairTable& getTable() const { return table; }
+    /** Particles that move and take part in the thermostat (mass > 0). */
+    const std::vector<bool>& getActive() const { return active; }
+    const std::vector<double>& getMasses() const { return mass; }
+    const std::vector<double>& getInverseMasses() const { return invMass; }
+    double getKT() const { return kT; }
+    /**
+     * The geometry of a pair at displacement d = r_i - r_j (nearest image); returns false
+     * if the pair is beyond its own type-pair cutoff.
+     */
+    bool pairGeometry(int i, int j, const OpenMM::Vec3& d, PairGeometry& out) const {
+        const int t = table.index(i, j);
+        const double r2 = d.dot(d);
+        if (r2 >= table.cutoff2(t) || r2 == 0)
+            return false;
+        const double r = std::sqrt(r2);
+        const double wR = 1 - r / table.cutoff(t);
+        double gamma, sigma;
+        if (uniformMass) {
+            gamma = typeGamma[t];
+            sigma = typeSigma[t];
+        }
+        else {
+            gamma = pairGamma(i, j);
+            sigma = noiseAmplitude(gamma);
+        }
+        out.i = i;
+        out.j = j;
+        out.e = d / r;
+        out.wR = wR;
+        out.gammaWD = gamma * wR * wR;
+        out.sigmaWR = sigma * wR;
+        out.rate = table.value(t);
+        return true;
+    }
+    /** sigma = sqrt(2 gamma kT), the fluctuation-dissipation partner of a friction gamma. */
+    double noiseAmplitude(double gamma) const { return std::sqrt(2 * gamma * kT); }
+
+    /** The friction coefficient gamma_ij = 2 mu_ij friction_ij of any pair (amu/ps). */
+    double pairGamma(int i, int j) const {
+        return 2 * mass[i] * mass[j] / (mass[i] + mass[j]) * table.value(table.index(i, j));
+    }
+    /** The cutoff of any pair (nm). */
+    double pairCutoff(int i, int j) const { return table.cutoff(table.index(i, j)); }
+
+private:
+    TypePairTable table;
+    double kT;
+    std::vector<double> mass, invMass;
+    std::vector<bool> active;
+    // When every particle has one mass (the usual DPD fluid), gamma and sigma depend on the
+    // type pair alone and are looked up instead of computed per pair.
+    bool uniformMass;
+    std::vector<double> typeGamma, typeSigma;
+};
+
+} // namespace DPDPlugin
+
+#endif

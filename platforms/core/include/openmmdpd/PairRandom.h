@@ -1,0 +1,67 @@
+#ifndef OPENMMDPD_PAIRRANDOM_H_
+#define OPENMMDPD_PAIRRANDOM_H_
+
+#include <Random123/philox.h>
+#include <cmath>
+#include <cstdint>
+
+namespace DPDPlugin {
+
+/**
+ * Per-pair random numbers from a counter-based generator (Philox4x32-10, Random123).
+ *
+ * A draw is a pure function of (seed, stream, step, min(i,j), max(i,j)): it is symmetric
+ * in i and j, does not depend on the order in which pairs are visited or on the number of
+ * threads, and is the same on every platform.  `stream` separates independent uses within
+ * one step (e.g. the random force and a Lowe-Andersen acceptance test).  This is the
+ * definition; a platform may draw the same words faster (the CPU's PairRandomBatch).
+ */
+class PairRandom {
+public:
+    enum Stream : uint32_t {
+        RandomForce = 0, PairThermalisation = 1, SecondSweep = 2,
+        AuxiliaryNoise = 3,    // EDPD: the noise of a pair variable's step
+        AuxiliaryRecall = 4    // EDPD: a pair variable drawn or caught up when a pair (re)appears
+    };
+
+    explicit PairRandom(uint32_t seed = 0) : seed(seed) {}
+    uint32_t getSeed() const { return seed; }
+
+    /** Four independent 32-bit words for the pair (i, j) at a step. */
+    r123::Philox4x32::ctr_type bits(Stream stream, long long step, int i, int j) const {
+        if (i > j) {
+            int t = i; i = j; j = t;
+        }
+        const uint64_t s = (uint64_t) step;
+        r123::Philox4x32::ctr_type counter = {{(uint32_t) s, (uint32_t) (s >> 32), (uint32_t) i, (uint32_t) j}};
+        r123::Philox4x32::key_type key = {{seed, (uint32_t) stream}};
+        return r123::Philox4x32()(counter, key);
+    }
+
+    /** A standard normal number for the pair (Box-Muller on the first two words). */
+    double gaussian(Stream stream, long long step, int i, int j) const {
+        return boxMuller(bits(stream, step, i, j));
+    }
+
+    /** A uniform number in [0, 1) from one word of a draw. */
+    static double toUniform(uint32_t x) {
+        return (double) x * (1.0 / 4294967296.0);
+    }
+
+    /** A uniform number in (0, 1] from one word: its logarithm is finite. */
+    static double toOpenUniform(uint32_t x) {
+        return ((double) x + 1.0) * (1.0 / 4294967296.0);
+    }
+
+    /** A standard normal number from the first two words of a draw (textbook Box-Muller). */
+    static double boxMuller(const r123::Philox4x32::ctr_type& r) {
+        return std::sqrt(-2.0 * std::log(toOpenUniform(r[0]))) * std::cos(2.0 * M_PI * toUniform(r[1]));
+    }
+
+private:
+    uint32_t seed;
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,54 @@
+#ifndef OPENMMDPD_STEPSTATE_H_
+#define OPENMMDPD_STEPSTATE_H_
+
+#include "openmm/Vec3.h"
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace DPDPlugin {
+
+/** A step that moves a particle farther than this many thermostat cutoffs has blown up. */
+constexpr double MAX_MOVE_PER_STEP = 5.0;
+
+/**
+ * What every platform's step kernel carries from one step to the next: the force at the
+ * current state (what that force is depends on the integrator) and whether it still holds.
+ * Positions, velocities or parameters set from outside invalidate it.  Right after a
+ * checkpoint was loaded OpenMM reports the restored state as set from outside too: then the
+ * carried force is kept if the state is still the restored one when the next step starts.
+ */
+class CarriedForce {
+public:
+    explicit CarriedForce(int numParticles) : force(numParticles) {}
+    std::vector<OpenMM::Vec3> force;
+    void invalidate();
+    /** Call at the start of a step: whether `force` still holds for these positions and velocities. */
+    bool isValid(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities);
+    void setValid() { valid = true; }
+    /** Write the seed in use and the force, in binary so that a continuation is bit-exact. */
+    void write(std::ostream& stream, uint32_t seed) const;
+    /**
+     * Read what write() wrote, for a Context now at these positions and velocities (the
+     * restored ones); returns the seed.  `name` prefixes the errors.
+     */
+    uint32_t read(std::istream& stream, const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
+                  const std::string& name);
+
+private:
+    bool valid = false, verifyRestoredState = false;
+    std::vector<OpenMM::Vec3> restoredPositions, restoredVelocities;
+};
+
+/** Stops a run with "<name>: the simulation blew up at step N: ..." if a value is not finite. */
+void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long long step, const std::string& name);
+/** The same for values[k] of particle particles[k]. */
+void checkFinite(const std::vector<OpenMM::Vec3>& values, const std::vector<int>& particles, const char* what, long long step,
+                 const std::string& name);
+/** Stops a run if the largest squared move of a step, maxMove2, exceeds MAX_MOVE_PER_STEP cutoffs. */
+void checkMove(double maxMove2, double cutoff, long long step, const std::string& name);
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,82 @@
+#include "openmmdpd/PairParameters.h"
+#include "openmm/OpenMMException.h"
+#include <algorithm>
+#include <map>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+TypePairTable::TypePairTable(int numParticles, const std::map<int, int>& particleTypes, double defaultValue, double defaultCutoff,
+                             const std::vector<Entry>& entries) {
+    // Dense indices for the types in use (type 0 always exists: it is everyone's default).
+    std::map<int, int> dense = {{0, 0}};
+    for (auto& entry : particleTypes)
+        dense.emplace(entry.second, 0);
+    int next = 0;
+    for (auto& entry : dense)
+        entry.second = next++;
+    numTypes = next;
+    typeIndex.assign(numParticles, 0);
+    for (auto& entry : particleTypes)
+        typeIndex[entry.first] = dense[entry.second];
+    values.assign(numTypes * numTypes, defaultValue);
+    cutoffs.assign(numTypes * numTypes, defaultCutoff);
+    for (const Entry& e : entries) {
+        const int a = dense.at(e.type1), b = dense.at(e.type2);
+        values[a * numTypes + b] = values[b * numTypes + a] = e.value;
+        cutoffs[a * numTypes + b] = cutoffs[b * numTypes + a] = e.cutoff;
+    }
+    maxCutoff = *std::max_element(cutoffs.begin(), cutoffs.end());
+    cutoffs2.resize(cutoffs.size());
+    inverseCutoffs.resize(cutoffs.size());
+    for (size_t k = 0; k < cutoffs.size(); k++) {
+        cutoffs2[k] = cutoffs[k] * cutoffs[k];
+        inverseCutoffs[k] = 1 / cutoffs[k];
+    }
+}
+
+namespace {
+
+TypePairTable thermostatTable(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
+    std::vector<TypePairTable::Entry> entries(integrator.getNumTypePairs());
+    for (int k = 0; k < integrator.getNumTypePairs(); k++) {
+        TypePairTable::Entry& e = entries[k];
+        integrator.getTypePairParameters(k, e.type1, e.type2, e.value, e.cutoff);
+    }
+    return TypePairTable(system.getNumParticles(), integrator.getParticleTypes(), integrator.getDefaultFriction(),
+                         integrator.getDefaultCutoff(), entries);
+}
+
+} // namespace
+
+DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) :
+        table(thermostatTable(system, integrator)), kT(BOLTZMANN_KJ_PER_MOL_K * integrator.getTemperature()) {
+    const int n = system.getNumParticles();
+    mass.resize(n);
+    invMass.resize(n);
+    active.resize(n);
+    for (int i = 0; i < n; i++) {
+        mass[i] = system.getParticleMass(i);
+        active[i] = (mass[i] > 0);
+        invMass[i] = active[i] ? 1 / mass[i] : 0;
+    }
+    uniformMass = true;
+    int first = -1;
+    for (int i = 0; i < n; i++)
+        if (active[i]) {
+            if (first < 0)
+                first = i;
+            uniformMass = uniformMass && mass[i] == mass[first];
+        }
+    if (uniformMass && first >= 0) {
+        // The same arithmetic as pairGamma() and noiseAmplitude(), so either path gives the same bits.
+        for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++) {
+            const double gamma = 2 * mass[first] * mass[first] / (mass[first] + mass[first]) * table.value(t);
+            typeGamma.push_back(gamma);
+            typeSigma.push_back(noiseAmplitude(gamma));
+        }
+    }
+    else
+        uniformMass = false;
+}
+

@@ -1,0 +1,94 @@
+#include "openmmdpd/StepState.h"
+#include "openmm/OpenMMException.h"
+#include <cmath>
+#include <istream>
+#include <ostream>
+#include <sstream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+void CarriedForce::invalidate() {
+    if (restoredPositions.empty())
+        valid = false;
+    else
+        verifyRestoredState = true;
+}
+
+bool CarriedForce::isValid(const std::vector<Vec3>& r, const std::vector<Vec3>& v) {
+    if (!restoredPositions.empty()) {
+        if (verifyRestoredState && (r != restoredPositions || v != restoredVelocities))
+            valid = false;
+        restoredPositions.clear();
+        restoredVelocities.clear();
+    }
+    return valid;
+}
+
+void CarriedForce::write(std::ostream& stream, uint32_t seed) const {
+    const char flag = valid ? 1 : 0;
+    const uint64_t n = force.size();
+    stream.write((const char*) &seed, sizeof(seed));
+    stream.write(&flag, 1);
+    stream.write((const char*) &n, sizeof(n));
+    stream.write((const char*) force.data(), n * sizeof(Vec3));
+}
+
+uint32_t CarriedForce::read(std::istream& stream, const std::vector<Vec3>& r, const std::vector<Vec3>& v, const std::string& name) {
+    uint32_t seed;
+    char flag;
+    uint64_t n;
+    stream.read((char*) &seed, sizeof(seed));
+    stream.read(&flag, 1);
+    stream.read((char*) &n, sizeof(n));
+    if (!stream || n != force.size())
+        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System");
+    stream.read((char*) force.data(), n * sizeof(Vec3));
+    if (!stream)
+        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+    valid = (flag != 0);
+    restoredPositions = r;
+    restoredVelocities = v;
+    verifyRestoredState = false;
+    return seed;
+}
+
+namespace {
+
+bool isFinite(const Vec3& x) {
+    return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
+}
+
+[[noreturn]] void blewUp(const std::string& name, long long step, const std::string& what) {
+    std::ostringstream message;
+    message << name << ": the simulation blew up at step " << step << ": " << what
+            << ". Reduce the step size, or check the starting configuration and the forces.";
+    throw OpenMM::OpenMMException(message.str());
+}
+
+} // namespace
+
+void DPDPlugin::checkFinite(const std::vector<Vec3>& values, const char* what, long long step, const std::string& name) {
+    for (size_t i = 0; i < values.size(); i++)
+        if (!isFinite(values[i]))
+            blewUp(name, step, "particle " + std::to_string(i) + " has a non-finite " + what);
+}
+
+void DPDPlugin::checkFinite(const std::vector<Vec3>& values, const std::vector<int>& particles, const char* what, long long step,
+                            const std::string& name) {
+    for (size_t k = 0; k < particles.size(); k++)
+        if (!isFinite(values[k]))
+            blewUp(name, step, "particle " + std::to_string(particles[k]) + " has a non-finite " + what);
+}
+
+void DPDPlugin::checkMove(double maxMove2, double cutoff, long long step, const std::string& name) {
+    // A particle that crossed several thermostat cutoffs in one step has left the regime in
+    // which any of these schemes means anything (and would corrupt the pair search).
+    const double limit = MAX_MOVE_PER_STEP * cutoff;
+    if (maxMove2 > limit * limit) {
+        std::ostringstream move;
+        move << "a particle moved " << std::sqrt(maxMove2) << " nm in one step (more than " << MAX_MOVE_PER_STEP
+             << " thermostat cutoffs)";
+        blewUp(name, step, move.str());
+    }
+}

@@ -1,0 +1,34 @@
+#ifndef OPENMMDPD_EDPDDYNAMICS_H_
+#define OPENMMDPD_EDPDDYNAMICS_H_
+
+#include "openmmdpd/EDPDIntegrator.h"
+#include "openmmdpd/PairDynamics.h"
+#include "openmmdpd/PairMemory.h"
+
+namespace DPDPlugin {
+
+/**
+ * Extended DPD (algorithms.md section 5): Störmer-Verlet with the pair variables s_k of a
+ * PairMemory.  The carried force is FC - sum_k wR e s_k at the current state.
+ */
+class EDPDDynamics : public PairDynamics {
+public:
+    EDPDDynamics(const OpenMM::System& system, const EDPDIntegrator& integrator, ParallelExecutor& executor);
+    void step(OpenMM::ContextImpl& context, const EDPDIntegrator& integrator);
+    const PairMemory& getMemory() const { return memory; }
+
+protected:
+    void saveExtraState(std::ostream& stream) const override { memory.write(stream); }
+    void loadExtraState(std::istream& stream) override { memory.read(stream); }
+
+private:
+    /** auxiliary <- -sum_k wR e s_k over the pairs in range, from pairS. */
+    void computeAuxiliaryForce();
+    PairMemory memory;
+    std::vector<double> pairS, coefficient;
+    std::vector<OpenMM::Vec3> auxiliary;
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,189 @@
+#ifndef OPENMMDPD_PAIRDYNAMICS_H_
+#define OPENMMDPD_PAIRDYNAMICS_H_
+
+#include "openmmdpd/DPDThermostatForces.h"
+#include "openmmdpd/StepState.h"
+#include "openmm/internal/ContextImpl.h"
+#include "ReferencePlatform.h"
+#include <algorithm>
+#include <iosfwd>
+#include <string>
+
+namespace DPDPlugin {
+
+class SoftRepulsionKernel;
+
+/**
+ * What every DPD update rule shares, written once over the platform data that the
+ * Reference and CPU platforms have in common: the thermostat pairs and their random
+ * numbers, the force carried from one step to the next (and its invalidation, also across
+ * checkpoints), conservative forces from the System, blow-up checks and the kinetic energy.
+ * A subclass writes its update rule in a step(context, integrator) of its integrator class.
+ */
+class PairDynamics {
+public:
+    PairDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor,
+                 int cellMultiple);
+    virtual ~PairDynamics() {}
+    double computeKineticEnergy(OpenMM::ContextImpl& context) const;
+    /**
+     * Positions, velocities or parameters were set from outside.  Right after a checkpoint
+     * was loaded, OpenMM reports the restored state this way too: then the carried force
+     * is kept if the state is still the restored one when the next step starts.
+     */
+    void invalidateForces() { carried.invalidate(); }
+    void createCheckpoint(std::ostream& stream) const;
+    void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
+
+protected:
+    /** Called after a checkpoint was loaded (state kept beyond the carried force is stale). */
+    virtual void stateRestored() {}
+    /**
+     * A subclass that carries more than `force` from one step to the next writes it here
+     * (after the shared part of the checkpoint) and reads it back in loadExtraState().
+     */
+    virtual void saveExtraState(std::ostream& stream) const {}
+    virtual void loadExtraState(std::istream& stream) {}
+    /** Call at the start of a step: whether `force` still holds for the current state. */
+    bool carriedForceValid(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities) {
+        return carried.isValid(positions, velocities);
+    }
+    void setCarriedForceValid() { carried.setValid(); }
+    /**
+     * conservative <- the integration force groups' forces; the thermostat pairs at the same
+     * positions.  A DPDSoftRepulsionForce whose pairs all lie within the thermostat's is
+     * evaluated from the thermostat pair list (one pair search per step instead of two).
+     */
+    void computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step);
+    /**
+     * out <- the integration force groups' forces + FD(velocities) + FR at the current
+     * positions, in one pass over the pairs (DPDThermostatForces::computeInOnePass): for
+     * update rules that need only that sum.  The pair list is not updated.
+     */
+    void computeForceInOnePass(OpenMM::ContextImpl& context, int forceGroups, const std::vector<OpenMM::Vec3>& velocities,
+                               long long step, double dt, std::vector<OpenMM::Vec3>& out);
+    /**
+     * conservative <- the forces of these groups at the current positions (the Context's by
+     * default; there a soft force that can be is left to the thermostat pair list, see
+     * computeConservativeAndPairs).
+     */
+    virtual void computeConservative(OpenMM::ContextImpl& context, int forceGroups);
+    /**
+     * r[i] += displacement(i) for every particle, in parallel, then the blow-up checks
+     * (non-finite, or a jump of more than MAX_MOVE_PER_STEP cutoffs).
+     */
+    template <class Displacement>
+    void movePositions(std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement);
+    /**
+     * Element-wise loops over fewer items than this run in the calling thread: waking the
+     * thread pool (tens of microseconds on a virtual machine) costs more than the loop.
+     */
+    static constexpr size_t SERIAL_LOOP_LIMIT = 16384;
+    /** body(i) for i in [0, n), in parallel when n is large enough to pay for it. */
+    template <class Body>
+    void forEachParticle(size_t n, Body body) {
+        if (n < SERIAL_LOOP_LIMIT) {
+            for (size_t i = 0; i < n; i++)
+                body(i);
+            return;
+        }
+        executor.execute([&](int w) {
+            size_t begin, end;
+            executor.range(w, n, begin, end);
+            for (size_t i = begin; i < end; i++)
+                body(i);
+        });
+    }
+    /**
+     * r[i] += displacement(i) for the listed particles only (serially: meant for a small
+     * subset, e.g. a staggered scheme's polymer), then the same blow-up checks on them.
+     */
+    template <class Displacement>
+    void moveParticles(const std::vector<int>& particles, std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement);
+    void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long long step) const {
+        DPDPlugin::checkFinite(values, what, step, name);
+    }
+    /** The same check on values[particles[k]] (or values[k] with indexedByParticle false), naming particles[k]. */
+    void checkFinite(const std::vector<OpenMM::Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,
+                     const char* what, long long step) const;
+    /** End a step: the velocities must be finite; the Context's step count and time advance. */
+    void finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const;
+    double sumMV2(const std::vector<OpenMM::Vec3>& velocities) const;
+    static OpenMM::ReferencePlatform::PlatformData& platformData(OpenMM::ContextImpl& context) {
+        return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    }
+
+    std::string name;
+    ParallelExecutor& executor;
+    DPDThermostatForces thermostat;
+    CarriedForce carried;
+    std::vector<OpenMM::Vec3>& force;  // carried.force
+    std::vector<OpenMM::Vec3> conservative;
+    mutable std::vector<double> workerSums;
+
+    /**
+     * The DPDSoftRepulsionForce of these groups that the thermostat pairs can carry (one
+     * such force, every particle in the thermostat, no force cutoff beyond the thermostat
+     * cutoff of the same pair), or null.
+     */
+    SoftRepulsionKernel* softForceToFuse(OpenMM::ContextImpl& context, int forceGroups);
+    /**
+     * For a computeConservative() that evaluates the other forces elsewhere: this step adds
+     * `soft` (from softForceToFuse) from the thermostat pairs.
+     */
+    void addSoftForceFromPairs(SoftRepulsionKernel* soft) { softForceFromPairs = soft; }
+
+private:
+    void checkMoves(long long step) const;
+    SoftRepulsionKernel* fusedSoftForce = nullptr;
+    SoftRepulsionKernel* softForceFromPairs = nullptr;  // deferred by this step's computeConservative
+    int fusedForceGroups = 0, fusedVersion = -1;
+    bool fusedIsAlone = false;        // the fused force is the only force in fusedForceGroups
+    bool conservativeIsZero = false;  // this step's computeConservative had nothing to add
+    std::vector<double> pairSoftForce;
+    std::vector<OpenMM::Vec3> softForce;
+};
+
+template <class Displacement>
+void PairDynamics::movePositions(std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement) {
+    auto move = [&](size_t begin, size_t end) {
+        double maxMove2 = 0;
+        for (size_t i = begin; i < end; i++) {
+            const OpenMM::Vec3 move = displacement(i);
+            r[i] += move;
+            maxMove2 = std::max(maxMove2, move.dot(move));
+        }
+        return maxMove2;
+    };
+    if (r.size() < SERIAL_LOOP_LIMIT) {
+        std::fill(workerSums.begin(), workerSums.end(), 0.0);
+        workerSums[0] = move(0, r.size());
+    }
+    else
+        executor.execute([&](int w) {
+            size_t begin, end;
+            executor.range(w, r.size(), begin, end);
+            workerSums[w] = move(begin, end);
+        });
+    checkFinite(r, "position", step);
+    checkMoves(step);
+}
+
+template <class Displacement>
+void PairDynamics::moveParticles(const std::vector<int>& particles, std::vector<OpenMM::Vec3>& r, long long step,
+                                 Displacement displacement) {
+    double maxMove2 = 0;
+    for (size_t k = 0; k < particles.size(); k++) {
+        const OpenMM::Vec3 move = displacement(k);
+        r[particles[k]] += move;
+        maxMove2 = std::max(maxMove2, move.dot(move));
+    }
+    std::fill(workerSums.begin(), workerSums.end(), 0.0);
+    workerSums[0] = maxMove2;
+    checkFinite(r, particles, true, "position", step);
+    checkMoves(step);
+}
+
+} // namespace DPDPlugin
+
+#endif

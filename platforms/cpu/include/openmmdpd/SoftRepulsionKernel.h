@@ -1,0 +1,64 @@
+#ifndef OPENMMDPD_SOFTREPULSIONKERNEL_H_
+#define OPENMMDPD_SOFTREPULSIONKERNEL_H_
+
+#include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/DPDPairCore.h"
+#include "openmmdpd/ParallelExecutor.h"
+#include "openmmdpd/PairSearch.h"
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+namespace DPDPlugin {
+
+/**
+ * DPDSoftRepulsionForce on every platform: the thermostats' cell search finds the pairs,
+ * each worker sums a range of cells into its own buffer, and the buffers are added to the
+ * Context's forces in worker order.  Double precision throughout.
+ */
+class SoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel {
+public:
+    SoftRepulsionKernel(std::string name, const OpenMM::Platform& platform, std::unique_ptr<ParallelExecutor> executor) :
+            CalcDPDSoftRepulsionForceKernel(name, platform), executor(std::move(executor)) {}
+    void initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) override;
+    double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
+    void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
+
+    /**
+     * While deferred, execute() adds nothing: an integrator whose thermostat pair list holds
+     * every pair of this force adds the force from that list instead (see pairForce), so
+     * the pairs are searched once per step, not twice.
+     */
+    void setDeferred(bool value) { deferred = value; }
+    /** Changes whenever the parameters do (for callers that cache checks on them). */
+    int getParametersVersion() const { return version; }
+    const TypePairTable& getTable() const { return *table; }
+    bool isPeriodic() const { return periodic; }
+    /** The force on i along e = (r_i - r_j)/r of a pair at distance r (kJ/mol/nm). */
+    double pairForce(int i, int j, double r) const {
+        const int t = table->index(i, j);
+        if (r >= table->cutoff(t) || (hasExclusions && excluded(i, j)))
+            return 0;
+        return SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r);
+    }
+
+private:
+    void setParameters(const DPDSoftRepulsionForce& force);
+    bool excluded(int i, int j) const {
+        const std::vector<int>& partners = exclusions[i];
+        return !partners.empty() && std::binary_search(partners.begin(), partners.end(), j);
+    }
+    std::unique_ptr<ParallelExecutor> executor;
+    std::unique_ptr<TypePairTable> table;
+    std::unique_ptr<PairSearch> search;
+    bool periodic = false, deferred = false, hasExclusions = false;
+    int numParticles = 0, version = 0;
+    std::vector<std::vector<int>> exclusions;  // sorted partners of each particle
+    std::vector<std::vector<OpenMM::Vec3>> workerForces;  // by sorted slot
+    std::vector<int> sortedType;                          // the type of each sorted slot
+    std::vector<double> workerEnergy;
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,84 @@
+#ifndef OPENMMDPD_STAGGEREDDYNAMICS_H_
+#define OPENMMDPD_STAGGEREDDYNAMICS_H_
+
+#include "openmmdpd/PairDynamics.h"
+#include "openmmdpd/PairSweep.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
+#include "openmm/Context.h"
+#include "openmm/VerletIntegrator.h"
+#include <memory>
+
+namespace DPDPlugin {
+
+/**
+ * The time-staggered schemes (algorithms.md section 6): one slow-force evaluation (and one
+ * pair search) per outer step Dt for every particle, K sub-steps of the polymer alone with
+ * only the fast forces re-evaluated.
+ *
+ * Carried from one outer step to the next (and saved in checkpoints): the slow force
+ * `force` (FC slow + FD + FR for the velocity-Verlet base, FC slow for the Lowe base) on
+ * every particle, and the fast force on each polymer particle.
+ */
+class StaggeredDynamics : public PairDynamics {
+public:
+    StaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator, ParallelExecutor& executor);
+    void step(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+
+protected:
+    /** K > 1: the slow forces come from the Context of the System without its fast forces. */
+    void computeConservative(OpenMM::ContextImpl& context, int forceGroups) override;
+    void saveExtraState(std::ostream& stream) const override;
+    void loadExtraState(std::istream& stream) override;
+
+private:
+    /** The polymer particles for the integrator's current fast groups and explicit list. */
+    void updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator);
+    int slowGroups(const StaggeredDPDIntegrator& integrator) const {
+        return integrator.getIntegrationForceGroups() & ~integrator.getFastForceGroups();
+    }
+    /** fast[k] <- the fast force on polymer particle k at the current positions. */
+    void computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
+                          std::vector<OpenMM::Vec3>& fast, bool checkSolvent);
+    /**
+     * A Context holding only the polymer particles and copies of the fast forces (indices
+     * remapped), so that a sub-step costs what the fast forces on the polymer cost and not a
+     * pass over the whole System; null if a fast force cannot be copied (then the full
+     * Context evaluates the fast force groups).
+     */
+    void makeFastContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+    /**
+     * A Context of a copy of the System without the forces of the fast groups.  On the CPU
+     * platform a CustomNonbondedForce (e.g. the polymer's WCA) makes every force evaluation
+     * maintain a neighbour list of all particles, whichever groups are evaluated; the slow
+     * evaluations are made where the fast forces are absent so that they do not pay for it.
+     */
+    void makeSlowContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+    /** Copy the box and the global parameter values of the main Context to `target`. */
+    static void syncContext(OpenMM::ContextImpl& context, OpenMM::Context& target, OpenMM::Vec3* box);
+    /** force <- the slow force, fastForce <- the fast one, at the current state. */
+    void computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+
+    const StaggeredDPDIntegrator::BaseScheme baseScheme;
+    int polymerGroups;
+    std::vector<int> polymerExplicit, polymer;
+    std::vector<int> polymerIndex;  // k with polymer[k] = i, or -1, by particle i
+    PairSweep pairSweep;
+    std::vector<OpenMM::Vec3> predicted, newForce;
+    // Per polymer particle (index k of polymer[k]): the fast force, the one at the new
+    // sub-step positions, the start of the outer step, the slow force driving the sub-steps.
+    std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, drivingForce, fastPositions;
+    std::unique_ptr<OpenMM::System> fastSystem;
+    std::unique_ptr<OpenMM::VerletIntegrator> fastIntegrator;
+    std::unique_ptr<OpenMM::Context> fastContext;
+    OpenMM::Vec3 fastBox[3], slowBox[3];
+    bool fastContextTried;
+    std::unique_ptr<OpenMM::System> slowSystem;
+    std::unique_ptr<OpenMM::VerletIntegrator> slowIntegrator;
+    std::unique_ptr<OpenMM::Context> slowContext;
+    bool slowOmitsSoftForce = false;  // the slow Context leaves the soft force to the thermostat pairs
+    int numSubSteps;
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,56 @@
+#ifndef OPENMMDPD_SWEEPDYNAMICS_H_
+#define OPENMMDPD_SWEEPDYNAMICS_H_
+
+#include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/PairDynamics.h"
+#include "openmmdpd/PairSweep.h"
+#include "openmmdpd/ShardlowIntegrator.h"
+
+namespace DPDPlugin {
+
+/**
+ * Velocity Verlet with the conservative forces, split with pairwise-sequential sweeps
+ * (algorithms.md sections 2 and 3).  The carried force is the conservative force at the
+ * current positions; the pair list (and the sweep's colouring) is kept for the positions
+ * it was found at.
+ */
+class SweepDynamics : public PairDynamics {
+protected:
+    SweepDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor);
+    void stateRestored() override { pairsStep = -1; }
+    /** At the start of a step: the carried force and the pair list at the current positions. */
+    void startStep(OpenMM::ContextImpl& context, int forceGroups);
+    /** v += dt/2m F ; r += dt v ; F <- FC(r), pairs at r ; v += dt/2m F. */
+    void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
+    /** Apply a pair rule (PairEvaluators.h) to every pair, in the sweep order or its reverse. */
+    template <class Rule>
+    void sweep(std::vector<OpenMM::Vec3>& v, const Rule& rule, bool reverse) {
+        pairSweep.run(thermostat, v, rule, reverse);
+    }
+
+private:
+    /** The pair list (and the sweep's colouring) at the current positions. */
+    void updatePairs(OpenMM::ContextImpl& context);
+    PairSweep pairSweep;
+    long long pairsStep;
+};
+
+/** Shardlow's S1 and S2 (ShardlowIntegrator). */
+class ShardlowDynamics : public SweepDynamics {
+public:
+    ShardlowDynamics(const OpenMM::System& system, const ShardlowIntegrator& integrator, ParallelExecutor& executor) :
+            SweepDynamics(system, integrator, executor) {}
+    void step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator);
+};
+
+/** Lowe-Andersen and the exact pair Ornstein-Uhlenbeck update (LoweAndersenIntegrator). */
+class LoweAndersenDynamics : public SweepDynamics {
+public:
+    LoweAndersenDynamics(const OpenMM::System& system, const LoweAndersenIntegrator& integrator, ParallelExecutor& executor) :
+            SweepDynamics(system, integrator, executor) {}
+    void step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator);
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,230 @@
+#include "openmmdpd/DPDThermostatForces.h"
+#include "openmmdpd/PairRandomBatch.h"
+#include "openmmdpd/SoftRepulsionKernel.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/internal/OSRngSeed.h"
+#include <algorithm>
+#include <sstream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+namespace {
+
+void zero(std::vector<Vec3>& v, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; i++)
+        v[i] = Vec3();
+}
+
+} // namespace
+
+DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
+                                         ParallelExecutor& executor, int cellMultiple) :
+        parameters(system, integrator), executor(executor),
+        search(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
+        random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
+    const int workers = executor.getNumWorkers();
+    workerPairs.resize(workers);
+    workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
+    if (workers > 1)
+        workerRandom.assign(workers, std::vector<Vec3>(system.getNumParticles()));
+}
+
+void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {
+    if (search.isPeriodic()) {
+        const double halfWidth = 0.5 * std::min(box[0][0], std::min(box[1][1], box[2][2]));
+        if (parameters.getMaxCutoff() > halfWidth) {
+            std::ostringstream message;
+            message << "the thermostat cutoff (" << parameters.getMaxCutoff() << " nm) must not exceed half the periodic box width ("
+                    << halfWidth << " nm)";
+            throw OpenMM::OpenMMException(message.str());
+        }
+    }
+}
+
+void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
+    checkCutoffFitsBox(box);
+    search.build(positions, box);
+    const int numCells = search.getNumCells();
+    cellPairStart.resize(numCells + 1);
+    // Cell ranges in order, concatenated in order: the same pairs in the same order for any
+    // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
+    // copied by one thread it would be a serial part of every step).  All in one dispatch:
+    // search; size the list; copy.
+    const int workers = executor.getNumWorkers();
+    executor.executePhases(3, [&](int w, int phase) {
+        size_t begin, end;
+        search.workerCells(w, workers, begin, end);
+        std::vector<PairGeometry>& out = workerPairs[w];
+        if (phase == 0) {
+            out.clear();
+            PairGeometry g;
+            for (size_t cell = begin; cell < end; cell++) {
+                cellPairStart[cell] = (int) out.size();  // local offset, made global below
+                search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
+                    if (parameters.pairGeometry(i, j, d, g))
+                        out.push_back(g);
+                });
+            }
+            return;
+        }
+        size_t offset = 0, total = 0;
+        for (int v = 0; v < workers; v++) {
+            offset += (v < w ? workerPairs[v].size() : 0);
+            total += workerPairs[v].size();
+        }
+        if (phase == 1) {
+            if (w == 0)
+                pairs.resize(total);
+            return;
+        }
+        for (size_t cell = begin; cell < end; cell++)
+            cellPairStart[cell] += (int) offset;
+        std::copy(out.begin(), out.end(), pairs.begin() + offset);
+    });
+    cellPairStart[numCells] = (int) pairs.size();
+}
+
+void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
+                                  std::vector<Vec3>& dissipative, std::vector<Vec3>& randomForce) {
+    const int workers = executor.getNumWorkers();
+    const size_t n = velocities.size();
+    const bool sum = (&dissipative == &randomForce);
+    const bool writeDissipative = sum || (terms & DissipativeTerm), writeRandom = !sum && (terms & RandomTerm);
+    if (workers == 1) {
+        if (writeDissipative)
+            zero(dissipative, 0, n);
+        if (writeRandom)
+            zero(randomForce, 0, n);
+        accumulateDPDForces(pairs, 0, pairs.size(), terms, velocities, random, step, dt, dissipative, randomForce);
+        return;
+    }
+    // Each worker sums its pair range into its own buffers; then each worker reduces a
+    // particle range over all buffers, always in worker order.  One dispatch.
+    executor.executePhases(2, [&](int w, int phase) {
+        if (phase == 1) {
+            if (writeDissipative)
+                reduceWorkerBuffers(w, workerDissipative, dissipative);
+            if (writeRandom)
+                reduceWorkerBuffers(w, workerRandom, randomForce);
+            return;
+        }
+        std::vector<Vec3>& ownDissipative = workerDissipative[w];
+        std::vector<Vec3>& ownRandom = sum ? workerDissipative[w] : workerRandom[w];
+        if (writeDissipative)
+            zero(ownDissipative, 0, n);
+        if (writeRandom)
+            zero(ownRandom, 0, n);
+        size_t begin, end;
+        executor.range(w, pairs.size(), begin, end);
+        accumulateDPDForces(pairs, begin, end, terms, velocities, random, step, dt, ownDissipative, ownRandom);
+    });
+}
+
+void DPDThermostatForces::reduceWorkerBuffers(int w, const std::vector<std::vector<Vec3>>& buffers, std::vector<Vec3>& out) const {
+    const int workers = executor.getNumWorkers();
+    size_t begin, end;
+    executor.range(w, out.size(), begin, end);
+    for (size_t i = begin; i < end; i++) {
+        Vec3 f;
+        for (int k = 0; k < workers; k++)
+            f += buffers[k][i];
+        out[i] = f;
+    }
+}
+
+void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vector<Vec3>& out) {
+    const int workers = executor.getNumWorkers();
+    auto accumulate = [&](size_t begin, size_t end, std::vector<Vec3>& f) {
+        for (size_t k = begin; k < end; k++) {
+            const Vec3 pairForce = pairs[k].e * c[k];
+            f[pairs[k].i] += pairForce;
+            f[pairs[k].j] -= pairForce;
+        }
+    };
+    if (workers == 1) {
+        zero(out, 0, out.size());
+        accumulate(0, pairs.size(), out);
+        return;
+    }
+    executor.executePhases(2, [&](int w, int phase) {
+        if (phase == 1) {
+            reduceWorkerBuffers(w, workerDissipative, out);
+            return;
+        }
+        zero(workerDissipative[w], 0, out.size());
+        size_t begin, end;
+        executor.range(w, pairs.size(), begin, end);
+        accumulate(begin, end, workerDissipative[w]);
+    });
+}
+
+void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<Vec3>& velocities,
+                                           long long step, double dt, const SoftRepulsionKernel* soft,
+                                           const std::vector<Vec3>* base, std::vector<Vec3>& out) {
+    checkCutoffFitsBox(box);
+    search.build(positions, box);
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const size_t slots = sortedIndex.size();
+    const int workers = executor.getNumWorkers();
+    const double invSqrtDt = 1 / std::sqrt(dt);
+    sortedVelocities.resize(slots);
+    if (slots < out.size())  // particles outside the thermostat get no pair force
+        for (size_t i = 0; i < out.size(); i++)
+            out[i] = (base != nullptr ? (*base)[i] : Vec3());
+    // Three phases in one dispatch (waking a thread pool costs tens of microseconds):
+    // velocities by slot; each worker's cells' pairs summed into its own buffer, by slot
+    // (neighbouring pairs touch neighbouring slots); the buffers added in worker order.
+    executor.executePhases(3, [&](int w, int phase) {
+        size_t begin, end;
+        if (phase == 0) {
+            executor.range(w, slots, begin, end);
+            for (size_t k = begin; k < end; k++)
+                sortedVelocities[k] = velocities[sortedIndex[k]];
+            return;
+        }
+        if (phase == 2) {
+            executor.range(w, slots, begin, end);
+            for (size_t k = begin; k < end; k++) {
+                const int i = sortedIndex[k];
+                Vec3 f = (base != nullptr ? (*base)[i] : Vec3());
+                for (int v = 0; v < workers; v++)
+                    f += workerDissipative[v][k];
+                out[i] = f;
+            }
+            return;
+        }
+        std::vector<Vec3>& slotForce = workerDissipative[w];
+        zero(slotForce, 0, slots);
+        search.workerCells(w, workers, begin, end);
+        PairGeometry g[PairSearch::MAX_BLOCK];
+        int slot[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
+        r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
+        double xi[PairSearch::MAX_BLOCK];
+        search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+            const int i = sortedIndex[p];
+            int n = 0;
+            for (int k = 0; k < count; k++) {
+                const int j = sortedIndex[q[k]];
+                if (parameters.pairGeometry(i, j, d[k], g[n])) {
+                    slot[n] = q[k];
+                    first[n] = i;
+                    second[n++] = j;
+                }
+            }
+            // The same numbers as random.gaussian(), drawn for the whole block at once.
+            PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
+            PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+            const Vec3 vp = sortedVelocities[p];
+            Vec3 forceP;
+            for (int k = 0; k < n; k++) {
+                Vec3 f = DPDPairForce::dissipative(g[k], vp - sortedVelocities[slot[k]]) + DPDPairForce::random(g[k], xi[k], invSqrtDt);
+                if (soft != nullptr)
+                    f += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
+                forceP += f;
+                slotForce[slot[k]] -= f;
+            }
+            slotForce[p] += forceP;
+        });
+    });
+}

@@ -1,0 +1,82 @@
+#include "openmmdpd/DPDVVDynamics.h"
+#include "ReferencePlatform.h"
+#include <cmath>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+DPDVVDynamics::DPDVVDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator, ParallelExecutor& executor) :
+        PairDynamics(system, integrator, executor, 1) {
+    const int n = system.getNumParticles();
+    for (auto* v : {&dissipative, &random, &predicted, &velocityNoFD, &newForce})
+        v->resize(n);
+}
+
+void DPDVVDynamics::computeInitialForce(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    computeForceInOnePass(context, integrator.getIntegrationForceGroups(), *data.velocities, data.stepCount,
+                          integrator.getStepSize(), force);
+    setCarriedForceValid();
+}
+
+void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    std::vector<Vec3>& r = *data.positions;
+    std::vector<Vec3>& v = *data.velocities;
+    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+    const size_t n = r.size();
+    const double dt = integrator.getStepSize();
+    const long long next = data.stepCount + 1;
+    if (!carriedForceValid(r, v))
+        computeInitialForce(context, integrator);
+
+    if (integrator.getVariant() == DPDVVIntegrator::GrootWarren) {
+        const double lambda = integrator.getLambda();
+        // r += dt v + dt^2/(2m) F ;  v~ = v + lambda dt F/m
+        movePositions(r, next, [&](size_t i) {
+            predicted[i] = v[i] + force[i] * (lambda * dt * invMass[i]);
+            return v[i] * dt + force[i] * (0.5 * dt * dt * invMass[i]);
+        });
+        // F(t+dt) = FC(r) + FD(r, v~) + FR(r)
+        computeForceInOnePass(context, integrator.getIntegrationForceGroups(), predicted, next, dt, newForce);
+        // v += dt/(2m) [F + F(t+dt)]
+        forEachParticle(n, [&](size_t i) {
+            v[i] += (force[i] + newForce[i]) * (0.5 * dt * invMass[i]);
+            force[i] = newForce[i];
+        });
+    }
+    else {
+        // (1) v += dt/(2m) (FC + FD + FR) ; (2) r += dt v
+        movePositions(r, next, [&](size_t i) {
+            v[i] += force[i] * (0.5 * dt * invMass[i]);
+            return v[i] * dt;
+        });
+        // (3) FC(r), FD(r, v), FR(r) with the half-step v
+        computeConservativeAndPairs(context, integrator.getIntegrationForceGroups(), next);
+        thermostat.compute(DissipativeTerm | RandomTerm, v, next, dt, dissipative, random);
+        // (4a) v° = v + dt/(2m) (FC + FR)
+        forEachParticle(n, [&](size_t i) {
+            velocityNoFD[i] = v[i] + (conservative[i] + random[i]) * (0.5 * dt * invMass[i]);
+        });
+        // (4b) v = v° + dt/(2m) FD ; (5) FD <- FD(r, v).  SC-VV repeats both until the
+        // kinetic energy settles; DPD-VV does them once.
+        const int iterations = (integrator.getVariant() == DPDVVIntegrator::SelfConsistent ? integrator.getMaxIterations() : 1);
+        double previous = 0;
+        for (int it = 0; it < iterations; it++) {
+            forEachParticle(n, [&](size_t i) {
+                v[i] = velocityNoFD[i] + dissipative[i] * (0.5 * dt * invMass[i]);
+            });
+            thermostat.compute(DissipativeTerm, v, next, dt, dissipative, random);
+            if (iterations > 1) {
+                const double kinetic = sumMV2(v);
+                if (it > 0 && std::fabs(kinetic - previous) <= integrator.getTolerance() * kinetic)
+                    break;
+                previous = kinetic;
+            }
+        }
+        forEachParticle(n, [&](size_t i) {
+            force[i] = conservative[i] + random[i] + dissipative[i];
+        });
+    }
+    finishStep(data, dt);
+}

@@ -1,0 +1,196 @@
+#include "openmmdpd/PairDynamics.h"
+#include "openmmdpd/SoftRepulsionKernel.h"
+#include "openmmdpd/internal/DPDSoftRepulsionForceImpl.h"
+#include "openmm/OpenMMException.h"
+#include "ReferencePlatform.h"
+#include <cmath>
+#include <istream>
+#include <ostream>
+#include <sstream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+PairDynamics::PairDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor,
+                           int cellMultiple) :
+        name(integrator.className()), executor(executor), thermostat(system, integrator, executor, cellMultiple),
+        carried(system.getNumParticles()), force(carried.force), conservative(system.getNumParticles()),
+        workerSums(executor.getNumWorkers()) {
+}
+
+void PairDynamics::checkFinite(const std::vector<Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,
+                               const char* what, long long step) const {
+    if (!indexedByParticle) {
+        DPDPlugin::checkFinite(values, particles, what, step, name);
+        return;
+    }
+    std::vector<Vec3> listed(particles.size());
+    for (size_t k = 0; k < particles.size(); k++)
+        listed[k] = values[particles[k]];
+    DPDPlugin::checkFinite(listed, particles, what, step, name);
+}
+
+void PairDynamics::finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const {
+    checkFinite(*data.velocities, "velocity", data.stepCount + 1);
+    // The Context's counters are ours to advance (Simulation.currentStep reads them).
+    data.stepCount++;
+    data.time += dt;
+}
+
+void PairDynamics::checkMoves(long long step) const {
+    double maxMove2 = 0;
+    for (double m : workerSums)
+        maxMove2 = std::max(maxMove2, m);
+    checkMove(maxMove2, thermostat.getParameters().getMaxCutoff(), step, name);
+}
+
+double PairDynamics::sumMV2(const std::vector<Vec3>& velocities) const {
+    const std::vector<double>& mass = thermostat.getParameters().getMasses();
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, velocities.size(), begin, end);
+        double sum = 0;
+        for (size_t i = begin; i < end; i++)
+            sum += mass[i] * velocities[i].dot(velocities[i]);
+        workerSums[w] = sum;
+    });
+    double total = 0;
+    for (double s : workerSums)
+        total += s;
+    return total;
+}
+
+double PairDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) const {
+    return 0.5 * sumMV2(*platformData(context).velocities);
+}
+
+SoftRepulsionKernel* PairDynamics::softForceToFuse(OpenMM::ContextImpl& context, int forceGroups) {
+    // Checked again only when the force's parameters or the force groups change.
+    if (fusedVersion >= 0 && forceGroups == fusedForceGroups && fusedSoftForce->getParametersVersion() == fusedVersion)
+        return fusedSoftForce;
+    fusedVersion = -1;
+    fusedIsAlone = false;
+    SoftRepulsionKernel* found = nullptr;
+    int count = 0;
+    for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
+        DPDSoftRepulsionForceImpl* soft = dynamic_cast<DPDSoftRepulsionForceImpl*>(impl);
+        if (soft != nullptr && (forceGroups & (1 << soft->getOwner().getForceGroup())) != 0) {
+            found = dynamic_cast<SoftRepulsionKernel*>(&soft->getKernel().getImpl());
+            count++;
+        }
+    }
+    if (count != 1 || found == nullptr || found->isPeriodic() != thermostat.getSearch().isPeriodic())
+        return nullptr;
+    // Every pair the force acts on must be in the thermostat's list: every particle takes
+    // part in the thermostat, and no force cutoff exceeds the thermostat cutoff of the same
+    // pair (checked over the pairs of (force type, thermostat type) classes).
+    const DPDPairParameters& parameters = thermostat.getParameters();
+    const TypePairTable& forceTable = found->getTable();
+    const TypePairTable& thermostatTable = parameters.getTable();
+    int othersInGroups = 0;
+    for (OpenMM::ForceImpl* impl : context.getForceImpls())
+        if ((forceGroups & (1 << impl->getOwner().getForceGroup())) != 0 && dynamic_cast<DPDSoftRepulsionForceImpl*>(impl) == nullptr)
+            othersInGroups++;
+    std::vector<std::pair<int, int>> classes;
+    for (int i = 0; i < parameters.getNumParticles(); i++) {
+        if (!parameters.getActive()[i])
+            return nullptr;
+        const std::pair<int, int> c(forceTable.typeOf(i), thermostatTable.typeOf(i));
+        if (std::find(classes.begin(), classes.end(), c) == classes.end())
+            classes.push_back(c);
+    }
+    for (const auto& a : classes)
+        for (const auto& b : classes)
+            if (forceTable.cutoff(forceTable.indexOfTypes(a.first, b.first)) >
+                thermostatTable.cutoff(thermostatTable.indexOfTypes(a.second, b.second)))
+                return nullptr;
+    fusedSoftForce = found;
+    fusedIsAlone = (othersInGroups == 0);
+    fusedForceGroups = forceGroups;
+    fusedVersion = found->getParametersVersion();
+    return found;
+}
+
+void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    softForceFromPairs = nullptr;
+    conservativeIsZero = false;
+    computeConservative(context, forceGroups);
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    thermostat.updatePairs(*data.positions, box);
+    if (softForceFromPairs != nullptr) {
+        const SoftRepulsionKernel& soft = *softForceFromPairs;
+        const std::vector<PairGeometry>& pairs = thermostat.getPairs();
+        const DPDPairParameters& parameters = thermostat.getParameters();
+        pairSoftForce.resize(pairs.size());
+        softForce.resize(conservative.size());
+        forEachParticle(pairs.size(), [&](size_t k) {
+            const PairGeometry& p = pairs[k];
+            const double r = parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
+            pairSoftForce[k] = soft.pairForce(p.i, p.j, r);
+        });
+        thermostat.sumAlongPairs(pairSoftForce, softForce);
+        forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += softForce[i]; });
+    }
+    checkFinite(conservative, "conservative force", step);
+}
+
+void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int forceGroups, const std::vector<Vec3>& velocities,
+                                         long long step, double dt, std::vector<Vec3>& out) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    softForceFromPairs = nullptr;
+    conservativeIsZero = false;
+    computeConservative(context, forceGroups);
+    if (!conservativeIsZero)
+        checkFinite(conservative, "conservative force", step);
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    thermostat.computeInOnePass(*data.positions, box, velocities, step, dt, softForceFromPairs,
+                                conservativeIsZero ? nullptr : &conservative, out);
+}
+
+void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {
+    SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
+    if (soft != nullptr && fusedIsAlone) {
+        // Nothing else to evaluate: skip the Context's force evaluation (zeroing and summing
+        // its buffers cost 5 % of a GW step at N = 32000).
+        std::fill(conservative.begin(), conservative.end(), Vec3());
+        conservativeIsZero = true;
+        softForceFromPairs = soft;
+        return;
+    }
+    if (soft != nullptr) {
+        soft->setDeferred(true);
+        try {
+            context.calcForcesAndEnergy(true, false, forceGroups);
+        }
+        catch (...) {
+            soft->setDeferred(false);
+            throw;
+        }
+        soft->setDeferred(false);
+        softForceFromPairs = soft;
+    }
+    else
+        context.calcForcesAndEnergy(true, false, forceGroups);
+    conservative = *platformData(context).forces;
+}
+
+// The checkpoint holds what the platform's own checkpoint does not: the seed actually in
+// use and the force carried into the next step, in binary so a continuation is bit-exact.
+// (The pair list is a function of the positions alone, so it needs no saving.)
+void PairDynamics::createCheckpoint(std::ostream& stream) const {
+    carried.write(stream, thermostat.getSeed());
+    saveExtraState(stream);
+}
+
+void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    const uint32_t seed = carried.read(stream, *data.positions, *data.velocities, name);
+    loadExtraState(stream);
+    if (!stream)
+        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+    thermostat.setSeed(seed);
+    stateRestored();
+}

@@ -1,0 +1,68 @@
+#include "openmmdpd/PairRandomBatch.h"
+#include <cstring>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define OPENMMDPD_PHILOX_AVX2
+#endif
+
+using namespace DPDPlugin;
+using Counter = r123::Philox4x32::ctr_type;
+
+namespace {
+
+#ifdef OPENMMDPD_PHILOX_AVX2
+// Philox4x32-10 as Random123 defines it, for four counters at once: each 32-bit word of
+// the four counters sits in the low half of a 64-bit lane, where _mm256_mul_epu32 forms
+// the full 64-bit product that the round splits into its high and low words.
+__attribute__((target("avx2"))) void philoxFour(uint32_t seed, uint32_t stream, long long step, const int* i, const int* j,
+                                                Counter* out) {
+    const __m256i multiplier0 = _mm256_set1_epi64x(PHILOX_M4x32_0), multiplier1 = _mm256_set1_epi64x(PHILOX_M4x32_1);
+    const __m256i low = _mm256_set1_epi64x(0xffffffffu);
+    const __m128i a = _mm_loadu_si128((const __m128i*) i), b = _mm_loadu_si128((const __m128i*) j);
+    const uint64_t s = (uint64_t) step;
+    __m256i c0 = _mm256_set1_epi64x((uint32_t) s), c1 = _mm256_set1_epi64x((uint32_t) (s >> 32));
+    __m256i c2 = _mm256_cvtepu32_epi64(_mm_min_epi32(a, b)), c3 = _mm256_cvtepu32_epi64(_mm_max_epi32(a, b));
+    uint32_t key0 = seed, key1 = stream;
+    for (int round = 0; round < 10; round++) {
+        if (round > 0) {
+            key0 += PHILOX_W32_0;
+            key1 += PHILOX_W32_1;
+        }
+        const __m256i product0 = _mm256_mul_epu32(c0, multiplier0), product1 = _mm256_mul_epu32(c2, multiplier1);
+        const __m256i next0 = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(product1, 32), c1), _mm256_set1_epi64x(key0));
+        const __m256i next2 = _mm256_xor_si256(_mm256_xor_si256(_mm256_srli_epi64(product0, 32), c3), _mm256_set1_epi64x(key1));
+        c1 = _mm256_and_si256(product1, low);
+        c3 = _mm256_and_si256(product0, low);
+        c0 = next0;
+        c2 = next2;
+    }
+    // Words (0, 1) and (2, 3) of each counter as one 64-bit value each.
+    alignas(32) uint64_t words01[4], words23[4];
+    _mm256_store_si256((__m256i*) words01, _mm256_or_si256(c0, _mm256_slli_epi64(c1, 32)));
+    _mm256_store_si256((__m256i*) words23, _mm256_or_si256(c2, _mm256_slli_epi64(c3, 32)));
+    for (int lane = 0; lane < 4; lane++) {
+        std::memcpy(&out[lane].v[0], &words01[lane], 8);
+        std::memcpy(&out[lane].v[2], &words23[lane], 8);
+    }
+}
+
+bool haveAVX2() {
+    static const bool have = __builtin_cpu_supports("avx2");
+    return have;
+}
+#endif
+
+} // namespace
+
+void PairRandomBatch::bits(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j, int n,
+                           Counter* out) {
+    int k = 0;
+#ifdef OPENMMDPD_PHILOX_AVX2
+    if (haveAVX2())
+        for (; k + 4 <= n; k += 4)
+            philoxFour(random.getSeed(), (uint32_t) stream, step, i + k, j + k, out + k);
+#endif
+    for (; k < n; k++)
+        out[k] = random.bits(stream, step, i[k], j[k]);
+}

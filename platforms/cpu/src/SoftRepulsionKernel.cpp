@@ -1,0 +1,102 @@
+#include "openmmdpd/SoftRepulsionKernel.h"
+#include "openmm/internal/ContextImpl.h"
+#include "ReferencePlatform.h"
+#include <algorithm>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+void SoftRepulsionKernel::initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) {
+    numParticles = system.getNumParticles();
+    periodic = force.usesPeriodicBoundaryConditions();
+    exclusions.assign(numParticles, std::vector<int>());
+    for (int k = 0; k < force.getNumExclusions(); k++) {
+        int p1, p2;
+        force.getExclusionParticles(k, p1, p2);
+        exclusions[p1].push_back(p2);
+        exclusions[p2].push_back(p1);
+    }
+    for (auto& partners : exclusions)
+        std::sort(partners.begin(), partners.end());
+    hasExclusions = (force.getNumExclusions() > 0);
+    const int workers = executor->getNumWorkers();
+    workerEnergy.assign(workers, 0.0);
+    workerForces.assign(workers, std::vector<Vec3>(numParticles));
+    setParameters(force);
+}
+
+void SoftRepulsionKernel::copyParametersToContext(OpenMM::ContextImpl&, const DPDSoftRepulsionForce& force) {
+    setParameters(force);
+}
+
+void SoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force) {
+    std::vector<TypePairTable::Entry> entries(force.getNumTypePairs());
+    for (int k = 0; k < force.getNumTypePairs(); k++) {
+        TypePairTable::Entry& e = entries[k];
+        force.getTypePairParameters(k, e.type1, e.type2, e.value, e.cutoff);
+    }
+    table.reset(new TypePairTable(numParticles, force.getParticleTypes(), force.getDefaultA(), force.getDefaultCutoff(), entries));
+    search.reset(new PairSearch(std::vector<bool>(numParticles, true), table->getMaxCutoff(), periodic));
+    version++;
+}
+
+double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+    if (deferred)
+        return 0.0;
+    OpenMM::ReferencePlatform::PlatformData& data = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    std::vector<Vec3>& forces = *data.forces;
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    search->build(*data.positions, box);
+    const std::vector<int>& sortedIndex = search->getSortedIndex();
+    const size_t slots = sortedIndex.size();
+    sortedType.resize(slots);
+    for (size_t k = 0; k < slots; k++)
+        sortedType[k] = table->typeOf(sortedIndex[k]);
+    const int workers = executor->getNumWorkers();
+    // Each worker sums its cells' pairs into its own buffer, by sorted slot (neighbouring
+    // pairs touch neighbouring slots); the buffers are then added to the Context's forces
+    // in worker order.
+    executor->execute([&](int w) {
+        std::vector<Vec3>& out = workerForces[w];
+        std::fill(out.begin(), out.begin() + slots, Vec3());
+        double energy = 0;
+        size_t begin, end;
+        search->workerCells(w, workers, begin, end);
+        search->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+            const int typeP = sortedType[p];
+            Vec3 forceP;  // summed here, not in out[p], to keep the loop free of a store-load chain
+            for (int k = 0; k < count; k++) {
+                const int t = table->indexOfTypes(typeP, sortedType[q[k]]);
+                const double r2 = d[k].dot(d[k]);
+                if (r2 >= table->cutoff2(t) || (hasExclusions && excluded(sortedIndex[p], sortedIndex[q[k]])))
+                    continue;
+                const double a = table->value(t), r = std::sqrt(r2);
+                if (r2 > 0) {
+                    const Vec3 f = d[k] * (SoftRepulsionPair::force(a, table->inverseCutoff(t), r) / r);
+                    forceP += f;
+                    out[q[k]] -= f;
+                }
+                if (includeEnergy)
+                    energy += SoftRepulsionPair::energy(a, table->cutoff(t), r);
+            }
+            out[p] += forceP;
+        });
+        workerEnergy[w] = energy;
+    });
+    if (includeForces)
+        executor->execute([&](int w) {
+            size_t begin, end;
+            executor->range(w, slots, begin, end);
+            for (size_t k = begin; k < end; k++) {
+                Vec3 f;
+                for (int v = 0; v < workers; v++)
+                    f += workerForces[v][k];
+                forces[sortedIndex[k]] += f;
+            }
+        });
+    double energy = 0;
+    for (double e : workerEnergy)
+        energy += e;
+    return includeEnergy ? energy : 0.0;
+}

@@ -1,0 +1,403 @@
+#include "openmmdpd/StaggeredDynamics.h"
+#include "openmmdpd/PairEvaluators.h"
+#include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmm/CustomBondForce.h"
+#include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/Platform.h"
+#include "openmm/System.h"
+#include <map>
+#include "openmm/State.h"
+#include "openmm/serialization/XmlSerializer.h"
+#include <algorithm>
+#include <istream>
+#include <ostream>
+#include <sstream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator, ParallelExecutor& executor) :
+        // The Lowe base sweeps pairs sequentially, in the colour order LoweAndersenIntegrator uses.
+        PairDynamics(system, integrator, executor, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
+        baseScheme(integrator.getBaseScheme()), polymerGroups(0), pairSweep(executor), fastContextTried(false),
+        numSubSteps(integrator.getNumSubSteps()) {
+    const int n = system.getNumParticles();
+    for (auto* v : {&predicted, &newForce})
+        v->resize(n);
+    updatePolymer(system, integrator);
+}
+
+void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) {
+    polymer = integrator.findPolymerParticles(system);
+    polymerGroups = integrator.getFastForceGroups();
+    polymerExplicit = integrator.getPolymerParticles();
+    polymerIndex.assign(system.getNumParticles(), -1);
+    for (size_t k = 0; k < polymer.size(); k++)
+        polymerIndex[polymer[k]] = (int) k;
+    for (auto* v : {&fastForce, &newFastForce, &startPositions, &drivingForce, &fastPositions})
+        v->assign(polymer.size(), Vec3());
+    fastContext.reset();
+    fastIntegrator.reset();
+    fastSystem.reset();
+    slowContext.reset();
+    slowIntegrator.reset();
+    slowSystem.reset();
+    fastContextTried = false;
+}
+
+namespace {
+
+/** A copy of `force` over the polymer particles only (index i becomes index[i]), or null. */
+OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int>& index) {
+    auto inPolymer = [&](int i) { return index[i] >= 0; };
+    if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force)) {
+        std::unique_ptr<OpenMM::HarmonicBondForce> copy(new OpenMM::HarmonicBondForce());
+        for (int k = 0; k < bond->getNumBonds(); k++) {
+            int i, j;
+            double length, kb;
+            bond->getBondParameters(k, i, j, length, kb);
+            if (!inPolymer(i) || !inPolymer(j))
+                return nullptr;
+            copy->addBond(index[i], index[j], length, kb);
+        }
+        copy->setUsesPeriodicBoundaryConditions(bond->usesPeriodicBoundaryConditions());
+        return copy.release();
+    }
+    if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force)) {
+        if (bond->getNumEnergyParameterDerivatives() > 0)
+            return nullptr;
+        std::unique_ptr<OpenMM::CustomBondForce> copy(new OpenMM::CustomBondForce(bond->getEnergyFunction()));
+        for (int p = 0; p < bond->getNumPerBondParameters(); p++)
+            copy->addPerBondParameter(bond->getPerBondParameterName(p));
+        for (int p = 0; p < bond->getNumGlobalParameters(); p++)
+            copy->addGlobalParameter(bond->getGlobalParameterName(p), bond->getGlobalParameterDefaultValue(p));
+        std::vector<double> parameters;
+        for (int k = 0; k < bond->getNumBonds(); k++) {
+            int i, j;
+            bond->getBondParameters(k, i, j, parameters);
+            if (!inPolymer(i) || !inPolymer(j))
+                return nullptr;
+            copy->addBond(index[i], index[j], parameters);
+        }
+        copy->setUsesPeriodicBoundaryConditions(bond->usesPeriodicBoundaryConditions());
+        return copy.release();
+    }
+    if (auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force)) {
+        // Only interaction groups confine it to the polymer; a long-range correction
+        // depends on the whole System.
+        if (nonbonded->getNumInteractionGroups() == 0 || nonbonded->getUseLongRangeCorrection() ||
+            nonbonded->getNumEnergyParameterDerivatives() > 0)
+            return nullptr;
+        std::unique_ptr<OpenMM::CustomNonbondedForce> copy(new OpenMM::CustomNonbondedForce(nonbonded->getEnergyFunction()));
+        for (int p = 0; p < nonbonded->getNumPerParticleParameters(); p++)
+            copy->addPerParticleParameter(nonbonded->getPerParticleParameterName(p));
+        for (int p = 0; p < nonbonded->getNumGlobalParameters(); p++)
+            copy->addGlobalParameter(nonbonded->getGlobalParameterName(p), nonbonded->getGlobalParameterDefaultValue(p));
+        for (int f = 0; f < nonbonded->getNumTabulatedFunctions(); f++)
+            copy->addTabulatedFunction(nonbonded->getTabulatedFunctionName(f),
+                                       OpenMM::XmlSerializer::clone<OpenMM::TabulatedFunction>(nonbonded->getTabulatedFunction(f)));
+        std::vector<int> particles;
+        for (size_t i = 0; i < index.size(); i++)
+            if (index[i] >= 0)
+                particles.push_back((int) i);  // in polymer order: index[particles[k]] == k
+        std::vector<double> parameters;
+        for (int i : particles) {
+            nonbonded->getParticleParameters(i, parameters);
+            copy->addParticle(parameters);
+        }
+        for (int k = 0; k < nonbonded->getNumExclusions(); k++) {
+            int i, j;
+            nonbonded->getExclusionParticles(k, i, j);
+            if (inPolymer(i) && inPolymer(j))
+                copy->addExclusion(index[i], index[j]);
+        }
+        // One group of every polymer particle with every other is no restriction in the copy:
+        // leave it out, so that OpenMM uses its neighbour list rather than all pairs.
+        if (nonbonded->getNumInteractionGroups() == 1) {
+            std::set<int> set1, set2;
+            nonbonded->getInteractionGroupParameters(0, set1, set2);
+            if (set1 == set2 && set1.size() == particles.size() &&
+                std::all_of(set1.begin(), set1.end(), [&](int i) { return inPolymer(i); }))
+                goto groupsDone;
+        }
+        for (int g = 0; g < nonbonded->getNumInteractionGroups(); g++) {
+            std::set<int> set1, set2, mapped1, mapped2;
+            nonbonded->getInteractionGroupParameters(g, set1, set2);
+            for (int i : set1) {
+                if (!inPolymer(i))
+                    return nullptr;
+                mapped1.insert(index[i]);
+            }
+            for (int i : set2) {
+                if (!inPolymer(i))
+                    return nullptr;
+                mapped2.insert(index[i]);
+            }
+            copy->addInteractionGroup(mapped1, mapped2);
+        }
+    groupsDone:
+        copy->setNonbondedMethod(nonbonded->getNonbondedMethod());
+        copy->setCutoffDistance(nonbonded->getCutoffDistance());
+        copy->setUseSwitchingFunction(nonbonded->getUseSwitchingFunction());
+        copy->setSwitchingDistance(nonbonded->getSwitchingDistance());
+        return copy.release();
+    }
+    return nullptr;
+}
+
+/** The platform properties of a Context (threads, determinism, ...), for Contexts beside it. */
+std::map<std::string, std::string> contextProperties(OpenMM::ContextImpl& context) {
+    std::map<std::string, std::string> properties;
+    const OpenMM::Platform& platform = context.getPlatform();
+    for (const std::string& name : platform.getPropertyNames())
+        properties[name] = platform.getPropertyValue(context.getOwner(), name);
+    return properties;
+}
+
+} // namespace
+
+void StaggeredDynamics::makeFastContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    fastContextTried = true;
+    const OpenMM::System& system = context.getSystem();
+    std::unique_ptr<OpenMM::System> reduced(new OpenMM::System());
+    for (int p : polymer)
+        reduced->addParticle(system.getParticleMass(p));
+    Vec3 box[3];
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    reduced->setDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    for (int f = 0; f < system.getNumForces(); f++) {
+        const OpenMM::Force& force = system.getForce(f);
+        if ((integrator.getFastForceGroups() & (1 << force.getForceGroup())) == 0)
+            continue;
+        OpenMM::Force* copy = copyOverPolymer(force, polymerIndex);
+        if (copy == nullptr)
+            return;  // the full Context evaluates the fast groups
+        reduced->addForce(copy);
+    }
+    if (reduced->getNumForces() == 0)
+        return;
+    fastSystem = std::move(reduced);
+    fastIntegrator.reset(new OpenMM::VerletIntegrator(1.0));
+    fastContext.reset(new OpenMM::Context(*fastSystem, *fastIntegrator, context.getPlatform(), contextProperties(context)));
+    fastContext->getState(0).getPeriodicBoxVectors(fastBox[0], fastBox[1], fastBox[2]);
+    makeSlowContext(context, integrator);
+}
+
+void StaggeredDynamics::makeSlowContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    std::unique_ptr<OpenMM::System> system(OpenMM::XmlSerializer::clone<OpenMM::System>(context.getSystem()));
+    // A soft force that the thermostat pairs can carry is added from them (as at K = 1), not
+    // searched again here.
+    slowOmitsSoftForce = (softForceToFuse(context, slowGroups(integrator)) != nullptr);
+    for (int f = system->getNumForces() - 1; f >= 0; f--)
+        if ((integrator.getFastForceGroups() & (1 << system->getForce(f).getForceGroup())) != 0 ||
+            (slowOmitsSoftForce && dynamic_cast<const DPDSoftRepulsionForce*>(&system->getForce(f)) != nullptr))
+            system->removeForce(f);
+    slowContext.reset();
+    if (system->getNumForces() == 0)
+        return;  // nothing left for it: the main Context's path skips the evaluation
+    slowSystem = std::move(system);
+    slowIntegrator.reset(new OpenMM::VerletIntegrator(1.0));
+    slowContext.reset(new OpenMM::Context(*slowSystem, *slowIntegrator, context.getPlatform(), contextProperties(context)));
+    slowContext->getState(0).getPeriodicBoxVectors(slowBox[0], slowBox[1], slowBox[2]);
+}
+
+void StaggeredDynamics::syncContext(OpenMM::ContextImpl& context, OpenMM::Context& target, Vec3* box) {
+    Vec3 current[3];
+    context.getPeriodicBoxVectors(current[0], current[1], current[2]);
+    if (current[0] != box[0] || current[1] != box[1] || current[2] != box[2]) {
+        target.setPeriodicBoxVectors(current[0], current[1], current[2]);
+        std::copy(current, current + 3, box);
+    }
+    const std::map<std::string, double>& targetParameters = target.getParameters();
+    for (const auto& parameter : context.getParameters()) {
+        auto it = targetParameters.find(parameter.first);
+        if (it != targetParameters.end() && it->second != parameter.second)
+            target.setParameter(parameter.first, parameter.second);
+    }
+}
+
+void StaggeredDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {
+    if (!slowContext || numSubSteps == 1) {
+        PairDynamics::computeConservative(context, forceGroups);
+        return;
+    }
+    if (slowOmitsSoftForce) {
+        SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
+        if (soft == nullptr) {
+            // Its parameters changed so that the pairs no longer carry it: the main Context
+            // evaluates every slow force (slower, not wrong).
+            PairDynamics::computeConservative(context, forceGroups);
+            return;
+        }
+        addSoftForceFromPairs(soft);
+    }
+    syncContext(context, *slowContext, slowBox);
+    slowContext->setPositions(*platformData(context).positions);
+    conservative = slowContext->getState(OpenMM::State::Forces, false, forceGroups).getForces();
+}
+
+void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
+                                         std::vector<Vec3>& fast, bool checkSolvent) {
+    // K = 1 evaluates them in the full Context, as the base integrators do.
+    if (fastContext && integrator.getNumSubSteps() > 1) {
+        const std::vector<Vec3>& r = *platformData(context).positions;
+        for (size_t k = 0; k < polymer.size(); k++)
+            fastPositions[k] = r[polymer[k]];
+        syncContext(context, *fastContext, fastBox);
+        fastContext->setPositions(fastPositions);
+        fast = fastContext->getState(OpenMM::State::Forces).getForces();
+        checkFinite(fast, polymer, false, "fast force", step);
+        return;
+    }
+    context.calcForcesAndEnergy(true, false, integrator.getFastForceGroups());
+    const std::vector<Vec3>& f = *platformData(context).forces;
+    for (size_t k = 0; k < polymer.size(); k++)
+        fast[k] = f[polymer[k]];
+    checkFinite(fast, polymer, false, "fast force", step);
+    if (checkSolvent)
+        for (size_t i = 0; i < f.size(); i++)
+            if (polymerIndex[i] < 0 && f[i] != Vec3()) {
+                std::ostringstream message;
+                message << name << ": the fast forces act on particle " << i << ", which is not a polymer particle; "
+                        << "polymer particles are the only ones sub-cycled, so add it to the polymer particles, or move "
+                        << "that force out of the fast force groups";
+                throw OpenMM::OpenMMException(message.str());
+            }
+}
+
+void StaggeredDynamics::computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    const long long step = data.stepCount;
+    if (baseScheme == StaggeredDPDIntegrator::VelocityVerlet)
+        computeForceInOnePass(context, slowGroups(integrator), *data.velocities, step, integrator.getStepSize(), force);
+    else {
+        computeConservativeAndPairs(context, slowGroups(integrator), step);
+        force = conservative;
+    }
+    computeFastForce(context, integrator, step, fastForce, true);
+    setCarriedForceValid();
+}
+
+void StaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    if (integrator.getBaseScheme() != baseScheme)
+        throw OpenMM::OpenMMException("StaggeredDPDIntegrator: the base scheme changed after the Context was created; call "
+                                      "Context.reinitialize(True) after setBaseScheme()");
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    std::vector<Vec3>& r = *data.positions;
+    std::vector<Vec3>& v = *data.velocities;
+    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+    const size_t n = r.size();
+    const int K = integrator.getNumSubSteps();
+    numSubSteps = K;
+    const double Dt = integrator.getStepSize(), dt = Dt / K;
+    const long long current = data.stepCount, next = current + 1;
+    bool valid = carriedForceValid(r, v);
+    if (integrator.getFastForceGroups() != polymerGroups || integrator.getPolymerParticles() != polymerExplicit) {
+        updatePolymer(context.getSystem(), integrator);
+        valid = false;
+    }
+    if (K > 1 && !fastContextTried) {
+        fastContextTried = true;
+        // Only a cost: if a force cannot be copied (no serialization proxy, ...), the main
+        // Context evaluates everything.
+        try {
+            makeFastContext(context, integrator);
+        }
+        catch (const OpenMM::OpenMMException&) {
+            fastContext.reset();
+            slowContext.reset();
+        }
+    }
+    if (!valid)
+        computeInitialForce(context, integrator);
+
+    const bool verlet = (baseScheme == StaggeredDPDIntegrator::VelocityVerlet);
+    const double lambda = integrator.getLambda(), mu = integrator.getMu(), a = integrator.getA(), b = integrator.getB();
+    const size_t numPolymer = polymer.size();
+    for (size_t k = 0; k < numPolymer; k++)
+        startPositions[k] = r[polymer[k]];
+
+    // Solvent: r += Dt u + Dt^2/(2m) F.  Polymer: r^ = r + Dt u + Dt^2/(2m) (F + Fp),
+    // evaluated at r^^ = mu r + (1 - mu) r^.  Velocity-Verlet base: the predicted velocities
+    // u^ = u + lambda Dt F/m (solvent), u^^ = a u + (1 - a) (u + lambda Dt (F + Fp)/m) (polymer).
+    movePositions(r, next, [&](size_t i) {
+        const int k = polymerIndex[i];
+        Vec3 f = force[i];
+        if (k >= 0)
+            f += fastForce[k];
+        if (verlet) {
+            predicted[i] = v[i] + f * (lambda * Dt * invMass[i]);
+            if (k >= 0)
+                predicted[i] = v[i] * a + predicted[i] * (1 - a);
+        }
+        const Vec3 move = v[i] * Dt + f * (0.5 * Dt * Dt * invMass[i]);
+        return (k >= 0 ? move * (1 - mu) : move);
+    });
+
+    // F^: the one slow evaluation (and pair search) of the outer step.
+    if (verlet)
+        computeForceInOnePass(context, slowGroups(integrator), predicted, next, Dt, newForce);
+    else {
+        computeConservativeAndPairs(context, slowGroups(integrator), next);
+        newForce = conservative;
+    }
+
+    // Solvent: u += Dt/(2m) (F + F^).
+    forEachParticle(n, [&](size_t i) {
+        if (polymerIndex[i] < 0)
+            v[i] += (force[i] + newForce[i]) * (0.5 * Dt * invMass[i]);
+    });
+
+    // Polymer: K sub-steps from the start of the outer step, driven by F^^ = b F + (1 - b) F^
+    // and the fast force, which alone is re-evaluated.
+    for (size_t k = 0; k < numPolymer; k++) {
+        const int p = polymer[k];
+        r[p] = startPositions[k];
+        drivingForce[k] = force[p] * b + newForce[p] * (1 - b);
+    }
+    const bool weighted = integrator.getWeighted();
+    for (int s = 0; s < K; s++) {
+        moveParticles(polymer, r, next, [&](size_t k) {
+            const int p = polymer[k];
+            return v[p] * dt + (drivingForce[k] + fastForce[k]) * (0.5 * dt * dt * invMass[p]);
+        });
+        computeFastForce(context, integrator, next, newFastForce, false);
+        // The slow force at the ends of the sub-step: linear in time from F to F^
+        // (weighted), or F and F^ (non-weighted).
+        const double oldF = (weighted ? (double) (K - s) / K : 1.0), oldNew = (weighted ? (double) s / K : 0.0);
+        const double newF = (weighted ? (double) (K - s - 1) / K : 0.0), newNew = (weighted ? (double) (s + 1) / K : 1.0);
+        for (size_t k = 0; k < numPolymer; k++) {
+            const int p = polymer[k];
+            const Vec3 slowOld = force[p] * oldF + newForce[p] * oldNew;
+            const Vec3 slowNew = force[p] * newF + newForce[p] * newNew;
+            v[p] += ((slowOld + fastForce[k]) + (slowNew + newFastForce[k])) * (0.5 * dt * invMass[p]);
+            fastForce[k] = newFastForce[k];
+        }
+    }
+    force.swap(newForce);
+
+    // Lowe base: the pair thermalisation, once per outer step, over the pairs just found.
+    if (!verlet) {
+        pairSweep.prepare(thermostat);
+        pairSweep.run(thermostat, v, LowePairUpdate{thermostat.getRandom(), current, Dt, thermostat.getParameters().getKT(), invMass},
+                      false);
+    }
+    finishStep(data, Dt);
+}
+
+// After the shared part (seed, validity, slow force): the fast force on each polymer particle.
+void StaggeredDynamics::saveExtraState(std::ostream& stream) const {
+    const uint64_t count = fastForce.size();
+    stream.write((const char*) &count, sizeof(count));
+    stream.write((const char*) fastForce.data(), count * sizeof(Vec3));
+}
+
+void StaggeredDynamics::loadExtraState(std::istream& stream) {
+    uint64_t count;
+    stream.read((char*) &count, sizeof(count));
+    if (!stream || count != fastForce.size())
+        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System's polymer particles");
+    stream.read((char*) fastForce.data(), count * sizeof(Vec3));
+}

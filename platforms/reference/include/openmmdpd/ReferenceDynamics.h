@@ -1,0 +1,67 @@
+#ifndef OPENMMDPD_REFERENCEDYNAMICS_H_
+#define OPENMMDPD_REFERENCEDYNAMICS_H_
+
+#include "openmmdpd/PairEvaluators.h"
+#include "openmmdpd/PairParameters.h"
+#include "openmmdpd/PairRandom.h"
+#include "openmmdpd/ReferencePairList.h"
+#include "openmmdpd/StepState.h"
+#include "openmm/internal/ContextImpl.h"
+#include "ReferencePlatform.h"
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace DPDPlugin {
+
+/**
+ * What the Reference platform's update rules share: the thermostat parameters, the pair
+ * random numbers, the pairs at the current positions, the conservative force from the
+ * Context, the force carried from one step to the next and its checkpoint.  Plain loops,
+ * written to be read next to algorithms.md; a subclass writes one update rule in
+ * step(context, integrator) of its integrator class.
+ */
+class ReferenceDynamics {
+public:
+    /** @param cellMultiple  see ReferencePairList (3 for the sequential sweeps) */
+    ReferenceDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, int cellMultiple);
+    virtual ~ReferenceDynamics() {}
+    double computeKineticEnergy(OpenMM::ContextImpl& context) const;
+    void invalidateForces() { carried.invalidate(); }
+    void createCheckpoint(std::ostream& stream) const;
+    void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
+
+protected:
+    /** What a subclass carries beyond `carried` (written after it in a checkpoint). */
+    virtual void saveExtraState(std::ostream& stream) const {}
+    virtual void loadExtraState(std::istream& stream) {}
+    static OpenMM::ReferencePlatform::PlatformData& data(OpenMM::ContextImpl& context) {
+        return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    }
+    /** The thermostat pairs within their cutoffs at the current positions, in the sweep order. */
+    std::vector<PairGeometry> findPairs(OpenMM::ContextImpl& context) const;
+    /** The force of the given force groups at the current positions (from the Context). */
+    std::vector<OpenMM::Vec3> conservativeForce(OpenMM::ContextImpl& context, int forceGroups, long long step) const;
+    /** out += FD_ij(v) (e.g. dissipative) and/or FR_ij, over the pairs; the numbers keyed by step. */
+    void addDissipative(const std::vector<PairGeometry>& pairs, const std::vector<OpenMM::Vec3>& v,
+                        std::vector<OpenMM::Vec3>& out) const;
+    void addRandom(const std::vector<PairGeometry>& pairs, long long step, double dt, std::vector<OpenMM::Vec3>& out) const;
+    /** r += move[i] for every particle, then the blow-up checks of a step ending at `step`. */
+    void movePositions(std::vector<OpenMM::Vec3>& r, const std::vector<OpenMM::Vec3>& move, long long step) const;
+    /** sum m v^2. */
+    double sumMV2(const std::vector<OpenMM::Vec3>& v) const;
+    /** End a step: the velocities must be finite; the Context's step count and time advance. */
+    void finishStep(OpenMM::ContextImpl& context, double dt) const;
+
+    const std::string name;
+    const DPDPairParameters parameters;
+    PairRandom random;
+    CarriedForce carried;
+
+private:
+    ReferencePairList pairList;
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,95 @@
+#include "openmmdpd/ReferenceDynamics.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/internal/OSRngSeed.h"
+#include <algorithm>
+#include <cmath>
+#include <istream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+ReferenceDynamics::ReferenceDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, int cellMultiple) :
+        name(integrator.className()), parameters(system, integrator),
+        random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()),
+        carried(system.getNumParticles()),
+        pairList(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple) {
+}
+
+std::vector<PairGeometry> ReferenceDynamics::findPairs(OpenMM::ContextImpl& context) const {
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    if (context.getSystem().usesPeriodicBoundaryConditions() &&
+        parameters.getMaxCutoff() > 0.5 * std::min(box[0][0], std::min(box[1][1], box[2][2])))
+        throw OpenMM::OpenMMException(name + ": the thermostat cutoff must not exceed half the periodic box width");
+    std::vector<PairGeometry> pairs;
+    PairGeometry g;
+    for (const ReferencePair& p : pairList.find(*data(context).positions, box))
+        if (parameters.pairGeometry(p.i, p.j, p.d, g))
+            pairs.push_back(g);
+    return pairs;
+}
+
+std::vector<Vec3> ReferenceDynamics::conservativeForce(OpenMM::ContextImpl& context, int forceGroups, long long step) const {
+    context.calcForcesAndEnergy(true, false, forceGroups);
+    const std::vector<Vec3> force = *data(context).forces;
+    checkFinite(force, "conservative force", step, name);
+    return force;
+}
+
+void ReferenceDynamics::addDissipative(const std::vector<PairGeometry>& pairs, const std::vector<Vec3>& v, std::vector<Vec3>& out) const {
+    for (const PairGeometry& p : pairs) {
+        const Vec3 f = DPDPairForce::dissipative(p, v[p.i] - v[p.j]);
+        out[p.i] += f;
+        out[p.j] -= f;
+    }
+}
+
+void ReferenceDynamics::addRandom(const std::vector<PairGeometry>& pairs, long long step, double dt, std::vector<Vec3>& out) const {
+    for (const PairGeometry& p : pairs) {
+        const double xi = random.gaussian(PairRandom::RandomForce, step, p.i, p.j);
+        const Vec3 f = DPDPairForce::random(p, xi, 1 / std::sqrt(dt));
+        out[p.i] += f;
+        out[p.j] -= f;
+    }
+}
+
+void ReferenceDynamics::movePositions(std::vector<Vec3>& r, const std::vector<Vec3>& move, long long step) const {
+    double maxMove2 = 0;
+    for (size_t i = 0; i < r.size(); i++) {
+        r[i] += move[i];
+        maxMove2 = std::max(maxMove2, move[i].dot(move[i]));
+    }
+    checkFinite(r, "position", step, name);
+    checkMove(maxMove2, parameters.getMaxCutoff(), step, name);
+}
+
+double ReferenceDynamics::sumMV2(const std::vector<Vec3>& v) const {
+    double sum = 0;
+    for (size_t i = 0; i < v.size(); i++)
+        sum += parameters.getMasses()[i] * v[i].dot(v[i]);
+    return sum;
+}
+
+double ReferenceDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) const {
+    return 0.5 * sumMV2(*data(context).velocities);
+}
+
+void ReferenceDynamics::finishStep(OpenMM::ContextImpl& context, double dt) const {
+    OpenMM::ReferencePlatform::PlatformData& state = data(context);
+    checkFinite(*state.velocities, "velocity", state.stepCount + 1, name);
+    state.stepCount++;
+    state.time += dt;
+}
+
+void ReferenceDynamics::createCheckpoint(std::ostream& stream) const {
+    carried.write(stream, random.getSeed());
+    saveExtraState(stream);
+}
+
+void ReferenceDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) {
+    const uint32_t seed = carried.read(stream, *data(context).positions, *data(context).velocities, name);
+    loadExtraState(stream);
+    if (!stream)
+        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+    random = PairRandom(seed);
+}

@@ -1,0 +1,54 @@
+#include "openmmdpd/ReferenceSoftRepulsionKernel.h"
+#include "openmmdpd/PairEvaluators.h"
+#include "openmmdpd/ReferencePairList.h"
+#include "openmm/internal/ContextImpl.h"
+#include "ReferencePlatform.h"
+#include <algorithm>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+void ReferenceSoftRepulsionKernel::initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) {
+    numParticles = system.getNumParticles();
+    periodic = force.usesPeriodicBoundaryConditions();
+    for (int k = 0; k < force.getNumExclusions(); k++) {
+        int i, j;
+        force.getExclusionParticles(k, i, j);
+        exclusions.insert(std::make_pair(std::min(i, j), std::max(i, j)));
+    }
+    setParameters(force);
+}
+
+void ReferenceSoftRepulsionKernel::copyParametersToContext(OpenMM::ContextImpl&, const DPDSoftRepulsionForce& force) {
+    setParameters(force);
+}
+
+void ReferenceSoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force) {
+    std::vector<TypePairTable::Entry> entries(force.getNumTypePairs());
+    for (int k = 0; k < force.getNumTypePairs(); k++) {
+        TypePairTable::Entry& e = entries[k];
+        force.getTypePairParameters(k, e.type1, e.type2, e.value, e.cutoff);
+    }
+    table.reset(new TypePairTable(numParticles, force.getParticleTypes(), force.getDefaultA(), force.getDefaultCutoff(), entries));
+}
+
+double ReferenceSoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+    OpenMM::ReferencePlatform::PlatformData& data = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    const ReferencePairList pairList(std::vector<bool>(numParticles, true), table->getMaxCutoff(), periodic, 1);
+    double energy = 0;
+    for (const ReferencePair& p : pairList.find(*data.positions, box)) {
+        const int t = table->index(p.i, p.j);
+        const double r = std::sqrt(p.d.dot(p.d));
+        if (r >= table->cutoff(t) || exclusions.count(std::make_pair(std::min(p.i, p.j), std::max(p.i, p.j))) > 0)
+            continue;
+        energy += SoftRepulsionPair::energy(table->value(t), table->cutoff(t), r);
+        if (includeForces && r > 0) {
+            const Vec3 f = p.d * (SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r) / r);
+            (*data.forces)[p.i] += f;
+            (*data.forces)[p.j] -= f;
+        }
+    }
+    return includeEnergy ? energy : 0.0;
+}
