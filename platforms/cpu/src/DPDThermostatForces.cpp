@@ -45,44 +45,50 @@ void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {
 void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
     checkCutoffFitsBox(box);
     search.build(positions, box);
-    const int numCells = search.getNumCells();
-    cellPairStart.resize(numCells + 1);
+    cellPairStart.resize(search.getNumCells() + 1);
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
     // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
-    // copied by one thread it would be a serial part of every step).  All in one dispatch:
-    // search; size the list; copy.
-    const int workers = executor.getNumWorkers();
+    // copied by one thread it would be a serial part of every step).  One dispatch.
     executor.executePhases(3, [&](int w, int phase) {
-        size_t begin, end;
-        search.workerCells(w, workers, begin, end);
-        std::vector<PairGeometry>& out = workerPairs[w];
-        if (phase == 0) {
-            out.clear();
-            PairGeometry g;
-            for (size_t cell = begin; cell < end; cell++) {
-                cellPairStart[cell] = (int) out.size();  // local offset, made global below
-                search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
-                    if (parameters.pairGeometry(i, j, d, g))
-                        out.push_back(g);
-                });
-            }
-            return;
-        }
-        size_t offset = 0, total = 0;
-        for (int v = 0; v < workers; v++) {
-            offset += (v < w ? workerPairs[v].size() : 0);
-            total += workerPairs[v].size();
-        }
-        if (phase == 1) {
-            if (w == 0)
-                pairs.resize(total);
-            return;
-        }
-        for (size_t cell = begin; cell < end; cell++)
-            cellPairStart[cell] += (int) offset;
-        std::copy(out.begin(), out.end(), pairs.begin() + offset);
+        if (phase == 0)
+            findWorkerPairs(w);
+        else if (phase == 1 && w == 0)
+            pairs.resize(workerPairsBefore(executor.getNumWorkers()));
+        else if (phase == 2)
+            copyWorkerPairs(w);
     });
-    cellPairStart[numCells] = (int) pairs.size();
+    cellPairStart[search.getNumCells()] = (int) pairs.size();
+}
+
+void DPDThermostatForces::findWorkerPairs(int w) {
+    size_t begin, end;
+    search.workerCells(w, executor.getNumWorkers(), begin, end);
+    std::vector<PairGeometry>& out = workerPairs[w];
+    out.clear();
+    PairGeometry g;
+    for (size_t cell = begin; cell < end; cell++) {
+        cellPairStart[cell] = (int) out.size();  // local offset, made global by copyWorkerPairs
+        search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
+            if (parameters.pairGeometry(i, j, d, g))
+                out.push_back(g);
+        });
+    }
+}
+
+size_t DPDThermostatForces::workerPairsBefore(int w) const {
+    size_t total = 0;
+    for (int v = 0; v < w; v++)
+        total += workerPairs[v].size();
+    return total;
+}
+
+void DPDThermostatForces::copyWorkerPairs(int w) {
+    size_t begin, end;
+    search.workerCells(w, executor.getNumWorkers(), begin, end);
+    const size_t offset = workerPairsBefore(w);
+    for (size_t cell = begin; cell < end; cell++)
+        cellPairStart[cell] += (int) offset;
+    std::copy(workerPairs[w].begin(), workerPairs[w].end(), pairs.begin() + offset);
 }
 
 void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
@@ -122,15 +128,10 @@ void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities
 }
 
 void DPDThermostatForces::reduceWorkerBuffers(int w, const std::vector<std::vector<Vec3>>& buffers, std::vector<Vec3>& out) const {
-    const int workers = executor.getNumWorkers();
     size_t begin, end;
     executor.range(w, out.size(), begin, end);
-    for (size_t i = begin; i < end; i++) {
-        Vec3 f;
-        for (int k = 0; k < workers; k++)
-            f += buffers[k][i];
-        out[i] = f;
-    }
+    for (size_t i = begin; i < end; i++)
+        out[i] = sumOverWorkers(buffers, i);
 }
 
 void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vector<Vec3>& out) {
@@ -165,11 +166,8 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
     checkCutoffFitsBox(box);
     search.build(positions, box);
     const std::vector<int>& sortedIndex = search.getSortedIndex();
-    const size_t slots = sortedIndex.size();
-    const int workers = executor.getNumWorkers();
-    const double invSqrtDt = 1 / std::sqrt(dt);
-    sortedVelocities.resize(slots);
-    if (slots < out.size())  // particles outside the thermostat get no pair force
+    sortedVelocities.resize(sortedIndex.size());
+    if (sortedIndex.size() < out.size())  // particles outside the thermostat get no pair force
         for (size_t i = 0; i < out.size(); i++)
             out[i] = (base != nullptr ? (*base)[i] : Vec3());
     // Three phases in one dispatch (waking a thread pool costs tens of microseconds):
@@ -177,54 +175,59 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
     // (neighbouring pairs touch neighbouring slots); the buffers added in worker order.
     executor.executePhases(3, [&](int w, int phase) {
         size_t begin, end;
-        if (phase == 0) {
-            executor.range(w, slots, begin, end);
+        executor.range(w, sortedIndex.size(), begin, end);
+        if (phase == 0)
             for (size_t k = begin; k < end; k++)
                 sortedVelocities[k] = velocities[sortedIndex[k]];
-            return;
+        else if (phase == 1)
+            sumPairForcesBySlot(w, step, dt, soft);
+        else
+            for (size_t k = begin; k < end; k++)
+                out[sortedIndex[k]] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[sortedIndex[k]] : Vec3());
+    });
+}
+
+Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& buffers, size_t k) const {
+    Vec3 f;
+    for (const std::vector<Vec3>& buffer : buffers)
+        f += buffer[k];
+    return f;
+}
+
+void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const double invSqrtDt = 1 / std::sqrt(dt);
+    std::vector<Vec3>& slotForce = workerDissipative[w];
+    zero(slotForce, 0, sortedIndex.size());
+    size_t begin, end;
+    search.workerCells(w, executor.getNumWorkers(), begin, end);
+    PairGeometry g[PairSearch::MAX_BLOCK];
+    int slot[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
+    r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
+    double xi[PairSearch::MAX_BLOCK];
+    search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+        const int i = sortedIndex[p];
+        int n = 0;
+        for (int k = 0; k < count; k++) {
+            const int j = sortedIndex[q[k]];
+            if (parameters.pairGeometry(i, j, d[k], g[n])) {
+                slot[n] = q[k];
+                first[n] = i;
+                second[n++] = j;
+            }
         }
-        if (phase == 2) {
-            executor.range(w, slots, begin, end);
-            for (size_t k = begin; k < end; k++) {
-                const int i = sortedIndex[k];
-                Vec3 f = (base != nullptr ? (*base)[i] : Vec3());
-                for (int v = 0; v < workers; v++)
-                    f += workerDissipative[v][k];
-                out[i] = f;
-            }
-            return;
+        // The same numbers as random.gaussian(), drawn for the whole block at once.
+        PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
+        PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+        const Vec3 vp = sortedVelocities[p];
+        Vec3 forceP;
+        for (int k = 0; k < n; k++) {
+            Vec3 f = DPDPairForce::dissipative(g[k], vp - sortedVelocities[slot[k]]) + DPDPairForce::random(g[k], xi[k], invSqrtDt);
+            if (soft != nullptr)
+                f += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
+            forceP += f;
+            slotForce[slot[k]] -= f;
         }
-        std::vector<Vec3>& slotForce = workerDissipative[w];
-        zero(slotForce, 0, slots);
-        search.workerCells(w, workers, begin, end);
-        PairGeometry g[PairSearch::MAX_BLOCK];
-        int slot[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
-        r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
-        double xi[PairSearch::MAX_BLOCK];
-        search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
-            const int i = sortedIndex[p];
-            int n = 0;
-            for (int k = 0; k < count; k++) {
-                const int j = sortedIndex[q[k]];
-                if (parameters.pairGeometry(i, j, d[k], g[n])) {
-                    slot[n] = q[k];
-                    first[n] = i;
-                    second[n++] = j;
-                }
-            }
-            // The same numbers as random.gaussian(), drawn for the whole block at once.
-            PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
-            PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
-            const Vec3 vp = sortedVelocities[p];
-            Vec3 forceP;
-            for (int k = 0; k < n; k++) {
-                Vec3 f = DPDPairForce::dissipative(g[k], vp - sortedVelocities[slot[k]]) + DPDPairForce::random(g[k], xi[k], invSqrtDt);
-                if (soft != nullptr)
-                    f += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
-                forceP += f;
-                slotForce[slot[k]] -= f;
-            }
-            slotForce[p] += forceP;
-        });
+        slotForce[p] += forceP;
     });
 }

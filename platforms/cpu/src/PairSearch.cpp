@@ -89,14 +89,22 @@ bool PairSearch::setVectorScan(bool enabled) {
 }
 
 void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
-    const int n = (int) positions.size();
+    for (int k = 0; k < 3; k++)
+        box[k] = newBox[k];
+    double reach[3];
+    fractionalCoordinates(positions, reach);
+    chooseGrid(reach);
+    sortIntoCells();
+    storeSortedPositions(positions);
+    updateNeighbourTable();
+}
+
+void PairSearch::fractionalCoordinates(const std::vector<Vec3>& positions, double* reach) {
     // Fractional coordinate s_d of a particle, and the fractional distance R_d that a
     // displacement as long as the cutoff can span along d.  A cell at least R_d wide means
     // that pairs within the cutoff sit in the same or adjacent cells.
+    const int n = (int) positions.size();
     frac.resize(n);
-    double reach[3];
-    for (int k = 0; k < 3; k++)
-        box[k] = newBox[k];
     if (periodic) {
         const Vec3 &a = box[0], &b = box[1], &c = box[2];
         // Rows of the inverse of the upper-triangular box matrix [a b c].
@@ -111,27 +119,28 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
                 double s = rows[k].dot(positions[i]);
                 frac[i][k] = s - floorOf(s);
             }
+        return;
     }
-    else {
-        Vec3 lo(0, 0, 0), hi(0, 0, 0);
-        bool first = true;
-        for (int i = 0; i < n; i++) {
-            if (!active[i])
-                continue;
-            for (int k = 0; k < 3; k++) {
-                lo[k] = first ? positions[i][k] : std::min(lo[k], positions[i][k]);
-                hi[k] = first ? positions[i][k] : std::max(hi[k], positions[i][k]);
-            }
-            first = false;
-        }
+    Vec3 lo(0, 0, 0), hi(0, 0, 0);
+    bool first = true;
+    for (int i = 0; i < n; i++) {
+        if (!active[i])
+            continue;
         for (int k = 0; k < 3; k++) {
-            double extent = std::max(hi[k] - lo[k], cutoff) * (1 + 1e-12);
-            reach[k] = cutoff / extent;
-            for (int i = 0; i < n; i++)
-                frac[i][k] = (positions[i][k] - lo[k]) / extent;
+            lo[k] = first ? positions[i][k] : std::min(lo[k], positions[i][k]);
+            hi[k] = first ? positions[i][k] : std::max(hi[k], positions[i][k]);
         }
+        first = false;
     }
-    int total = 1;
+    for (int k = 0; k < 3; k++) {
+        double extent = std::max(hi[k] - lo[k], cutoff) * (1 + 1e-12);
+        reach[k] = cutoff / extent;
+        for (int i = 0; i < n; i++)
+            frac[i][k] = (positions[i][k] - lo[k]) / extent;
+    }
+}
+
+void PairSearch::chooseGrid(const double* reach) {
     colourable = true;
     for (int k = 0; k < 3; k++) {
         numCells[k] = std::max(1, (int) std::floor(1.0 / reach[k]));
@@ -141,9 +150,12 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
             numCells[k] -= numCells[k] % cellMultiple;
         if (periodic && (numCells[k] < 3 || numCells[k] % 3 != 0))
             colourable = false;
-        total *= numCells[k];
     }
+}
+
+void PairSearch::sortIntoCells() {
     // Counting sort of the active particles by cell; within a cell, by particle index.
+    const int n = (int) frac.size(), total = numCells[0] * numCells[1] * numCells[2];
     cellOf.assign(n, -1);
     cellStart.assign(total + 1, 0);
     for (int i = 0; i < n; i++) {
@@ -158,15 +170,19 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
     for (int c = 0; c < total; c++)
         cellStart[c + 1] += cellStart[c];
     sortedIndex.resize(cellStart[total]);
-    sortedPositions.resize(cellStart[total]);
-    for (auto* coordinate : {&sortedX, &sortedY, &sortedZ})
-        coordinate->resize(cellStart[total] + 3, 0.0);  // padded for gatherWithinCutoff
     fill.assign(cellStart.begin(), cellStart.end() - 1);
     for (int i = 0; i < n; i++)
         if (cellOf[i] >= 0)
             sortedIndex[fill[cellOf[i]]++] = i;
-    // Then the positions slot by slot: the four arrays are written in order.
-    for (int slot = 0; slot < cellStart[total]; slot++) {
+}
+
+void PairSearch::storeSortedPositions(const std::vector<Vec3>& positions) {
+    // Slot by slot, so the four arrays are written in order.
+    const int slots = (int) sortedIndex.size();
+    sortedPositions.resize(slots);
+    for (auto* coordinate : {&sortedX, &sortedY, &sortedZ})
+        coordinate->resize(slots + 3, 0.0);  // padded for gatherWithinCutoff
+    for (int slot = 0; slot < slots; slot++) {
         const int i = sortedIndex[slot];
         // Periodic: the image inside the box, so a neighbour cell's particles need only
         // that cell's fixed shift (see neighbourCells), not a rounding per pair.
@@ -176,7 +192,30 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox) {
         sortedY[slot] = r[1];
         sortedZ[slot] = r[2];
     }
-    updateNeighbourTable();
+}
+
+int PairSearch::gatherInOneCall(int cell, int p, HitBlock& block) const {
+    const Neighbour* first = &neighbourTable[neighbourStart[cell]];
+    const int numRuns = neighbourStart[cell + 1] - neighbourStart[cell];
+    if (!first->exactShift)  // a cell's neighbours all have exact shifts, or none
+        return -1;
+    const Vec3 rp = sortedPositions[p];
+    int candidates = 0;
+    for (int k = 0; k < numRuns; k++) {
+        const Neighbour& other = first[k];
+        block.runs[k].first = (other.firstCell == cell ? p + 1 : cellStart[other.firstCell]);
+        block.runs[k].last = cellStart[other.lastCell + 1];
+        block.runs[k].r = rp - other.shift;
+        candidates += block.runs[k].last - block.runs[k].first;
+    }
+    if (candidates > MAX_BLOCK)
+        return -1;
+    const int count = gatherWithinCutoff(sortedX.data(), sortedY.data(), sortedZ.data(), block.runs, numRuns, cutoff * cutoff,
+                                         block.hits, block.runEnd);
+    for (int k = 0, run = 0; run < numRuns; run++)
+        for (; k < block.runEnd[run]; k++)
+            block.d[k] = block.runs[run].r - sortedPositions[block.hits[k]];
+    return count;
 }
 
 void PairSearch::updateNeighbourTable() {

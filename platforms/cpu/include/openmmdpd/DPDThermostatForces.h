@@ -60,6 +60,14 @@ private:
     void checkCutoffFitsBox(const OpenMM::Vec3* box) const;
     /** out[i] = the sum of the workers' buffers at i, in worker order, for worker w's range of i. */
     void reduceWorkerBuffers(int w, const std::vector<std::vector<OpenMM::Vec3>>& buffers, std::vector<OpenMM::Vec3>& out) const;
+    /** The sum of the buffers at index k, in worker order. */
+    OpenMM::Vec3 sumOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const;
+    /** updatePairs' steps: worker w's pairs; the pairs of the workers before w; w's part copied into pairs. */
+    void findWorkerPairs(int w);
+    size_t workerPairsBefore(int w) const;
+    void copyWorkerPairs(int w);
+    /** computeInOnePass' pair pass: worker w's cells' pair forces into its buffer, by sorted slot. */
+    void sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft);
     DPDPairParameters parameters;
     ParallelExecutor& executor;
     PairSearch search;

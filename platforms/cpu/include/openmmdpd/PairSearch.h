@@ -124,6 +124,25 @@ private:
         OpenMM::Vec3 shift;  // the other cells' images lie at their positions + shift
     };
     void neighbourCells(int cell, std::vector<Neighbour>& out) const;
+    /** A particle's hits: their slots, the runs they came from, and their displacements. */
+    struct HitBlock {
+        int hits[MAX_BLOCK + 4], runEnd[27];
+        OpenMM::Vec3 d[MAX_BLOCK];
+        ScanRun runs[27];
+    };
+    /**
+     * All hits of slot p (in cell) in one gatherWithinCutoff call, the usual case; -1 if its
+     * neighbour cells need minimum-image tests or hold more than a block of candidates.
+     */
+    int gatherInOneCall(int cell, int p, HitBlock& block) const;
+    /** The other case: in chunks, visiting each full block; returns the hits left in block. */
+    template <class BlockVisitor>
+    int gatherInChunks(int cell, int p, HitBlock& block, BlockVisitor& visit) const;
+    /** build()'s steps: frac and the fractional reach of the cutoff per axis; the cells; the sort. */
+    void fractionalCoordinates(const std::vector<OpenMM::Vec3>& positions, double* reach);
+    void chooseGrid(const double* reach);
+    void sortIntoCells();
+    void storeSortedPositions(const std::vector<OpenMM::Vec3>& positions);
     /** The neighbour cells of every cell, for the current grid (rebuilt when it changes). */
     void updateNeighbourTable();
     std::vector<bool> active;
@@ -153,76 +172,59 @@ private:
 
 template <class BlockVisitor>
 void PairSearch::forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit) const {
-    const double cutoff2 = cutoff * cutoff;
     // About one candidate in seven is within the cutoff, so a branch per candidate would be
     // mispredicted often: the hits are gathered without branches (gatherWithinCutoff), and
     // a particle's hits from all its neighbour cells are visited together.
-    constexpr int CHUNK = 64, CAPACITY = MAX_BLOCK;
-    int hits[CAPACITY + 4], runEnd[27];
-    OpenMM::Vec3 d[CAPACITY];
-    ScanRun runs[27];
-    for (int cell = begin; cell < end; cell++) {
-        const Neighbour* firstNeighbour = &neighbourTable[neighbourStart[cell]];
-        const Neighbour* endNeighbour = &neighbourTable[0] + neighbourStart[cell + 1];
-        const int numRuns = (int) (endNeighbour - firstNeighbour);
+    HitBlock block;
+    for (int cell = begin; cell < end; cell++)
         for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
-            const OpenMM::Vec3 rp = sortedPositions[p];
-            int count = 0;
-            if (firstNeighbour->exactShift) {  // a cell's neighbours all are, or none
-                // The usual case: all the particle's candidates in one call.
-                int candidates = 0;
-                for (int k = 0; k < numRuns; k++) {
-                    const Neighbour& other = firstNeighbour[k];
-                    runs[k].first = (other.firstCell == cell ? p + 1 : cellStart[other.firstCell]);
-                    runs[k].last = cellStart[other.lastCell + 1];
-                    runs[k].r = rp - other.shift;
-                    candidates += runs[k].last - runs[k].first;
-                }
-                if (candidates <= CAPACITY) {
-                    count = gatherWithinCutoff(sortedX.data(), sortedY.data(), sortedZ.data(), runs, numRuns, cutoff2, hits, runEnd);
-                    for (int k = 0, run = 0; run < numRuns; run++)
-                        for (; k < runEnd[run]; k++)
-                            d[k] = runs[run].r - sortedPositions[hits[k]];
-                    if (count > 0)
-                        visit(p, (const int*) hits, (const OpenMM::Vec3*) d, count);
-                    continue;
-                }
-            }
-            // Crowded cells, and grids too small for one image per neighbour cell: in chunks.
-            for (const Neighbour* other = firstNeighbour; other != endNeighbour; ++other) {
-                ScanRun run;
-                run.r = rp - other->shift;
-                const int first = (other->firstCell == cell ? p + 1 : cellStart[other->firstCell]);
-                const int last = cellStart[other->lastCell + 1];
-                for (int chunkStart = first; chunkStart < last; chunkStart += CHUNK) {
-                    if (count + CHUNK > CAPACITY) {
-                        visit(p, (const int*) hits, (const OpenMM::Vec3*) d, count);
-                        count = 0;
-                    }
-                    const int chunkEnd = std::min(last, chunkStart + CHUNK), chunkHits = count;
-                    if (other->exactShift) {
-                        run.first = chunkStart;
-                        run.last = chunkEnd;
-                        count += gatherWithinCutoff(sortedX.data(), sortedY.data(), sortedZ.data(), &run, 1, cutoff2, hits + count,
-                                                    runEnd);
-                        for (int k = chunkHits; k < count; k++)
-                            d[k] = run.r - sortedPositions[hits[k]];
-                    }
-                    else {
-                        for (int q = chunkStart; q < chunkEnd; q++) {
-                            const OpenMM::Vec3 dq = minimumImage(rp - sortedPositions[q], box, periodic);
-                            hits[count] = q;
-                            count += (dq.dot(dq) < cutoff2);
-                        }
-                        for (int k = chunkHits; k < count; k++)
-                            d[k] = minimumImage(rp - sortedPositions[hits[k]], box, periodic);
-                    }
-                }
-            }
+            int count = gatherInOneCall(cell, p, block);
+            if (count < 0)
+                count = gatherInChunks(cell, p, block, visit);
             if (count > 0)
-                visit(p, (const int*) hits, (const OpenMM::Vec3*) d, count);
+                visit(p, (const int*) block.hits, (const OpenMM::Vec3*) block.d, count);
+        }
+}
+
+template <class BlockVisitor>
+int PairSearch::gatherInChunks(int cell, int p, HitBlock& block, BlockVisitor& visit) const {
+    // Crowded cells, and grids too small for one image per neighbour cell: in chunks, each
+    // full block visited as it fills.
+    constexpr int CHUNK = 64;
+    const double cutoff2 = cutoff * cutoff;
+    const OpenMM::Vec3 rp = sortedPositions[p];
+    int count = 0;
+    for (int k = neighbourStart[cell]; k < neighbourStart[cell + 1]; k++) {
+        const Neighbour& other = neighbourTable[k];
+        ScanRun run;
+        run.r = rp - other.shift;
+        const int first = (other.firstCell == cell ? p + 1 : cellStart[other.firstCell]);
+        const int last = cellStart[other.lastCell + 1];
+        for (int chunkStart = first; chunkStart < last; chunkStart += CHUNK) {
+            if (count + CHUNK > MAX_BLOCK) {
+                visit(p, (const int*) block.hits, (const OpenMM::Vec3*) block.d, count);
+                count = 0;
+            }
+            const int chunkEnd = std::min(last, chunkStart + CHUNK), chunkHits = count;
+            if (other.exactShift) {
+                run.first = chunkStart;
+                run.last = chunkEnd;
+                count += gatherWithinCutoff(sortedX.data(), sortedY.data(), sortedZ.data(), &run, 1, cutoff2, block.hits + count,
+                                            block.runEnd);
+                for (int h = chunkHits; h < count; h++)
+                    block.d[h] = run.r - sortedPositions[block.hits[h]];
+                continue;
+            }
+            for (int q = chunkStart; q < chunkEnd; q++) {
+                const OpenMM::Vec3 dq = minimumImage(rp - sortedPositions[q], box, periodic);
+                block.hits[count] = q;
+                count += (dq.dot(dq) < cutoff2);
+            }
+            for (int h = chunkHits; h < count; h++)
+                block.d[h] = minimumImage(rp - sortedPositions[block.hits[h]], box, periodic);
         }
     }
+    return count;
 }
 
 template <class Visitor>

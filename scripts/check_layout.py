@@ -1,0 +1,60 @@
+#!/usr/bin/env python3
+"""The layout rules anyone can check (issue 12): no platform code finds out which integrator
+it was given by casting, and no function in platforms/ is longer than 70 lines.
+
+    /usr/bin/python3 scripts/check_layout.py        # exit status 1 and a list if broken
+
+A function is a brace block at namespace or class level whose header ends in ')' (plus
+qualifiers); its length counts the lines from its header to its closing brace.
+"""
+import pathlib
+import re
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+MAX_LINES = 70
+CAST = re.compile(r"dynamic_cast<const .*Integrator")
+
+
+def strip(text):
+    """The source without comments and string literals (they may hold braces)."""
+    text = re.sub(r"//[^\n]*|/\*.*?\*/", lambda m: re.sub(r"[^\n]", " ", m.group()), text, flags=re.S)
+    return re.sub(r'"(\\.|[^"\\\n])*"', '""', text)
+
+
+def long_functions(path):
+    text = strip(path.read_text())
+    depth, stack, found = 0, [], []
+    for match in re.finditer(r"[{}]", text):
+        if match.group() == "{":
+            header = text[:match.start()].rstrip()
+            is_function = re.search(r"\)\s*(const|override|noexcept|final|\s)*$", header) is not None
+            line = text.count("\n", 0, match.start()) + 1
+            start = line - (header[header.rfind(";") + 1:].strip().count("\n") if is_function else 0)
+            stack.append((is_function and not any(f for f, _ in stack), start))
+            depth += 1
+        elif stack:
+            is_function, start = stack.pop()
+            end = text.count("\n", 0, match.start()) + 1
+            if is_function and end - start + 1 > MAX_LINES:
+                found.append((start, end - start + 1))
+    return found
+
+
+def main():
+    problems = []
+    for path in sorted((ROOT / "platforms").rglob("*")):
+        if path.suffix not in (".cpp", ".h"):
+            continue
+        rel = path.relative_to(ROOT)
+        for n, line in enumerate(path.read_text().splitlines(), 1):
+            if CAST.search(line):
+                problems.append(f"{rel}:{n}: casts an integrator: {line.strip()}")
+        for start, length in long_functions(path):
+            problems.append(f"{rel}:{start}: a function of {length} lines (limit {MAX_LINES})")
+    print("\n".join(problems) if problems else "layout: no integrator casts, no function over 70 lines in platforms/")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
