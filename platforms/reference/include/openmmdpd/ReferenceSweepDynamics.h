@@ -4,21 +4,39 @@
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ReferenceDynamics.h"
 #include "openmmdpd/ShardlowIntegrator.h"
-#include "openmm/OpenMMException.h"
 
 namespace DPDPlugin {
 
-// PLACEHOLDER (to be written): Shardlow S1/S2 and Lowe-Andersen/pair OU.
-class ReferenceShardlowDynamics : public ReferenceDynamics {
-public:
-    ReferenceShardlowDynamics(const OpenMM::System& system, const ShardlowIntegrator& integrator) : ReferenceDynamics(system, integrator, 3) {}
-    void step(OpenMM::ContextImpl&, const ShardlowIntegrator&) { throw OpenMM::OpenMMException("not yet on Reference"); }
+/**
+ * Velocity Verlet with the conservative force, split with pairwise-sequential sweeps
+ * (algorithms.md sections 2 and 3).  The carried force is the conservative force FC at the
+ * current positions.  The sweeps visit the pairs in ReferencePairList's order (cellMultiple
+ * 3), the order every platform sweeps in, so that all of them follow the same trajectory.
+ */
+class ReferenceSweepDynamics : public ReferenceDynamics {
+protected:
+    ReferenceSweepDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) :
+            ReferenceDynamics(system, integrator, 3) {}
+    /** At the start of a step: make sure the carried force is FC at the current positions. */
+    void ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups);
+    /** v += dt/2m F ; r += dt v ; F <- FC(r) ; v += dt/2m F. */
+    void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
 };
 
-class ReferenceLoweAndersenDynamics : public ReferenceDynamics {
+/** Shardlow's S1 and S2 (ShardlowIntegrator, algorithms.md section 2). */
+class ReferenceShardlowDynamics : public ReferenceSweepDynamics {
 public:
-    ReferenceLoweAndersenDynamics(const OpenMM::System& system, const LoweAndersenIntegrator& integrator) : ReferenceDynamics(system, integrator, 3) {}
-    void step(OpenMM::ContextImpl&, const LoweAndersenIntegrator&) { throw OpenMM::OpenMMException("not yet on Reference"); }
+    ReferenceShardlowDynamics(const OpenMM::System& system, const ShardlowIntegrator& integrator) :
+            ReferenceSweepDynamics(system, integrator) {}
+    void step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator);
+};
+
+/** Lowe-Andersen and the exact pair Ornstein-Uhlenbeck update (LoweAndersenIntegrator, section 3). */
+class ReferenceLoweAndersenDynamics : public ReferenceSweepDynamics {
+public:
+    ReferenceLoweAndersenDynamics(const OpenMM::System& system, const LoweAndersenIntegrator& integrator) :
+            ReferenceSweepDynamics(system, integrator) {}
+    void step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator);
 };
 
 } // namespace DPDPlugin

@@ -1,0 +1,90 @@
+#include "openmmdpd/ReferenceSweepDynamics.h"
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+namespace {
+
+/**
+ * The pairwise-sequential sweep: the rule updates each pair's velocities in place, in the
+ * given order, so every pair sees the velocities the pairs before it left.
+ */
+template <class Rule>
+void sweep(const std::vector<PairGeometry>& pairs, const Rule& rule, std::vector<Vec3>& v) {
+    for (const PairGeometry& p : pairs)
+        rule(p, v);
+}
+
+/** The same sweep in exactly the opposite order (S2's second half, which makes S2 symmetric). */
+template <class Rule>
+void sweepInReverse(const std::vector<PairGeometry>& pairs, const Rule& rule, std::vector<Vec3>& v) {
+    for (size_t k = pairs.size(); k-- > 0;)
+        rule(pairs[k], v);
+}
+
+} // namespace
+
+void ReferenceSweepDynamics::ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups) {
+    // Invalid after the positions, velocities or parameters were set from outside.
+    if (!carried.isValid(*data(context).positions, *data(context).velocities)) {
+        carried.force = conservativeForce(context, forceGroups, data(context).stepCount);
+        carried.setValid();
+    }
+}
+
+void ReferenceSweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt) {
+    std::vector<Vec3>& r = *data(context).positions;
+    std::vector<Vec3>& v = *data(context).velocities;
+    std::vector<Vec3>& F = carried.force;
+    const std::vector<double>& invMass = parameters.getInverseMasses();
+    const long long next = data(context).stepCount + 1;
+    const size_t n = r.size();
+    // v += dt/2m F ; r += dt v
+    std::vector<Vec3> move(n);
+    for (size_t i = 0; i < n; i++) {
+        v[i] += F[i] * (0.5 * dt * invMass[i]);
+        move[i] = v[i] * dt;
+    }
+    movePositions(r, move, next);
+    // F <- FC(r) at the new positions (carried into the next step)
+    F = conservativeForce(context, forceGroups, next);
+    // v += dt/2m F
+    for (size_t i = 0; i < n; i++)
+        v[i] += F[i] * (0.5 * dt * invMass[i]);
+}
+
+void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator) {
+    std::vector<Vec3>& v = *data(context).velocities;
+    const std::vector<double>& invMass = parameters.getInverseMasses();
+    const double dt = integrator.getStepSize();
+    const int forceGroups = integrator.getIntegrationForceGroups();
+    // Every random number of the step is keyed by the step it starts from.
+    const long long current = data(context).stepCount;
+    ensureCarriedForce(context, forceGroups);
+    const bool secondOrder = (integrator.getOrder() == 2);
+    const double h = secondOrder ? 0.5 * dt : dt;
+    // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
+    // the pairs at the new positions and with numbers of their own.
+    sweep(findPairs(context), ShardlowPairUpdate{random, PairRandom::RandomForce, current, h, invMass}, v);
+    velocityVerlet(context, forceGroups, dt);
+    if (secondOrder)
+        sweepInReverse(findPairs(context), ShardlowPairUpdate{random, PairRandom::SecondSweep, current, h, invMass}, v);
+    finishStep(context, dt);
+}
+
+void ReferenceLoweAndersenDynamics::step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator) {
+    std::vector<Vec3>& v = *data(context).velocities;
+    const std::vector<double>& invMass = parameters.getInverseMasses();
+    const double dt = integrator.getStepSize(), kT = parameters.getKT();
+    const int forceGroups = integrator.getIntegrationForceGroups();
+    const long long current = data(context).stepCount;
+    ensureCarriedForce(context, forceGroups);
+    // VV ; the pair thermostat over dt, over the pairs at the new positions.
+    velocityVerlet(context, forceGroups, dt);
+    const std::vector<PairGeometry> pairs = findPairs(context);
+    if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
+        sweep(pairs, LowePairUpdate{random, current, dt, kT, invMass}, v);
+    else
+        sweep(pairs, PairOrnsteinUhlenbeckUpdate{random, current, dt, kT, invMass}, v);
+    finishStep(context, dt);
+}
