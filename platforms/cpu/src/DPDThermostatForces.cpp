@@ -1,9 +1,11 @@
 #include "openmmdpd/DPDThermostatForces.h"
 #include "openmmdpd/PairRandomBatch.h"
+#include "openmmdpd/SlotAccumulation.h"
 #include "openmmdpd/SoftRepulsionKernel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/OSRngSeed.h"
 #include <algorithm>
+#include <array>
 #include <sstream>
 
 using namespace DPDPlugin;
@@ -93,37 +95,42 @@ void DPDThermostatForces::copyWorkerPairs(int w) {
 
 void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
                                   std::vector<Vec3>& dissipative, std::vector<Vec3>& randomForce) {
+    const double invSqrtDt = 1 / std::sqrt(dt);
+    const bool both = (terms & DissipativeTerm) && (terms & RandomTerm);
+    if (both && &dissipative == &randomForce)
+        sumOverPairs(DPDListForces<true, true, false>{pairs, velocities, random, step, invSqrtDt}, {&dissipative});
+    else if (both)
+        sumOverPairs(DPDListForces<true, true, true>{pairs, velocities, random, step, invSqrtDt}, {&dissipative, &randomForce});
+    else if (terms & DissipativeTerm)
+        sumOverPairs(DPDListForces<true, false, false>{pairs, velocities, random, step, invSqrtDt}, {&dissipative});
+    else if (terms & RandomTerm)
+        sumOverPairs(DPDListForces<false, true, false>{pairs, velocities, random, step, invSqrtDt}, {&randomForce});
+}
+
+template <class Evaluator>
+void DPDThermostatForces::sumOverPairs(const Evaluator& evaluator, std::array<std::vector<Vec3>*, Evaluator::OUTPUTS> out) {
     const int workers = executor.getNumWorkers();
-    const size_t n = velocities.size();
-    const bool sum = (&dissipative == &randomForce);
-    const bool writeDissipative = sum || (terms & DissipativeTerm), writeRandom = !sum && (terms & RandomTerm);
     if (workers == 1) {
-        if (writeDissipative)
-            zero(dissipative, 0, n);
-        if (writeRandom)
-            zero(randomForce, 0, n);
-        accumulateDPDForces(pairs, 0, pairs.size(), terms, velocities, random, step, dt, dissipative, randomForce);
+        for (std::vector<Vec3>* o : out)
+            zero(*o, 0, o->size());
+        accumulateAlongPairs(pairs, 0, pairs.size(), evaluator, out.data());
         return;
     }
     // Each worker sums its pair range into its own buffers; then each worker reduces a
     // particle range over all buffers, always in worker order.  One dispatch.
     executor.executePhases(2, [&](int w, int phase) {
+        std::vector<std::vector<Vec3>>* buffers[2] = {&workerDissipative, &workerRandom};
         if (phase == 1) {
-            if (writeDissipative)
-                reduceWorkerBuffers(w, workerDissipative, dissipative);
-            if (writeRandom)
-                reduceWorkerBuffers(w, workerRandom, randomForce);
+            for (int t = 0; t < Evaluator::OUTPUTS; t++)
+                reduceWorkerBuffers(w, *buffers[t], *out[t]);
             return;
         }
-        std::vector<Vec3>& ownDissipative = workerDissipative[w];
-        std::vector<Vec3>& ownRandom = sum ? workerDissipative[w] : workerRandom[w];
-        if (writeDissipative)
-            zero(ownDissipative, 0, n);
-        if (writeRandom)
-            zero(ownRandom, 0, n);
+        std::vector<Vec3>* own[2] = {&workerDissipative[w], workerRandom.empty() ? nullptr : &workerRandom[w]};
+        for (int t = 0; t < Evaluator::OUTPUTS; t++)
+            zero(*own[t], 0, out[t]->size());
         size_t begin, end;
         executor.range(w, pairs.size(), begin, end);
-        accumulateDPDForces(pairs, begin, end, terms, velocities, random, step, dt, ownDissipative, ownRandom);
+        accumulateAlongPairs(pairs, begin, end, evaluator, own);
     });
 }
 
@@ -135,29 +142,7 @@ void DPDThermostatForces::reduceWorkerBuffers(int w, const std::vector<std::vect
 }
 
 void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vector<Vec3>& out) {
-    const int workers = executor.getNumWorkers();
-    auto accumulate = [&](size_t begin, size_t end, std::vector<Vec3>& f) {
-        for (size_t k = begin; k < end; k++) {
-            const Vec3 pairForce = pairs[k].e * c[k];
-            f[pairs[k].i] += pairForce;
-            f[pairs[k].j] -= pairForce;
-        }
-    };
-    if (workers == 1) {
-        zero(out, 0, out.size());
-        accumulate(0, pairs.size(), out);
-        return;
-    }
-    executor.executePhases(2, [&](int w, int phase) {
-        if (phase == 1) {
-            reduceWorkerBuffers(w, workerDissipative, out);
-            return;
-        }
-        zero(workerDissipative[w], 0, out.size());
-        size_t begin, end;
-        executor.range(w, pairs.size(), begin, end);
-        accumulate(begin, end, workerDissipative[w]);
-    });
+    sumOverPairs(PairCoefficientForces{c}, {&out});
 }
 
 void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<Vec3>& velocities,
@@ -194,40 +179,49 @@ Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& b
     return f;
 }
 
-void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
-    const std::vector<int>& sortedIndex = search.getSortedIndex();
-    const double invSqrtDt = 1 / std::sqrt(dt);
-    std::vector<Vec3>& slotForce = workerDissipative[w];
-    zero(slotForce, 0, sortedIndex.size());
-    size_t begin, end;
-    search.workerCells(w, executor.getNumWorkers(), begin, end);
-    PairGeometry g[PairSearch::MAX_BLOCK];
-    int slot[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
-    r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
-    double xi[PairSearch::MAX_BLOCK];
-    search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+namespace {
+
+/** FD(v) + FR (+ the soft force, if given) of the pairs within their thermostat cutoff. */
+struct DPDSlotForces {
+    const DPDPairParameters& parameters;
+    const PairRandom& random;
+    const std::vector<int>& sortedIndex;
+    const std::vector<Vec3>& sortedVelocities;
+    const SoftRepulsionKernel* soft;
+    long long step;
+    double invSqrtDt;
+
+    int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3* forces) const {
+        PairGeometry g[PairSearch::MAX_BLOCK];
+        int first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
         const int i = sortedIndex[p];
         int n = 0;
         for (int k = 0; k < count; k++) {
             const int j = sortedIndex[q[k]];
             if (parameters.pairGeometry(i, j, d[k], g[n])) {
-                slot[n] = q[k];
+                slots[n] = q[k];
                 first[n] = i;
                 second[n++] = j;
             }
         }
         // The same numbers as random.gaussian(), drawn for the whole block at once.
+        r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
+        double xi[PairSearch::MAX_BLOCK];
         PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
         PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
-        const Vec3 vp = sortedVelocities[p];
-        Vec3 forceP;
         for (int k = 0; k < n; k++) {
-            Vec3 f = DPDPairForce::dissipative(g[k], vp - sortedVelocities[slot[k]]) + DPDPairForce::random(g[k], xi[k], invSqrtDt);
+            forces[k] = DPDPairForce::dissipative(g[k], sortedVelocities[p] - sortedVelocities[slots[k]]) +
+                        DPDPairForce::random(g[k], xi[k], invSqrtDt);
             if (soft != nullptr)
-                f += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
-            forceP += f;
-            slotForce[slot[k]] -= f;
+                forces[k] += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
         }
-        slotForce[p] += forceP;
-    });
+        return n;
+    }
+};
+
+} // namespace
+
+void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
+    DPDSlotForces evaluate{parameters, random, search.getSortedIndex(), sortedVelocities, soft, step, 1 / std::sqrt(dt)};
+    accumulateBySlot(search, w, executor.getNumWorkers(), evaluate, workerDissipative[w]);
 }

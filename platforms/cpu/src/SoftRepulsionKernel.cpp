@@ -1,4 +1,5 @@
 #include "openmmdpd/SoftRepulsionKernel.h"
+#include "openmmdpd/SlotAccumulation.h"
 #include "openmm/internal/ContextImpl.h"
 #include "ReferencePlatform.h"
 #include <algorithm>
@@ -54,34 +55,28 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
     for (size_t k = 0; k < slots; k++)
         sortedType[k] = table->typeOf(sortedIndex[k]);
     const int workers = executor->getNumWorkers();
-    // Each worker sums its cells' pairs into its own buffer, by sorted slot (neighbouring
-    // pairs touch neighbouring slots); the buffers are then added to the Context's forces
-    // in worker order.
+    // Each worker sums its cells' pairs into its own buffer, by sorted slot; the buffers are
+    // then added to the Context's forces in worker order.
     executor->execute([&](int w) {
-        std::vector<Vec3>& out = workerForces[w];
-        std::fill(out.begin(), out.begin() + slots, Vec3());
         double energy = 0;
-        size_t begin, end;
-        search->workerCells(w, workers, begin, end);
-        search->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
-            const int typeP = sortedType[p];
-            Vec3 forceP;  // summed here, not in out[p], to keep the loop free of a store-load chain
+        auto evaluate = [&](int p, const int* q, const Vec3* d, int count, int* slots, Vec3* pairForces) {
+            int n = 0;
             for (int k = 0; k < count; k++) {
-                const int t = table->indexOfTypes(typeP, sortedType[q[k]]);
+                const int t = table->indexOfTypes(sortedType[p], sortedType[q[k]]);
                 const double r2 = d[k].dot(d[k]);
                 if (r2 >= table->cutoff2(t) || (hasExclusions && excluded(sortedIndex[p], sortedIndex[q[k]])))
                     continue;
                 const double a = table->value(t), r = std::sqrt(r2);
-                if (r2 > 0) {
-                    const Vec3 f = d[k] * (SoftRepulsionPair::force(a, table->inverseCutoff(t), r) / r);
-                    forceP += f;
-                    out[q[k]] -= f;
-                }
                 if (includeEnergy)
                     energy += SoftRepulsionPair::energy(a, table->cutoff(t), r);
+                if (r2 > 0) {
+                    slots[n] = q[k];
+                    pairForces[n++] = d[k] * (SoftRepulsionPair::force(a, table->inverseCutoff(t), r) / r);
+                }
             }
-            out[p] += forceP;
-        });
+            return n;
+        };
+        accumulateBySlot(*search, w, workers, evaluate, workerForces[w]);
         workerEnergy[w] = energy;
     });
     if (includeForces)

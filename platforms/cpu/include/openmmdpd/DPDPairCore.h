@@ -2,7 +2,9 @@
 #define OPENMMDPD_DPDPAIRCORE_H_
 
 #include "openmmdpd/PairEvaluators.h"
+#include "openmmdpd/PairRandomBatch.h"
 #include "openmmdpd/PairSearch.h"
+#include <algorithm>
 #include <vector>
 
 namespace DPDPlugin {
@@ -11,13 +13,86 @@ namespace DPDPlugin {
 enum PairTerms { DissipativeTerm = 1, RandomTerm = 2 };
 
 /**
- * Adds the dissipative and/or random pair forces of pairs [begin, end) to `dissipative`
- * and `random` (per-particle arrays).  The random numbers are keyed by `step`.  Passing
- * the same array for both adds their sum (one scattered write per pair instead of two).
+ * The CPU platform's accumulate loop over a stored pair list: for every pair k in
+ * [begin, end) the evaluator gives the force on i of each of its OUTPUTS terms, which is
+ * added to out[t][i] and subtracted from out[t][j].  An evaluator is
+ * { static constexpr int OUTPUTS; void start(size_t begin, size_t end);
+ *   void operator()(size_t k, const PairGeometry& pair, OpenMM::Vec3* forces); }.
  */
-void accumulateDPDForces(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, int terms,
-                         const std::vector<OpenMM::Vec3>& velocities, const PairRandom& random, long long step,
-                         double dt, std::vector<OpenMM::Vec3>& dissipative, std::vector<OpenMM::Vec3>& randomForce);
+template <class Evaluator>
+void accumulateAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, Evaluator evaluate,
+                          std::vector<OpenMM::Vec3>* const* out) {
+    evaluate.start(begin, end);
+    OpenMM::Vec3 f[Evaluator::OUTPUTS];
+    for (size_t k = begin; k < end; k++) {
+        const PairGeometry& p = pairs[k];
+        evaluate(k, p, f);
+        for (int t = 0; t < Evaluator::OUTPUTS; t++) {
+            (*out[t])[p.i] += f[t];
+            (*out[t])[p.j] -= f[t];
+        }
+    }
+}
+
+/**
+ * FD(v) and/or FR of each pair (algorithms.md, Notation): one output with the terms asked
+ * for (summed if both), or two (FD, FR) when Separate.  The normal numbers are drawn a
+ * chunk of pairs at a time (PairRandomBatch), keyed by `step`.
+ */
+template <bool Dissipative, bool Random, bool Separate>
+struct DPDListForces {
+    static constexpr int OUTPUTS = Separate ? 2 : 1;
+    static constexpr size_t CHUNK = 64;
+    const std::vector<PairGeometry>& pairs;
+    const std::vector<OpenMM::Vec3>& velocities;
+    const PairRandom& random;
+    long long step;
+    double invSqrtDt;
+    size_t end = 0, chunkStart = 0;
+    double xi[CHUNK];
+
+    void start(size_t begin, size_t rangeEnd) {
+        end = rangeEnd;
+        chunkStart = begin;
+        drawChunk();
+    }
+    void operator()(size_t k, const PairGeometry& p, OpenMM::Vec3* f) {
+        OpenMM::Vec3 fd, fr;
+        if (Dissipative)
+            fd = DPDPairForce::dissipative(p, velocities[p.i] - velocities[p.j]);
+        if (Random) {
+            if (k >= chunkStart + CHUNK) {
+                chunkStart = k;
+                drawChunk();
+            }
+            fr = DPDPairForce::random(p, xi[k - chunkStart], invSqrtDt);
+        }
+        f[0] = (Separate ? fd : fd + fr);
+        if (Separate)
+            f[OUTPUTS - 1] = fr;
+    }
+    void drawChunk() {
+        if (!Random || chunkStart >= end)
+            return;
+        const int n = (int) std::min(CHUNK, end - chunkStart);
+        int first[CHUNK], second[CHUNK];
+        for (int c = 0; c < n; c++) {
+            first[c] = pairs[chunkStart + c].i;
+            second[c] = pairs[chunkStart + c].j;
+        }
+        r123::Philox4x32::ctr_type bits[CHUNK];
+        PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
+        PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+    }
+};
+
+/** c_k e_k: pair forces given per pair (in pair-list order) along the pair's unit vector. */
+struct PairCoefficientForces {
+    static constexpr int OUTPUTS = 1;
+    const std::vector<double>& c;
+    void start(size_t, size_t) {}
+    void operator()(size_t k, const PairGeometry& p, OpenMM::Vec3* f) const { f[0] = p.e * c[k]; }
+};
 
 } // namespace DPDPlugin
 

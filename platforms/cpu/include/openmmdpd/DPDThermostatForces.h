@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DPDPairCore.h"
 #include "openmmdpd/ParallelExecutor.h"
+#include <array>
 #include <vector>
 
 namespace DPDPlugin {
@@ -60,6 +61,9 @@ private:
     void checkCutoffFitsBox(const OpenMM::Vec3* box) const;
     /** out[i] = the sum of the workers' buffers at i, in worker order, for worker w's range of i. */
     void reduceWorkerBuffers(int w, const std::vector<std::vector<OpenMM::Vec3>>& buffers, std::vector<OpenMM::Vec3>& out) const;
+    /** The pair-list accumulate loop (accumulateAlongPairs) on every worker, buffers reduced in worker order. */
+    template <class Evaluator>
+    void sumOverPairs(const Evaluator& evaluator, std::array<std::vector<OpenMM::Vec3>*, Evaluator::OUTPUTS> out);
     /** The sum of the buffers at index k, in worker order. */
     OpenMM::Vec3 sumOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const;
     /** updatePairs' steps: worker w's pairs; the pairs of the workers before w; w's part copied into pairs. */
