@@ -3,17 +3,35 @@
 
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/ReferenceDynamics.h"
-#include "openmm/OpenMMException.h"
+#include "openmmdpd/ReferencePairMemory.h"
 
 namespace DPDPlugin {
 
-// PLACEHOLDER (to be written)
+/**
+ * Extended DPD (algorithms.md section 5, Cotter-Reich), both schemes: Störmer-Verlet with
+ * one force evaluation per step and the pair variables s_k of a ReferencePairMemory.  The
+ * carried force is F = FC - sum_k wR e s_k over the pairs in range at the current state.
+ */
 class ReferenceEDPDDynamics : public ReferenceDynamics {
 public:
-    ReferenceEDPDDynamics(const OpenMM::System& system, const EDPDIntegrator& integrator) : ReferenceDynamics(system, integrator, 1) {}
-    void step(OpenMM::ContextImpl&, const EDPDIntegrator&) { throw OpenMM::OpenMMException("not yet on Reference"); }
-    bool getPairVariable(int i, int j, double& value, long long& step) const { return false; }
-    long long getNumPairVariables() const { return 0; }
+    ReferenceEDPDDynamics(const OpenMM::System& system, const EDPDIntegrator& integrator) :
+            ReferenceDynamics(system, integrator, 1), memory(parameters, random) {}
+    void step(OpenMM::ContextImpl& context, const EDPDIntegrator& integrator);
+    bool getPairVariable(int i, int j, double& value, long long& step) const;
+    long long getNumPairVariables() const { return memory.size(); }
+
+protected:
+    void saveExtraState(std::ostream& stream) const override { memory.write(stream); }
+    void loadExtraState(std::istream& stream) override { memory.read(stream); }
+
+private:
+    /** The recurrence of the integrator's scheme, alpha and step size. */
+    AuxiliaryRecurrence recurrence(const EDPDIntegrator& integrator) const;
+    /** F = FC - sum_k wR e s_k over `pairs`, their s taken from the memory. */
+    std::vector<OpenMM::Vec3> totalForce(const std::vector<OpenMM::Vec3>& FC, const std::vector<PairGeometry>& pairs) const;
+    /** v += dt/(2m) F for every particle. */
+    void halfKick(std::vector<OpenMM::Vec3>& v, const std::vector<OpenMM::Vec3>& F, double dt) const;
+    ReferencePairMemory memory;
 };
 
 } // namespace DPDPlugin

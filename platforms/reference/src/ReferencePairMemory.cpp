@@ -1,0 +1,188 @@
+#include "openmmdpd/ReferencePairMemory.h"
+#include "openmm/OpenMMException.h"
+#include <algorithm>
+#include <cstdint>
+#include <istream>
+#include <ostream>
+
+using namespace DPDPlugin;
+
+double ReferencePairMemory::lambda(const Key& k, const AuxiliaryRecurrence& recurrence) const {
+    return recurrence.alpha * parameters.pairGamma(k.first, k.second);
+}
+
+double ReferencePairMemory::catchUp(const Key& k, bool known, double s, long long last, long long step,
+                                    const AuxiliaryRecurrence& recurrence) const {
+    if (known && step == last)
+        return s;  // nothing to catch up
+    // With h constant, `step - last` steps of the recurrence in closed form; a fresh draw
+    // from N(0, lambda V) if never seen or forgotten.
+    const double variance = lambda(k, recurrence) * recurrence.variancePerLambda;
+    const double xi = random.gaussian(PairRandom::AuxiliaryRecall, step, k.first, k.second);
+    return recurrence.recall(known, s, step - last, variance, xi);
+}
+
+double ReferencePairMemory::recallArchived(const Key& k, long long step, const AuxiliaryRecurrence& recurrence) const {
+    const auto a = archived.find(k);
+    if (a == archived.end())
+        return catchUp(k, false, 0, 0, step, recurrence);
+    return catchUp(k, true, a->second.s, a->second.step, step, recurrence);
+}
+
+double ReferencePairMemory::nextValue(const Key& k, double s, double wR2Old, double wR2New, long long step,
+                                      const AuxiliaryRecurrence& recurrence) const {
+    // (1 + alpha dt) s^{n+1} = s^n + lambda [h(r^{n+1}) - h(r^n)] + sqrt(2 kT lambda alpha dt) w
+    // (or its symmetric form), w keyed by the step it leads to.
+    const double dh = AuxiliaryRecurrence::dh(parameters.pairCutoff(k.first, k.second), wR2Old, wR2New);
+    const double w = random.gaussian(PairRandom::AuxiliaryNoise, step + 1, k.first, k.second);
+    return recurrence.next(s, lambda(k, recurrence), dh, w);
+}
+
+void ReferencePairMemory::bind(const std::vector<PairGeometry>& pairs, long long step, const AuxiliaryRecurrence& recurrence) {
+    std::map<Key, InRange> now;
+    for (const PairGeometry& p : pairs) {
+        const Key k = key(p.i, p.j);
+        const auto old = inRange.find(k);
+        double s;
+        if (old != inRange.end())
+            s = catchUp(k, true, old->second.s, inRangeStep, step, recurrence);
+        else
+            s = recallArchived(k, step, recurrence);
+        now[k] = InRange{s, p.wR * p.wR};
+    }
+    // In range before, not now: archived as they are.
+    for (const auto& old : inRange)
+        if (now.count(old.first) == 0)
+            archived[old.first] = Archived{old.second.s, inRangeStep};
+    inRange.swap(now);
+    inRangeStep = step;
+}
+
+void ReferencePairMemory::advance(const std::vector<PairGeometry>& pairs, long long step, const AuxiliaryRecurrence& recurrence) {
+    if (inRangeStep != step)
+        throw OpenMM::OpenMMException("EDPDIntegrator: internal error: the pair variables are not at the current step");
+    std::map<Key, InRange> now;
+    for (const PairGeometry& p : pairs) {
+        const Key k = key(p.i, p.j);
+        const double wR2 = p.wR * p.wR;
+        const auto old = inRange.find(k);
+        double s;
+        if (old != inRange.end())
+            s = nextValue(k, old->second.s, old->second.wR2, wR2, step, recurrence);
+        else  // coming into range: out of range at r^n (wR = 0), brought up to step n first
+            s = nextValue(k, recallArchived(k, step, recurrence), 0, wR2, step, recurrence);
+        now[k] = InRange{s, wR2};
+    }
+    // Leaving range: one last step to h(r^{n+1}) = rc/2 (wR = 0), archived at step n + 1.
+    for (const auto& old : inRange)
+        if (now.count(old.first) == 0)
+            archived[old.first] = Archived{nextValue(old.first, old.second.s, old.second.wR2, 0, step, recurrence), step + 1};
+    inRange.swap(now);
+    inRangeStep = step + 1;
+    forget(step + 1, recurrence);
+}
+
+void ReferencePairMemory::forget(long long now, const AuxiliaryRecurrence& recurrence) {
+    // Memory only: a pair away this long is drawn anew on return whether it is kept or not.
+    // The schedule is the CPU platform's, so that getNumPairVariables() agrees with it.
+    const long long interval = std::max(1LL, recurrence.forgetSteps / 4);
+    if (now % interval != 0)
+        return;
+    for (auto a = archived.begin(); a != archived.end();) {
+        if (now - a->second.step >= recurrence.forgetSteps)
+            a = archived.erase(a);
+        else
+            ++a;
+    }
+}
+
+double ReferencePairMemory::inRangeValue(int i, int j) const {
+    const auto p = inRange.find(key(i, j));
+    if (p == inRange.end())
+        throw OpenMM::OpenMMException("EDPDIntegrator: internal error: a pair in range has no pair variable");
+    return p->second.s;
+}
+
+bool ReferencePairMemory::find(int i, int j, double& s, long long& step) const {
+    const Key k = key(i, j);
+    const auto p = inRange.find(k);
+    if (p != inRange.end()) {
+        s = p->second.s;
+        step = inRangeStep;
+        return true;
+    }
+    const auto a = archived.find(k);
+    if (a != archived.end()) {
+        s = a->second.s;
+        step = a->second.step;
+        return true;
+    }
+    return false;
+}
+
+namespace {
+
+template <class T>
+void put(std::ostream& stream, const T& value) {
+    stream.write((const char*) &value, sizeof(T));
+}
+
+template <class T>
+T take(std::istream& stream) {
+    T value;
+    stream.read((char*) &value, sizeof(T));
+    if (!stream)
+        throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint is truncated");
+    return value;
+}
+
+} // namespace
+
+void ReferencePairMemory::write(std::ostream& stream) const {
+    put<int32_t>(stream, parameters.getNumParticles());
+    put<int64_t>(stream, inRangeStep);
+    put<uint64_t>(stream, inRange.size());
+    for (const auto& p : inRange) {
+        put<int32_t>(stream, p.first.first);
+        put<int32_t>(stream, p.first.second);
+        put<double>(stream, p.second.s);
+        put<double>(stream, p.second.wR2);
+    }
+    put<uint64_t>(stream, archived.size());
+    for (const auto& a : archived) {
+        put<int32_t>(stream, a.first.first);
+        put<int32_t>(stream, a.first.second);
+        put<double>(stream, a.second.s);
+        put<int64_t>(stream, a.second.step);
+    }
+}
+
+void ReferencePairMemory::read(std::istream& stream) {
+    const int n = parameters.getNumParticles();
+    if (take<int32_t>(stream) != n)
+        throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint does not match this System");
+    auto readKey = [&]() {
+        const int i = take<int32_t>(stream), j = take<int32_t>(stream);
+        if (i < 0 || i >= j || j >= n)
+            throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint does not match this System");
+        return Key(i, j);
+    };
+    const long long step = take<int64_t>(stream);
+    std::map<Key, InRange> readInRange;
+    for (uint64_t count = take<uint64_t>(stream); count > 0; count--) {
+        const Key k = readKey();
+        InRange& p = readInRange[k];
+        p.s = take<double>(stream);
+        p.wR2 = take<double>(stream);
+    }
+    std::map<Key, Archived> readArchived;
+    for (uint64_t count = take<uint64_t>(stream); count > 0; count--) {
+        const Key k = readKey();
+        Archived& a = readArchived[k];
+        a.s = take<double>(stream);
+        a.step = take<int64_t>(stream);
+    }
+    inRangeStep = step;
+    inRange.swap(readInRange);
+    archived.swap(readArchived);
+}
