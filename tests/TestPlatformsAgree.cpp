@@ -169,6 +169,31 @@ TEST_P(PlatformsAgree, CpuOnOneAndTwoThreadsFollowsTheReferenceTrajectory) {
     }
 }
 
+TEST(PlatformsAgree, EDPDForgetsAndRecallsPairsAlike) {
+    // alpha dt = 1: a pair variable is forgotten after 27 steps and the archive is cleaned
+    // every 6, so in 60 steps pairs leave, come back, are caught up, redrawn and dropped.
+    std::vector<Vec3> positions, velocities;
+    std::unique_ptr<System> system(makeSystem(true, positions, velocities));
+    for (EDPDIntegrator::Scheme scheme : {EDPDIntegrator::OneSided, EDPDIntegrator::Symmetric}) {
+        Scheme fast{"EDPD-alpha-50", [scheme] {
+            EDPDIntegrator* integrator = new EDPDIntegrator(KT_KELVIN, 4.5, 1.0, 50.0, DT);
+            integrator->setScheme(scheme);
+            return integrator;
+        }};
+        Simulation reference = start(*system, fast, "Reference", 1, positions, velocities);
+        Simulation cpu = start(*system, fast, "CPU", 2, positions, velocities);
+        reference.integrator->step(60);
+        cpu.integrator->step(60);
+        const State a = reference.context->getState(State::Positions | State::Velocities);
+        const State b = cpu.context->getState(State::Positions | State::Velocities);
+        EXPECT_LT(relativeDifference(a.getPositions(), b.getPositions()), TOLERANCE) << "scheme " << scheme;
+        EXPECT_LT(relativeDifference(a.getVelocities(), b.getVelocities()), TOLERANCE) << "scheme " << scheme;
+        const EDPDIntegrator& r = static_cast<const EDPDIntegrator&>(*reference.integrator);
+        const EDPDIntegrator& c = static_cast<const EDPDIntegrator&>(*cpu.integrator);
+        EXPECT_EQ(r.getNumPairVariables(), c.getNumPairVariables()) << "scheme " << scheme;
+    }
+}
+
 std::string caseName(const testing::TestParamInfo<PlatformsAgree::ParamType>& info) {
     std::string name = std::get<0>(info.param).name + (std::get<1>(info.param) ? "_soft" : "_ideal");
     for (char& c : name)
