@@ -9,6 +9,7 @@
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/State.h"
 #include "openmm/serialization/XmlSerializer.h"
+#include <iostream>
 #include <set>
 #include <sstream>
 
@@ -54,6 +55,28 @@ System* makeChains(int n, int m, double a, std::vector<Vec3>& positions) {
     fene->setForceGroup(1);
     wca->setForceGroup(1);
     system->addForce(fene);
+    system->addForce(wca);
+    return system;
+}
+
+/**
+ * makeChains with the WCA written as a CustomBondForce over every pair of beads that are not
+ * bonded: the same forces, but every force in double precision on the CPU platform too
+ * (OpenMM's CPU CustomNonbondedForce is single precision), so that CPU and Reference can be
+ * compared to double rounding.
+ */
+System* makeDoubleChains(int n, int m, double a, std::vector<Vec3>& positions) {
+    System* system = makeChains(n, m, a, positions);
+    system->removeForce(system->getNumForces() - 1);
+    CustomBondForce* wca = new CustomBondForce("step(1-r)*4*((l/r)^12 - (l/r)^6 + 0.25); l=0.8908987181403393");
+    wca->setUsesPeriodicBoundaryConditions(true);
+    for (int i = 0; i < CHAINS * m; i++)
+        for (int j = i + 2; j < CHAINS * m; j++)
+            wca->addBond(i, j, {});
+    for (int i = 0; i + 1 < CHAINS * m; i++)
+        if ((i + 1) % m == 0)
+            wca->addBond(i, i + 1, {});  // last bead of a chain and first of the next: not bonded
+    wca->setForceGroup(1);
     system->addForce(wca);
     return system;
 }
@@ -328,11 +351,13 @@ TEST(StaggeredIntegrator, FeneBeyondRmaxStopsWithTheStep) {
         }
 }
 
+#if OPENMMDPD_HAVE_CPU
 TEST(StaggeredIntegrator, SideContextsMatchTheFullContext) {
-    // For K > 1 the fast forces come from a Context of the polymer alone and the slow ones
-    // from a Context without the fast forces.  A fast force that cannot be copied (here an
-    // empty HarmonicAngleForce) makes the integrator evaluate everything in the Context
-    // itself: the two must follow the same trajectory, to rounding.
+    // On the CPU platform, for K > 1 the fast forces come from a Context of the polymer alone
+    // and the slow ones from a Context without the fast forces.  A fast force that cannot be
+    // copied (here an empty HarmonicAngleForce) makes the integrator evaluate everything in
+    // the Context itself: the two must follow the same trajectory, to rounding.  (Reference
+    // always evaluates in the Context itself.)
     std::vector<Vec3> positions;
     std::unique_ptr<System> copyable(makeChains(500, 5, 18.75, positions));
     std::unique_ptr<System> fallback(makeChains(500, 5, 18.75, positions));
@@ -341,10 +366,152 @@ TEST(StaggeredIntegrator, SideContextsMatchTheFullContext) {
     fallback->addForce(angles);
     for (auto base : BASES) {
         auto a = makeStaggered(base, 0.01, 5), b = makeStaggered(base, 0.01, 5);
-        State sa = runState(*copyable, *a, "Reference", positions, 10);
-        State sb = runState(*fallback, *b, "Reference", positions, 10);
+        State sa = runState(*copyable, *a, "CPU", positions, 10);
+        State sb = runState(*fallback, *b, "CPU", positions, 10);
         EXPECT_LE(maxDifference(sa.getPositions(), sb.getPositions()), 1e-11) << "base " << base;
         EXPECT_LE(maxDifference(sa.getVelocities(), sb.getVelocities()), 1e-10) << "base " << base;
         EXPECT_GT(maxDifference(sa.getPositions(), positions), 0.01);
     }
 }
+#endif
+
+#if OPENMMDPD_HAVE_CPU
+namespace {
+
+/** max over particles of |a_i - b_i| / (1 + |b_i|): relative for large values, absolute near 0. */
+double maxRelativeDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double worst = 0;
+    for (size_t i = 0; i < a.size(); i++) {
+        const Vec3 d = a[i] - b[i];
+        worst = std::max(worst, std::sqrt(d.dot(d)) / (1 + std::sqrt(b[i].dot(b[i]))));
+    }
+    return worst;
+}
+
+/**
+ * Folds makeChains' straight chains into zigzags (bonds 0.92, beads k and k + 2 0.9 apart),
+ * so that the WCA acts from the first step.
+ */
+void foldChains(int m, std::vector<Vec3>& positions) {
+    for (int c = 0; c < CHAINS; c++)
+        for (int k = 0; k < m; k++)
+            positions[c * m + k] += Vec3(-0.52 * k, 0.8 * (k % 2), 0);
+}
+
+/**
+ * Runs the scheme on Reference and on CPU with 1 and 2 threads side by side (Dt = 0.02), and
+ * returns the largest relative difference of CPU from Reference in positions and velocities
+ * after 1, 3 and 20 outer steps.
+ */
+
+std::vector<double> cpuAgainstReference(System& system, const std::vector<Vec3>& positions, StaggeredDPDIntegrator::BaseScheme base,
+                                        int k, bool weighted) {
+    std::vector<std::unique_ptr<StaggeredDPDIntegrator>> integrators;
+    std::vector<std::unique_ptr<Context>> contexts;
+    for (int threads : {0, 1, 2}) {
+        integrators.push_back(makeStaggered(base, 0.02, k));
+        integrators.back()->setWeighted(weighted);
+        contexts.push_back(makeContext(system, *integrators.back(), threads == 0 ? "Reference" : "CPU", positions, threads));
+    }
+    std::vector<double> differences;
+    int done = 0;
+    for (int steps : {1, 3, 20}) {
+        for (auto& integrator : integrators)
+            integrator->step(steps - done);
+        done = steps;
+        const State reference = contexts[0]->getState(State::Positions | State::Velocities);
+        double worst = 0;
+        for (size_t c = 1; c < contexts.size(); c++) {
+            const State cpu = contexts[c]->getState(State::Positions | State::Velocities);
+            EXPECT_EQ(cpu.getStepCount(), steps);
+            worst = std::max(worst, maxRelativeDifference(cpu.getPositions(), reference.getPositions()));
+            worst = std::max(worst, maxRelativeDifference(cpu.getVelocities(), reference.getVelocities()));
+        }
+        differences.push_back(worst);
+    }
+    return differences;
+}
+
+} // namespace
+
+TEST(StaggeredIntegrator, CpuMatchesReference) {
+    // The CPU platform evaluates the same scheme with side Contexts, the soft force from the
+    // thermostat pairs, one-pass pair forces and the coloured parallel sweep; Reference with
+    // plain loops over the Context's forces.  Same random numbers, same pairs, same order of
+    // the Lowe sweep: with every force in double precision the trajectories agree to
+    // rounding.  What is left is the order of the force sums (and libmvec's Box-Muller),
+    // ~1e-16 relative per step, which the dynamics amplifies (chaos, and the stiff FENE/WCA
+    // sub-steps) by far less than 1e6 over 20 steps of Dt = 0.02 (measured: 2e-15 after one
+    // step, 4e-14 after 20): 1e-10 is ample, and a wrong weight, step key, pair or force term
+    // anywhere gives 1e-4 or more (a sub-step weight s/K -> (s+1)/K: 3e-2; the Lowe
+    // thermalisation over the pairs at the predicted instead of the end-of-step positions:
+    // 6e-4 at K = 1, 3e-3 at K = 3, after one step).
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeDoubleChains(500, 5, 18.75, positions));
+    foldChains(5, positions);
+    for (auto base : BASES)
+        for (int k : {1, 3})
+            for (bool weighted : {true, false}) {
+                if (k == 1 && !weighted)
+                    continue;  // K = 1 interpolates nothing
+                const std::vector<double> d = cpuAgainstReference(*system, positions, base, k, weighted);
+                const int steps[] = {1, 3, 20};
+                for (size_t s = 0; s < d.size(); s++)
+                    EXPECT_LT(d[s], 1e-10) << "base " << base << " K " << k << " weighted " << weighted << " after "
+                                           << steps[s] << " steps";
+                std::cout << "base " << base << " K " << k << " weighted " << weighted << ": max relative difference CPU vs "
+                          << "Reference after 1, 3, 20 steps: " << d[0] << ", " << d[1] << ", " << d[2] << std::endl;
+            }
+}
+
+TEST(StaggeredIntegrator, PolymerFollowsTheIntegrator) {
+    // A new explicit polymer list between steps makes both platforms derive the polymer again
+    // (and start from fresh forces): two solvent particles join the sub-cycled set.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeDoubleChains(500, 5, 18.75, positions));
+    foldChains(5, positions);
+    std::vector<int> polymer(CHAINS * 5);
+    for (int i = 0; i < CHAINS * 5; i++)
+        polymer[i] = i;
+    polymer.push_back(100);
+    polymer.push_back(101);
+    for (auto base : BASES) {
+        std::vector<std::unique_ptr<StaggeredDPDIntegrator>> integrators;
+        std::vector<std::unique_ptr<Context>> contexts;
+        for (const std::string platform : {"Reference", "CPU", "CPU"}) {
+            integrators.push_back(makeStaggered(base, 0.02, 3));
+            contexts.push_back(makeContext(*system, *integrators.back(), platform, positions, 2));
+            integrators.back()->step(2);
+        }
+        for (int c : {0, 1})
+            integrators[c]->setPolymerParticles(polymer);  // the third keeps the derived polymer
+        std::vector<State> states;
+        for (size_t c = 0; c < integrators.size(); c++) {
+            integrators[c]->step(3);
+            states.push_back(contexts[c]->getState(State::Positions | State::Velocities));
+        }
+        EXPECT_LT(maxRelativeDifference(states[1].getPositions(), states[0].getPositions()), 1e-10) << "base " << base;
+        EXPECT_LT(maxRelativeDifference(states[1].getVelocities(), states[0].getVelocities()), 1e-10) << "base " << base;
+        EXPECT_GT(maxRelativeDifference(states[2].getVelocities(), states[1].getVelocities()), 1e-6) << "base " << base;
+    }
+}
+
+TEST(StaggeredIntegrator, CpuMatchesReferenceWithSinglePrecisionWca) {
+    // The chains as the scenes build them: the WCA is a CustomNonbondedForce, which OpenMM's
+    // CPU platform evaluates in single precision (~1e-7 relative in the fast force), so the
+    // trajectories agree to ~1e-7 (measured, vV and Lowe: 2.5e-7 and 4.6e-7 after one step,
+    // 2e-7 and 4e-7 after 20), and that may grow with the chaos of the stiff polymer in
+    // longer runs.  1e-5 after one step and 1e-4 after 20 leave room for it, while a wrong
+    // sub-step weight (s/K -> (s+1)/K) gives 3e-2 after one step.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeChains(500, 5, 18.75, positions));
+    foldChains(5, positions);
+    for (auto base : BASES) {
+        const std::vector<double> d = cpuAgainstReference(*system, positions, base, 3, true);
+        EXPECT_LT(d[0], 1e-5) << "base " << base;
+        EXPECT_LT(d[2], 1e-4) << "base " << base;
+        std::cout << "base " << base << " K 3, single-precision WCA: max relative difference CPU vs Reference after 1, 3, "
+                  << "20 steps: " << d[0] << ", " << d[1] << ", " << d[2] << std::endl;
+    }
+}
+#endif

@@ -378,8 +378,17 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDInt
     }
     force.swap(newForce);
 
-    // Lowe base: the pair thermalisation, once per outer step, over the pairs just found.
+    // Lowe base: the pair thermalisation, once per outer step, over the pairs at the
+    // end-of-step positions.  Paper 002 Table 2 thermalises "N_p distinct pairs i, j such that
+    // r_ij < r_c" after the sub-cycle ("The thermalization is done once at the end of the Dt
+    // cycle", section 4.2), with the unhatted r: the corrected positions, not the provisional
+    // r^^_p at which F^ was evaluated (and with K > 1, or b != 1, the polymer is no longer
+    // there).  So the pairs are searched again here: one more search per outer step, for
+    // this base only.
     if (!verlet) {
+        Vec3 box[3];
+        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        thermostat.updatePairs(r, box);
         pairSweep.prepare(thermostat);
         pairSweep.run(thermostat, v, LowePairUpdate{thermostat.getRandom(), current, Dt, thermostat.getParameters().getKT(), invMass},
                       false);

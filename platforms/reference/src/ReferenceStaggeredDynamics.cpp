@@ -1,0 +1,209 @@
+#include "openmmdpd/ReferenceStaggeredDynamics.h"
+#include "openmm/OpenMMException.h"
+#include <istream>
+#include <ostream>
+#include <sstream>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+// Notation of algorithms.md section 6: s solvent, p polymer (the particles the fast forces
+// act on), Dt the outer step, dt = Dt/K the sub-step, F the slow force carried from the last
+// outer step, F^ the one evaluated in this one, Fp the fast force.
+
+ReferenceStaggeredDynamics::ReferenceStaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) :
+        // The Lowe base sweeps the pairs in the coloured order of LoweAndersenIntegrator.
+        ReferenceDynamics(system, integrator, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
+        baseScheme(integrator.getBaseScheme()), polymerGroups(0) {
+    updatePolymer(system, integrator);
+}
+
+void ReferenceStaggeredDynamics::updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) {
+    polymer = integrator.findPolymerParticles(system);
+    polymerGroups = integrator.getFastForceGroups();
+    polymerExplicit = integrator.getPolymerParticles();
+    polymerIndex.assign(system.getNumParticles(), -1);
+    for (size_t k = 0; k < polymer.size(); k++)
+        polymerIndex[polymer[k]] = (int) k;
+    Fp.assign(polymer.size(), Vec3());
+}
+
+bool ReferenceStaggeredDynamics::polymerChanged(const StaggeredDPDIntegrator& integrator) const {
+    return integrator.getFastForceGroups() != polymerGroups || integrator.getPolymerParticles() != polymerExplicit;
+}
+
+std::vector<Vec3> ReferenceStaggeredDynamics::slowForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
+                                                        const std::vector<Vec3>& u, long long step) {
+    const int slowGroups = integrator.getIntegrationForceGroups() & ~integrator.getFastForceGroups();
+    std::vector<Vec3> F = conservativeForce(context, slowGroups, step);
+    if (baseScheme == StaggeredDPDIntegrator::VelocityVerlet) {
+        const std::vector<PairGeometry> pairs = findPairs(context);
+        addDissipative(pairs, u, F);
+        addRandom(pairs, step, integrator.getStepSize(), F);
+    }
+    return F;
+}
+
+std::vector<Vec3> ReferenceStaggeredDynamics::fastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
+                                                        long long step, bool checkSolvent) {
+    context.calcForcesAndEnergy(true, false, integrator.getFastForceGroups());
+    const std::vector<Vec3>& f = *data(context).forces;
+    std::vector<Vec3> fast(polymer.size());
+    for (size_t k = 0; k < polymer.size(); k++)
+        fast[k] = f[polymer[k]];
+    checkFinite(fast, polymer, "fast force", step, name);
+    for (size_t i = 0; checkSolvent && i < f.size(); i++)
+        if (!isPolymer((int) i) && f[i] != Vec3()) {
+            std::ostringstream message;
+            message << name << ": the fast forces act on particle " << i << ", which is not a polymer particle; "
+                    << "polymer particles are the only ones sub-cycled, so add it to the polymer particles, or move "
+                    << "that force out of the fast force groups";
+            throw OpenMM::OpenMMException(message.str());
+        }
+    return fast;
+}
+
+void ReferenceStaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    if (integrator.getBaseScheme() != baseScheme)
+        throw OpenMM::OpenMMException("StaggeredDPDIntegrator: the base scheme changed after the Context was created; call "
+                                      "Context.reinitialize(True) after setBaseScheme()");
+    std::vector<Vec3>& r = *data(context).positions;
+    std::vector<Vec3>& v = *data(context).velocities;
+    const long long current = data(context).stepCount;
+    bool valid = carried.isValid(r, v);
+    if (polymerChanged(integrator)) {
+        updatePolymer(context.getSystem(), integrator);
+        valid = false;
+    }
+    if (!valid) {
+        carried.force = slowForce(context, integrator, v, current);
+        Fp = fastForce(context, integrator, current, true);
+        carried.setValid();
+    }
+    const std::vector<Vec3> start = r;
+    const std::vector<Vec3> predicted = predict(context, integrator);
+    // F^ = F(r_s, r^^_p ; u^_s, u^^_p): the one slow evaluation of the outer step.
+    const std::vector<Vec3> newF = slowForce(context, integrator, predicted, current + 1);
+    kickSolvent(context, integrator, newF);
+    subCycle(context, integrator, start, newF);
+    carried.force = newF;
+    if (baseScheme == StaggeredDPDIntegrator::LoweAndersen)
+        thermalise(context, integrator, current);
+    finishStep(context, integrator.getStepSize());
+}
+
+std::vector<Vec3> ReferenceStaggeredDynamics::predict(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    std::vector<Vec3>& r = *data(context).positions;
+    const std::vector<Vec3>& u = *data(context).velocities;
+    const std::vector<Vec3>& F = carried.force;
+    const std::vector<double>& invMass = parameters.getInverseMasses();
+    const double Dt = integrator.getStepSize(), lambda = integrator.getLambda(), mu = integrator.getMu(), a = integrator.getA();
+    const size_t n = r.size();
+    std::vector<Vec3> move(n), predicted(n);
+    for (size_t i = 0; i < n; i++) {
+        const int k = polymerIndex[i];
+        // The force the particle feels: F_s, or F_p + Fp_p.
+        const Vec3 f = (k >= 0 ? F[i] + Fp[k] : F[i]);
+        // r_s <- r_s + Dt u_s + Dt^2/(2m) F_s
+        // r^_p = r_p + Dt u_p + Dt^2/(2m) (F_p + Fp_p) ;  r^^_p = mu r_p + (1 - mu) r^_p
+        move[i] = u[i] * Dt + f * (0.5 * Dt * Dt * invMass[i]);
+        if (k >= 0)
+            move[i] = move[i] * (1 - mu);
+        // u^_s = u_s + lambda Dt F_s/m
+        // u^_p = u_p + lambda Dt (F_p + Fp_p)/m ;  u^^_p = a u_p + (1 - a) u^_p
+        predicted[i] = u[i] + f * (lambda * Dt * invMass[i]);
+        if (k >= 0)
+            predicted[i] = u[i] * a + predicted[i] * (1 - a);
+    }
+    movePositions(r, move, data(context).stepCount + 1);
+    return predicted;
+}
+
+void ReferenceStaggeredDynamics::kickSolvent(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
+                                             const std::vector<Vec3>& newF) {
+    std::vector<Vec3>& u = *data(context).velocities;
+    const std::vector<Vec3>& F = carried.force;
+    const std::vector<double>& invMass = parameters.getInverseMasses();
+    const double Dt = integrator.getStepSize();
+    for (size_t i = 0; i < u.size(); i++)
+        if (!isPolymer((int) i))
+            u[i] += (F[i] + newF[i]) * (0.5 * Dt * invMass[i]);
+}
+
+void ReferenceStaggeredDynamics::subCycle(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
+                                          const std::vector<Vec3>& start, const std::vector<Vec3>& newF) {
+    std::vector<Vec3>& r = *data(context).positions;
+    const double b = integrator.getB();
+    // The polymer starts again from r_p, driven by F^^_p = b F_p + (1 - b) F^_p.
+    std::vector<Vec3> driving(r.size());
+    for (int p : polymer) {
+        r[p] = start[p];
+        driving[p] = carried.force[p] * b + newF[p] * (1 - b);
+    }
+    for (int s = 0; s < integrator.getNumSubSteps(); s++)
+        subStep(context, integrator, s, driving, newF);
+}
+
+void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, int s,
+                                         const std::vector<Vec3>& driving, const std::vector<Vec3>& newF) {
+    std::vector<Vec3>& r = *data(context).positions;
+    std::vector<Vec3>& u = *data(context).velocities;
+    const std::vector<Vec3>& F = carried.force;
+    const std::vector<double>& invMass = parameters.getInverseMasses();
+    const int K = integrator.getNumSubSteps();
+    const double dt = integrator.getStepSize() / K;
+    const long long next = data(context).stepCount + 1;
+    // r_p <- r_p + dt u_p + dt^2/(2m) (F^^_p + Fp_p)
+    std::vector<Vec3> move(r.size());
+    for (size_t k = 0; k < polymer.size(); k++) {
+        const int p = polymer[k];
+        move[p] = u[p] * dt + (driving[p] + Fp[k]) * (0.5 * dt * dt * invMass[p]);
+    }
+    movePositions(r, move, next);
+    // Fp* <- Fp(r_p)
+    const std::vector<Vec3> newFp = fastForce(context, integrator, next, false);
+    // The slow force at the two ends of the sub-step, linear in time from F to F^
+    // (weighted): Fold = (K-s)/K F + s/K F^, Fnew = (K-s-1)/K F + (s+1)/K F^;
+    // or (non-weighted) Fold = F, Fnew = F^.
+    const bool weighted = integrator.getWeighted();
+    const double oldOfF = (weighted ? (double) (K - s) / K : 1.0), oldOfNewF = (weighted ? (double) s / K : 0.0);
+    const double newOfF = (weighted ? (double) (K - s - 1) / K : 0.0), newOfNewF = (weighted ? (double) (s + 1) / K : 1.0);
+    // u_p <- u_p + dt/(2m) [(Fold + Fp_p) + (Fnew + Fp*)] ;  Fp_p <- Fp*
+    for (size_t k = 0; k < polymer.size(); k++) {
+        const int p = polymer[k];
+        const Vec3 Fold = F[p] * oldOfF + newF[p] * oldOfNewF;
+        const Vec3 Fnew = F[p] * newOfF + newF[p] * newOfNewF;
+        u[p] += ((Fold + Fp[k]) + (Fnew + newFp[k])) * (0.5 * dt * invMass[p]);
+    }
+    Fp = newFp;
+}
+
+// Paper 002, Table 2, after the sub-cycle: "for all N_p distinct pairs i, j such that
+// r_ij < r_c (solvent, polymer) ... if w < Gamma Dt: Delta_ij = ... ; u_i <- u_i + Delta_ij,
+// u_j <- u_j - Delta_ij", and section 4.2: "The thermalization is done once at the end of the
+// Dt cycle".  r_ij there is the unhatted position, which at that point is the corrected one:
+// the hatted r^^_p are "provisional values" (section 4.1) used only for the one force
+// evaluation, and "the velocity and the position of the polymer are corrected in the
+// subsequent loop".  So the pairs, their distances and directions are those at the
+// end-of-step positions r_s, r_p -- found here, where they are used.
+void ReferenceStaggeredDynamics::thermalise(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step) {
+    std::vector<Vec3>& u = *data(context).velocities;
+    const LowePairUpdate collide{random, step, integrator.getStepSize(), parameters.getKT(), parameters.getInverseMasses()};
+    for (const PairGeometry& pair : findPairs(context))
+        collide(pair, u);
+}
+
+// The CPU platform's layout: the number of polymer particles, then Fp on each.
+void ReferenceStaggeredDynamics::saveExtraState(std::ostream& stream) const {
+    const uint64_t count = Fp.size();
+    stream.write((const char*) &count, sizeof(count));
+    stream.write((const char*) Fp.data(), count * sizeof(Vec3));
+}
+
+void ReferenceStaggeredDynamics::loadExtraState(std::istream& stream) {
+    uint64_t count;
+    stream.read((char*) &count, sizeof(count));
+    if (!stream || count != Fp.size())
+        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System's polymer particles");
+    stream.read((char*) Fp.data(), count * sizeof(Vec3));
+}
