@@ -3,10 +3,16 @@
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
+#include "openmm/CMMotionRemover.h"
+#include "openmm/CustomAngleForce.h"
 #include "openmm/CustomBondForce.h"
+#include "openmm/CustomCompoundBondForce.h"
 #include "openmm/CustomNonbondedForce.h"
+#include "openmm/CustomTorsionForce.h"
 #include "openmm/HarmonicAngleForce.h"
 #include "openmm/HarmonicBondForce.h"
+#include "openmm/PeriodicTorsionForce.h"
+#include "openmm/RBTorsionForce.h"
 #include "openmm/State.h"
 #include "openmm/serialization/XmlSerializer.h"
 #include <iostream>
@@ -183,6 +189,32 @@ TEST(StaggeredIntegrator, PolymerParticlesDerivedFromFastForces) {
     expected.push_back(100);
     expected.push_back(101);
     EXPECT_EQ(integrator.findPolymerParticles(*system), expected);
+    // Every kind of bonded force counts its terms' particles.
+    HarmonicAngleForce* angle = new HarmonicAngleForce();
+    angle->addAngle(200, 201, 202, 2, 1);
+    CustomAngleForce* customAngle = new CustomAngleForce("0");
+    customAngle->addAngle(203, 204, 205, {});
+    PeriodicTorsionForce* periodic = new PeriodicTorsionForce();
+    periodic->addTorsion(210, 211, 212, 213, 1, 0, 1);
+    RBTorsionForce* rb = new RBTorsionForce();
+    rb->addTorsion(214, 215, 216, 217, 0, 0, 0, 0, 0, 0);
+    CustomTorsionForce* customTorsion = new CustomTorsionForce("0");
+    customTorsion->addTorsion(218, 219, 220, 221, {});
+    CustomCompoundBondForce* compound = new CustomCompoundBondForce(2, "0");
+    compound->addBond({230, 231}, {});
+    for (Force* force : std::vector<Force*>{angle, customAngle, periodic, rb, customTorsion, compound}) {
+        force->setForceGroup(3);
+        system->addForce(force);
+    }
+    integrator.setFastForceGroups(2 | 4 | 8);
+    for (int i : {200, 201, 202, 203, 204, 205, 210, 211, 212, 213, 214, 215, 216, 217, 218, 219, 220, 221, 230, 231})
+        expected.push_back(i);
+    EXPECT_EQ(integrator.findPolymerParticles(*system), expected);
+    // A force it cannot see into asks for the explicit list.
+    CMMotionRemover* remover = new CMMotionRemover();
+    remover->setForceGroup(3);
+    system->addForce(remover);
+    expectErrorNaming([&] { integrator.findPolymerParticles(*system); }, "cannot tell which particles");
     // The explicit list wins.
     integrator.setPolymerParticles({7, 3, 3});
     EXPECT_EQ(integrator.findPolymerParticles(*system), std::vector<int>({3, 7}));

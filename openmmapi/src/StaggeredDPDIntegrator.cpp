@@ -33,6 +33,122 @@ std::string forceName(const OpenMM::Force& force, int index) {
     return "force " + std::to_string(index) + " (" + (name.empty() ? "unnamed" : name) + ")";
 }
 
+// The particles of the terms of a fast force, by kind of force: each adds them to `found` and
+// returns true if `force` is of its kinds, else returns false.
+
+bool addBondParticles(const OpenMM::Force& force, std::set<int>& found) {
+    int i, j;
+    if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force)) {
+        double length, kb;
+        for (int k = 0; k < bond->getNumBonds(); k++) {
+            bond->getBondParameters(k, i, j, length, kb);
+            found.insert({i, j});
+        }
+        return true;
+    }
+    if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force)) {
+        std::vector<double> parameters;
+        for (int k = 0; k < bond->getNumBonds(); k++) {
+            bond->getBondParameters(k, i, j, parameters);
+            found.insert({i, j});
+        }
+        return true;
+    }
+    return false;
+}
+
+bool addAngleParticles(const OpenMM::Force& force, std::set<int>& found) {
+    int i, j, l;
+    if (auto* angle = dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force)) {
+        double theta, ka;
+        for (int k = 0; k < angle->getNumAngles(); k++) {
+            angle->getAngleParameters(k, i, j, l, theta, ka);
+            found.insert({i, j, l});
+        }
+        return true;
+    }
+    if (auto* angle = dynamic_cast<const OpenMM::CustomAngleForce*>(&force)) {
+        std::vector<double> parameters;
+        for (int k = 0; k < angle->getNumAngles(); k++) {
+            angle->getAngleParameters(k, i, j, l, parameters);
+            found.insert({i, j, l});
+        }
+        return true;
+    }
+    return false;
+}
+
+bool addTorsionParticles(const OpenMM::Force& force, std::set<int>& found) {
+    int i, j, l, m;
+    if (auto* torsion = dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&force)) {
+        int periodicity;
+        double phase, kt;
+        for (int k = 0; k < torsion->getNumTorsions(); k++) {
+            torsion->getTorsionParameters(k, i, j, l, m, periodicity, phase, kt);
+            found.insert({i, j, l, m});
+        }
+        return true;
+    }
+    if (auto* torsion = dynamic_cast<const OpenMM::RBTorsionForce*>(&force)) {
+        double c0, c1, c2, c3, c4, c5;
+        for (int k = 0; k < torsion->getNumTorsions(); k++) {
+            torsion->getTorsionParameters(k, i, j, l, m, c0, c1, c2, c3, c4, c5);
+            found.insert({i, j, l, m});
+        }
+        return true;
+    }
+    if (auto* torsion = dynamic_cast<const OpenMM::CustomTorsionForce*>(&force)) {
+        std::vector<double> parameters;
+        for (int k = 0; k < torsion->getNumTorsions(); k++) {
+            torsion->getTorsionParameters(k, i, j, l, m, parameters);
+            found.insert({i, j, l, m});
+        }
+        return true;
+    }
+    return false;
+}
+
+bool addCompoundBondParticles(const OpenMM::Force& force, std::set<int>& found) {
+    auto* compound = dynamic_cast<const OpenMM::CustomCompoundBondForce*>(&force);
+    if (compound == nullptr)
+        return false;
+    std::vector<int> particles;
+    std::vector<double> parameters;
+    for (int k = 0; k < compound->getNumBonds(); k++) {
+        compound->getBondParameters(k, particles, parameters);
+        found.insert(particles.begin(), particles.end());
+    }
+    return true;
+}
+
+/** A CustomNonbondedForce acts on its interaction groups; without any, on every particle (an error). */
+bool addInteractionGroupParticles(const OpenMM::Force& force, int index, std::set<int>& found) {
+    auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force);
+    if (nonbonded == nullptr)
+        return false;
+    require(nonbonded->getNumInteractionGroups() > 0,
+            "StaggeredDPDIntegrator: " + forceName(force, index) + " in a fast force group is a CustomNonbondedForce "
+            "without interaction groups, which acts on every particle; give it interaction groups (polymer with "
+            "polymer), or set the polymer particles explicitly with setPolymerParticles()");
+    for (int g = 0; g < nonbonded->getNumInteractionGroups(); g++) {
+        std::set<int> set1, set2;
+        nonbonded->getInteractionGroupParameters(g, set1, set2);
+        found.insert(set1.begin(), set1.end());
+        found.insert(set2.begin(), set2.end());
+    }
+    return true;
+}
+
+/** Adds the particles force `index` of the System acts on to `found`; throws if it cannot tell. */
+void addParticlesOf(const OpenMM::Force& force, int index, std::set<int>& found) {
+    if (addBondParticles(force, found) || addAngleParticles(force, found) || addTorsionParticles(force, found) ||
+        addCompoundBondParticles(force, found) || addInteractionGroupParticles(force, index, found))
+        return;
+    throw OpenMMException("StaggeredDPDIntegrator: cannot tell which particles " + forceName(force, index) +
+                          " in a fast force group acts on; set the polymer particles explicitly with "
+                          "setPolymerParticles()");
+}
+
 } // namespace
 
 StaggeredDPDIntegrator::StaggeredDPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize,
@@ -124,93 +240,9 @@ std::vector<int> StaggeredDPDIntegrator::findPolymerParticles(const OpenMM::Syst
         }
         return std::vector<int>(found.begin(), found.end());
     }
-    for (int f = 0; f < system.getNumForces(); f++) {
-        const OpenMM::Force& force = system.getForce(f);
-        if ((fastForceGroups & (1 << force.getForceGroup())) == 0)
-            continue;
-        std::vector<int> particles;
-        if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force)) {
-            for (int k = 0; k < bond->getNumBonds(); k++) {
-                int i, j;
-                double length, kb;
-                bond->getBondParameters(k, i, j, length, kb);
-                found.insert(i);
-                found.insert(j);
-            }
-        }
-        else if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force)) {
-            std::vector<double> parameters;
-            for (int k = 0; k < bond->getNumBonds(); k++) {
-                int i, j;
-                bond->getBondParameters(k, i, j, parameters);
-                found.insert(i);
-                found.insert(j);
-            }
-        }
-        else if (auto* angle = dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force)) {
-            for (int k = 0; k < angle->getNumAngles(); k++) {
-                int i, j, l;
-                double theta, ka;
-                angle->getAngleParameters(k, i, j, l, theta, ka);
-                found.insert({i, j, l});
-            }
-        }
-        else if (auto* angle = dynamic_cast<const OpenMM::CustomAngleForce*>(&force)) {
-            std::vector<double> parameters;
-            for (int k = 0; k < angle->getNumAngles(); k++) {
-                int i, j, l;
-                angle->getAngleParameters(k, i, j, l, parameters);
-                found.insert({i, j, l});
-            }
-        }
-        else if (auto* torsion = dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&force)) {
-            for (int k = 0; k < torsion->getNumTorsions(); k++) {
-                int i, j, l, m, periodicity;
-                double phase, kt;
-                torsion->getTorsionParameters(k, i, j, l, m, periodicity, phase, kt);
-                found.insert({i, j, l, m});
-            }
-        }
-        else if (auto* torsion = dynamic_cast<const OpenMM::RBTorsionForce*>(&force)) {
-            for (int k = 0; k < torsion->getNumTorsions(); k++) {
-                int i, j, l, m;
-                double c0, c1, c2, c3, c4, c5;
-                torsion->getTorsionParameters(k, i, j, l, m, c0, c1, c2, c3, c4, c5);
-                found.insert({i, j, l, m});
-            }
-        }
-        else if (auto* torsion = dynamic_cast<const OpenMM::CustomTorsionForce*>(&force)) {
-            std::vector<double> parameters;
-            for (int k = 0; k < torsion->getNumTorsions(); k++) {
-                int i, j, l, m;
-                torsion->getTorsionParameters(k, i, j, l, m, parameters);
-                found.insert({i, j, l, m});
-            }
-        }
-        else if (auto* compound = dynamic_cast<const OpenMM::CustomCompoundBondForce*>(&force)) {
-            std::vector<double> parameters;
-            for (int k = 0; k < compound->getNumBonds(); k++) {
-                compound->getBondParameters(k, particles, parameters);
-                found.insert(particles.begin(), particles.end());
-            }
-        }
-        else if (auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force)) {
-            require(nonbonded->getNumInteractionGroups() > 0,
-                    "StaggeredDPDIntegrator: " + forceName(force, f) + " in a fast force group is a CustomNonbondedForce "
-                    "without interaction groups, which acts on every particle; give it interaction groups (polymer with "
-                    "polymer), or set the polymer particles explicitly with setPolymerParticles()");
-            for (int g = 0; g < nonbonded->getNumInteractionGroups(); g++) {
-                std::set<int> set1, set2;
-                nonbonded->getInteractionGroupParameters(g, set1, set2);
-                found.insert(set1.begin(), set1.end());
-                found.insert(set2.begin(), set2.end());
-            }
-        }
-        else
-            throw OpenMMException("StaggeredDPDIntegrator: cannot tell which particles " + forceName(force, f) +
-                                  " in a fast force group acts on; set the polymer particles explicitly with "
-                                  "setPolymerParticles()");
-    }
+    for (int f = 0; f < system.getNumForces(); f++)
+        if ((fastForceGroups & (1 << system.getForce(f).getForceGroup())) != 0)
+            addParticlesOf(system.getForce(f), f, found);
     require(!found.empty(), "StaggeredDPDIntegrator: the forces in the fast force groups act on no particle, so there is no "
             "polymer to sub-cycle; put the stiff polymer forces in a fast group, or set the polymer particles explicitly with "
             "setPolymerParticles()");

@@ -6,13 +6,14 @@
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
-#include "openmm/System.h"
-#include <map>
 #include "openmm/State.h"
+#include "openmm/System.h"
 #include "openmm/serialization/XmlSerializer.h"
 #include <algorithm>
 #include <istream>
+#include <map>
 #include <ostream>
+#include <set>
 #include <sstream>
 
 using namespace DPDPlugin;
@@ -49,101 +50,134 @@ void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const Stagge
 
 namespace {
 
+// Copies of the fast forces over the polymer particles only (particle i becomes index[i],
+// -1 for a particle outside the polymer), for the Context of the polymer alone: each returns
+// null when the force touches a particle outside the polymer or cannot be copied faithfully.
+
+OpenMM::Force* copyHarmonicBonds(const OpenMM::HarmonicBondForce& bond, const std::vector<int>& index) {
+    std::unique_ptr<OpenMM::HarmonicBondForce> copy(new OpenMM::HarmonicBondForce());
+    for (int k = 0; k < bond.getNumBonds(); k++) {
+        int i, j;
+        double length, kb;
+        bond.getBondParameters(k, i, j, length, kb);
+        if (index[i] < 0 || index[j] < 0)
+            return nullptr;
+        copy->addBond(index[i], index[j], length, kb);
+    }
+    copy->setUsesPeriodicBoundaryConditions(bond.usesPeriodicBoundaryConditions());
+    return copy.release();
+}
+
+OpenMM::Force* copyCustomBonds(const OpenMM::CustomBondForce& bond, const std::vector<int>& index) {
+    if (bond.getNumEnergyParameterDerivatives() > 0)
+        return nullptr;
+    std::unique_ptr<OpenMM::CustomBondForce> copy(new OpenMM::CustomBondForce(bond.getEnergyFunction()));
+    for (int p = 0; p < bond.getNumPerBondParameters(); p++)
+        copy->addPerBondParameter(bond.getPerBondParameterName(p));
+    for (int p = 0; p < bond.getNumGlobalParameters(); p++)
+        copy->addGlobalParameter(bond.getGlobalParameterName(p), bond.getGlobalParameterDefaultValue(p));
+    std::vector<double> parameters;
+    for (int k = 0; k < bond.getNumBonds(); k++) {
+        int i, j;
+        bond.getBondParameters(k, i, j, parameters);
+        if (index[i] < 0 || index[j] < 0)
+            return nullptr;
+        copy->addBond(index[i], index[j], parameters);
+    }
+    copy->setUsesPeriodicBoundaryConditions(bond.usesPeriodicBoundaryConditions());
+    return copy.release();
+}
+
+/** A CustomNonbondedForce with the energy, parameters, functions and settings of `force`, and no particles. */
+OpenMM::CustomNonbondedForce* emptyNonbondedLike(const OpenMM::CustomNonbondedForce& force) {
+    std::unique_ptr<OpenMM::CustomNonbondedForce> copy(new OpenMM::CustomNonbondedForce(force.getEnergyFunction()));
+    for (int p = 0; p < force.getNumPerParticleParameters(); p++)
+        copy->addPerParticleParameter(force.getPerParticleParameterName(p));
+    for (int p = 0; p < force.getNumGlobalParameters(); p++)
+        copy->addGlobalParameter(force.getGlobalParameterName(p), force.getGlobalParameterDefaultValue(p));
+    for (int f = 0; f < force.getNumTabulatedFunctions(); f++)
+        copy->addTabulatedFunction(force.getTabulatedFunctionName(f),
+                                   OpenMM::XmlSerializer::clone<OpenMM::TabulatedFunction>(force.getTabulatedFunction(f)));
+    copy->setNonbondedMethod(force.getNonbondedMethod());
+    copy->setCutoffDistance(force.getCutoffDistance());
+    copy->setUseSwitchingFunction(force.getUseSwitchingFunction());
+    copy->setSwitchingDistance(force.getSwitchingDistance());
+    return copy.release();
+}
+
+/** The particles (in polymer order: index[particles[k]] == k) and the exclusions within the polymer. */
+void copyNonbondedParticles(const OpenMM::CustomNonbondedForce& force, const std::vector<int>& index,
+                            OpenMM::CustomNonbondedForce& copy) {
+    std::vector<double> parameters;
+    for (size_t i = 0; i < index.size(); i++)
+        if (index[i] >= 0) {
+            force.getParticleParameters((int) i, parameters);
+            copy.addParticle(parameters);
+        }
+    for (int k = 0; k < force.getNumExclusions(); k++) {
+        int i, j;
+        force.getExclusionParticles(k, i, j);
+        if (index[i] >= 0 && index[j] >= 0)
+            copy.addExclusion(index[i], index[j]);
+    }
+}
+
+/** Whether the force's one interaction group is every polymer particle with every other. */
+bool isWholePolymerGroup(const OpenMM::CustomNonbondedForce& force, const std::vector<int>& index, size_t numPolymer) {
+    if (force.getNumInteractionGroups() != 1)
+        return false;
+    std::set<int> set1, set2;
+    force.getInteractionGroupParameters(0, set1, set2);
+    return set1 == set2 && set1.size() == numPolymer && std::all_of(set1.begin(), set1.end(), [&](int i) { return index[i] >= 0; });
+}
+
+/** set, renumbered by index; false if a particle is outside the polymer. */
+bool mapToPolymer(const std::set<int>& set, const std::vector<int>& index, std::set<int>& mapped) {
+    for (int i : set) {
+        if (index[i] < 0)
+            return false;
+        mapped.insert(index[i]);
+    }
+    return true;
+}
+
+/** The interaction groups, renumbered; false if one reaches outside the polymer. */
+bool copyInteractionGroups(const OpenMM::CustomNonbondedForce& force, const std::vector<int>& index,
+                           OpenMM::CustomNonbondedForce& copy) {
+    for (int g = 0; g < force.getNumInteractionGroups(); g++) {
+        std::set<int> set1, set2, mapped1, mapped2;
+        force.getInteractionGroupParameters(g, set1, set2);
+        if (!mapToPolymer(set1, index, mapped1) || !mapToPolymer(set2, index, mapped2))
+            return false;
+        copy.addInteractionGroup(mapped1, mapped2);
+    }
+    return true;
+}
+
+OpenMM::Force* copyCustomNonbonded(const OpenMM::CustomNonbondedForce& nonbonded, const std::vector<int>& index) {
+    // Only interaction groups confine it to the polymer; a long-range correction depends on
+    // the whole System.
+    if (nonbonded.getNumInteractionGroups() == 0 || nonbonded.getUseLongRangeCorrection() ||
+        nonbonded.getNumEnergyParameterDerivatives() > 0)
+        return nullptr;
+    std::unique_ptr<OpenMM::CustomNonbondedForce> copy(emptyNonbondedLike(nonbonded));
+    copyNonbondedParticles(nonbonded, index, *copy);
+    // One group of every polymer particle with every other is no restriction in the copy:
+    // leave it out, so that OpenMM uses its neighbour list rather than all pairs.
+    if (!isWholePolymerGroup(nonbonded, index, (size_t) copy->getNumParticles()) &&
+        !copyInteractionGroups(nonbonded, index, *copy))
+        return nullptr;
+    return copy.release();
+}
+
 /** A copy of `force` over the polymer particles only (index i becomes index[i]), or null. */
 OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int>& index) {
-    auto inPolymer = [&](int i) { return index[i] >= 0; };
-    if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force)) {
-        std::unique_ptr<OpenMM::HarmonicBondForce> copy(new OpenMM::HarmonicBondForce());
-        for (int k = 0; k < bond->getNumBonds(); k++) {
-            int i, j;
-            double length, kb;
-            bond->getBondParameters(k, i, j, length, kb);
-            if (!inPolymer(i) || !inPolymer(j))
-                return nullptr;
-            copy->addBond(index[i], index[j], length, kb);
-        }
-        copy->setUsesPeriodicBoundaryConditions(bond->usesPeriodicBoundaryConditions());
-        return copy.release();
-    }
-    if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force)) {
-        if (bond->getNumEnergyParameterDerivatives() > 0)
-            return nullptr;
-        std::unique_ptr<OpenMM::CustomBondForce> copy(new OpenMM::CustomBondForce(bond->getEnergyFunction()));
-        for (int p = 0; p < bond->getNumPerBondParameters(); p++)
-            copy->addPerBondParameter(bond->getPerBondParameterName(p));
-        for (int p = 0; p < bond->getNumGlobalParameters(); p++)
-            copy->addGlobalParameter(bond->getGlobalParameterName(p), bond->getGlobalParameterDefaultValue(p));
-        std::vector<double> parameters;
-        for (int k = 0; k < bond->getNumBonds(); k++) {
-            int i, j;
-            bond->getBondParameters(k, i, j, parameters);
-            if (!inPolymer(i) || !inPolymer(j))
-                return nullptr;
-            copy->addBond(index[i], index[j], parameters);
-        }
-        copy->setUsesPeriodicBoundaryConditions(bond->usesPeriodicBoundaryConditions());
-        return copy.release();
-    }
-    if (auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force)) {
-        // Only interaction groups confine it to the polymer; a long-range correction
-        // depends on the whole System.
-        if (nonbonded->getNumInteractionGroups() == 0 || nonbonded->getUseLongRangeCorrection() ||
-            nonbonded->getNumEnergyParameterDerivatives() > 0)
-            return nullptr;
-        std::unique_ptr<OpenMM::CustomNonbondedForce> copy(new OpenMM::CustomNonbondedForce(nonbonded->getEnergyFunction()));
-        for (int p = 0; p < nonbonded->getNumPerParticleParameters(); p++)
-            copy->addPerParticleParameter(nonbonded->getPerParticleParameterName(p));
-        for (int p = 0; p < nonbonded->getNumGlobalParameters(); p++)
-            copy->addGlobalParameter(nonbonded->getGlobalParameterName(p), nonbonded->getGlobalParameterDefaultValue(p));
-        for (int f = 0; f < nonbonded->getNumTabulatedFunctions(); f++)
-            copy->addTabulatedFunction(nonbonded->getTabulatedFunctionName(f),
-                                       OpenMM::XmlSerializer::clone<OpenMM::TabulatedFunction>(nonbonded->getTabulatedFunction(f)));
-        std::vector<int> particles;
-        for (size_t i = 0; i < index.size(); i++)
-            if (index[i] >= 0)
-                particles.push_back((int) i);  // in polymer order: index[particles[k]] == k
-        std::vector<double> parameters;
-        for (int i : particles) {
-            nonbonded->getParticleParameters(i, parameters);
-            copy->addParticle(parameters);
-        }
-        for (int k = 0; k < nonbonded->getNumExclusions(); k++) {
-            int i, j;
-            nonbonded->getExclusionParticles(k, i, j);
-            if (inPolymer(i) && inPolymer(j))
-                copy->addExclusion(index[i], index[j]);
-        }
-        // One group of every polymer particle with every other is no restriction in the copy:
-        // leave it out, so that OpenMM uses its neighbour list rather than all pairs.
-        if (nonbonded->getNumInteractionGroups() == 1) {
-            std::set<int> set1, set2;
-            nonbonded->getInteractionGroupParameters(0, set1, set2);
-            if (set1 == set2 && set1.size() == particles.size() &&
-                std::all_of(set1.begin(), set1.end(), [&](int i) { return inPolymer(i); }))
-                goto groupsDone;
-        }
-        for (int g = 0; g < nonbonded->getNumInteractionGroups(); g++) {
-            std::set<int> set1, set2, mapped1, mapped2;
-            nonbonded->getInteractionGroupParameters(g, set1, set2);
-            for (int i : set1) {
-                if (!inPolymer(i))
-                    return nullptr;
-                mapped1.insert(index[i]);
-            }
-            for (int i : set2) {
-                if (!inPolymer(i))
-                    return nullptr;
-                mapped2.insert(index[i]);
-            }
-            copy->addInteractionGroup(mapped1, mapped2);
-        }
-    groupsDone:
-        copy->setNonbondedMethod(nonbonded->getNonbondedMethod());
-        copy->setCutoffDistance(nonbonded->getCutoffDistance());
-        copy->setUseSwitchingFunction(nonbonded->getUseSwitchingFunction());
-        copy->setSwitchingDistance(nonbonded->getSwitchingDistance());
-        return copy.release();
-    }
+    if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force))
+        return copyHarmonicBonds(*bond, index);
+    if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force))
+        return copyCustomBonds(*bond, index);
+    if (auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
+        return copyCustomNonbonded(*nonbonded, index);
     return nullptr;
 }
 
@@ -280,49 +314,64 @@ void StaggeredDynamics::computeInitialForce(OpenMM::ContextImpl& context, const 
     setCarriedForceValid();
 }
 
+// Notation of algorithms.md section 6: s solvent, p polymer, Dt the outer step, dt = Dt/K
+// the sub-step; `force` holds F, the slow force of the last outer step, `newForce` F^, the
+// one of this step, and fastForce Fp (per polymer particle k of polymer[k]).
 void StaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    const long long current = data.stepCount, next = current + 1;
+    prepareStep(context, integrator);
+    for (size_t k = 0; k < polymer.size(); k++)
+        startPositions[k] = (*data.positions)[polymer[k]];
+    predict(context, integrator, next);
+    evaluatePredictedForce(context, integrator, next);
+    kickSolvent(context, integrator);
+    subCycle(context, integrator, next);
+    force.swap(newForce);
+    if (baseScheme == StaggeredDPDIntegrator::LoweAndersen)
+        thermalise(context, integrator, current);
+    finishStep(data, integrator.getStepSize());
+}
+
+void StaggeredDynamics::prepareStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
     if (integrator.getBaseScheme() != baseScheme)
         throw OpenMM::OpenMMException("StaggeredDPDIntegrator: the base scheme changed after the Context was created; call "
                                       "Context.reinitialize(True) after setBaseScheme()");
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
-    std::vector<Vec3>& r = *data.positions;
-    std::vector<Vec3>& v = *data.velocities;
-    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
-    const size_t n = r.size();
-    const int K = integrator.getNumSubSteps();
-    numSubSteps = K;
-    const double Dt = integrator.getStepSize(), dt = Dt / K;
-    const long long current = data.stepCount, next = current + 1;
-    bool valid = carriedForceValid(r, v);
+    numSubSteps = integrator.getNumSubSteps();
+    bool valid = carriedForceValid(*data.positions, *data.velocities);
     if (integrator.getFastForceGroups() != polymerGroups || integrator.getPolymerParticles() != polymerExplicit) {
         updatePolymer(context.getSystem(), integrator);
         valid = false;
     }
-    if (K > 1 && !fastContextTried) {
-        fastContextTried = true;
-        // Only a cost: if a force cannot be copied (no serialization proxy, ...), the main
-        // Context evaluates everything.
-        try {
-            makeFastContext(context, integrator);
-        }
-        catch (const OpenMM::OpenMMException&) {
-            fastContext.reset();
-            slowContext.reset();
-        }
-    }
+    if (numSubSteps > 1 && !fastContextTried)
+        makeSideContexts(context, integrator);
     if (!valid)
         computeInitialForce(context, integrator);
+}
 
+void StaggeredDynamics::makeSideContexts(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    fastContextTried = true;
+    // Only a cost: if a force cannot be copied (no serialization proxy, ...), the main
+    // Context evaluates everything.
+    try {
+        makeFastContext(context, integrator);
+    }
+    catch (const OpenMM::OpenMMException&) {
+        fastContext.reset();
+        slowContext.reset();
+    }
+}
+
+void StaggeredDynamics::predict(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long next) {
+    const std::vector<Vec3>& v = *platformData(context).velocities;
+    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
     const bool verlet = (baseScheme == StaggeredDPDIntegrator::VelocityVerlet);
-    const double lambda = integrator.getLambda(), mu = integrator.getMu(), a = integrator.getA(), b = integrator.getB();
-    const size_t numPolymer = polymer.size();
-    for (size_t k = 0; k < numPolymer; k++)
-        startPositions[k] = r[polymer[k]];
-
+    const double Dt = integrator.getStepSize(), lambda = integrator.getLambda(), mu = integrator.getMu(), a = integrator.getA();
     // Solvent: r += Dt u + Dt^2/(2m) F.  Polymer: r^ = r + Dt u + Dt^2/(2m) (F + Fp),
     // evaluated at r^^ = mu r + (1 - mu) r^.  Velocity-Verlet base: the predicted velocities
     // u^ = u + lambda Dt F/m (solvent), u^^ = a u + (1 - a) (u + lambda Dt (F + Fp)/m) (polymer).
-    movePositions(r, next, [&](size_t i) {
+    movePositions(*platformData(context).positions, next, [&](size_t i) {
         const int k = polymerIndex[i];
         Vec3 f = force[i];
         if (k >= 0)
@@ -335,65 +384,90 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDInt
         const Vec3 move = v[i] * Dt + f * (0.5 * Dt * Dt * invMass[i]);
         return (k >= 0 ? move * (1 - mu) : move);
     });
+}
 
+void StaggeredDynamics::evaluatePredictedForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
+                                               long long next) {
     // F^: the one slow evaluation (and pair search) of the outer step.
-    if (verlet)
-        computeForceInOnePass(context, slowGroups(integrator), predicted, next, Dt, newForce);
+    if (baseScheme == StaggeredDPDIntegrator::VelocityVerlet)
+        computeForceInOnePass(context, slowGroups(integrator), predicted, next, integrator.getStepSize(), newForce);
     else {
         computeConservativeAndPairs(context, slowGroups(integrator), next);
         newForce = conservative;
     }
+}
 
+void StaggeredDynamics::kickSolvent(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
+    std::vector<Vec3>& v = *platformData(context).velocities;
+    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+    const double Dt = integrator.getStepSize();
     // Solvent: u += Dt/(2m) (F + F^).
-    forEachParticle(n, [&](size_t i) {
+    forEachParticle(v.size(), [&](size_t i) {
         if (polymerIndex[i] < 0)
             v[i] += (force[i] + newForce[i]) * (0.5 * Dt * invMass[i]);
     });
+}
 
+void StaggeredDynamics::subCycle(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long next) {
+    std::vector<Vec3>& r = *platformData(context).positions;
+    const double b = integrator.getB();
     // Polymer: K sub-steps from the start of the outer step, driven by F^^ = b F + (1 - b) F^
     // and the fast force, which alone is re-evaluated.
-    for (size_t k = 0; k < numPolymer; k++) {
+    for (size_t k = 0; k < polymer.size(); k++) {
         const int p = polymer[k];
         r[p] = startPositions[k];
         drivingForce[k] = force[p] * b + newForce[p] * (1 - b);
     }
-    const bool weighted = integrator.getWeighted();
-    for (int s = 0; s < K; s++) {
-        moveParticles(polymer, r, next, [&](size_t k) {
-            const int p = polymer[k];
-            return v[p] * dt + (drivingForce[k] + fastForce[k]) * (0.5 * dt * dt * invMass[p]);
-        });
-        computeFastForce(context, integrator, next, newFastForce, false);
-        // The slow force at the ends of the sub-step: linear in time from F to F^
-        // (weighted), or F and F^ (non-weighted).
-        const double oldF = (weighted ? (double) (K - s) / K : 1.0), oldNew = (weighted ? (double) s / K : 0.0);
-        const double newF = (weighted ? (double) (K - s - 1) / K : 0.0), newNew = (weighted ? (double) (s + 1) / K : 1.0);
-        for (size_t k = 0; k < numPolymer; k++) {
-            const int p = polymer[k];
-            const Vec3 slowOld = force[p] * oldF + newForce[p] * oldNew;
-            const Vec3 slowNew = force[p] * newF + newForce[p] * newNew;
-            v[p] += ((slowOld + fastForce[k]) + (slowNew + newFastForce[k])) * (0.5 * dt * invMass[p]);
-            fastForce[k] = newFastForce[k];
-        }
-    }
-    force.swap(newForce);
+    for (int s = 0; s < integrator.getNumSubSteps(); s++)
+        subStep(context, integrator, s, next);
+}
 
-    // Lowe base: the pair thermalisation, once per outer step, over the pairs at the
-    // end-of-step positions.  Paper 002 Table 2 thermalises "N_p distinct pairs i, j such that
-    // r_ij < r_c" after the sub-cycle ("The thermalization is done once at the end of the Dt
-    // cycle", section 4.2), with the unhatted r: the corrected positions, not the provisional
-    // r^^_p at which F^ was evaluated (and with K > 1, or b != 1, the polymer is no longer
-    // there).  So the pairs are searched again here: one more search per outer step, for
-    // this base only.
-    if (!verlet) {
-        Vec3 box[3];
-        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-        thermostat.updatePairs(r, box);
-        pairSweep.prepare(thermostat);
-        pairSweep.run(thermostat, v, LowePairUpdate{thermostat.getRandom(), current, Dt, thermostat.getParameters().getKT(), invMass},
-                      false);
+void StaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, int s, long long next) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    std::vector<Vec3>& v = *data.velocities;
+    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+    const int K = integrator.getNumSubSteps();
+    const double dt = integrator.getStepSize() / K;
+    moveParticles(polymer, *data.positions, next, [&](size_t k) {
+        const int p = polymer[k];
+        return v[p] * dt + (drivingForce[k] + fastForce[k]) * (0.5 * dt * dt * invMass[p]);
+    });
+    computeFastForce(context, integrator, next, newFastForce, false);
+    // The slow force at the ends of the sub-step: linear in time from F to F^ (weighted), or
+    // F and F^ (non-weighted).
+    const bool weighted = integrator.getWeighted();
+    const double oldF = (weighted ? (double) (K - s) / K : 1.0), oldNew = (weighted ? (double) s / K : 0.0);
+    const double newF = (weighted ? (double) (K - s - 1) / K : 0.0), newNew = (weighted ? (double) (s + 1) / K : 1.0);
+    for (size_t k = 0; k < polymer.size(); k++) {
+        const int p = polymer[k];
+        const Vec3 slowOld = force[p] * oldF + newForce[p] * oldNew;
+        const Vec3 slowNew = force[p] * newF + newForce[p] * newNew;
+        v[p] += ((slowOld + fastForce[k]) + (slowNew + newFastForce[k])) * (0.5 * dt * invMass[p]);
+        fastForce[k] = newFastForce[k];
     }
-    finishStep(data, Dt);
+}
+
+// Lowe base: the pair thermalisation, once per outer step, over the pairs at the end-of-step
+// positions.  Paper 002 Table 2 thermalises, after the sub-cycle, "N_p distinct pairs i, j
+// such that r_ij < r_c" (section 4.2: "The thermalization is done once at the end of the Dt
+// cycle"), with the unhatted r_ij: the corrected positions, not the provisional r^^_p at which
+// F^ was evaluated ("we use provisional values not only for the velocity of the solvent and
+// the polymer, but also the position of the polymer ... The velocity and the position of the
+// polymer are corrected in the subsequent loop", section 4.1).  With K > 1, or b != 1, the
+// polymer is no longer at r^^_p: the pairs found there would miss the polymer pairs that came
+// into range and give the others stale directions.  So the pairs are searched again here:
+// one more pair search per outer step, for this base only.
+void StaggeredDynamics::thermalise(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long current) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    const DPDPairParameters& parameters = thermostat.getParameters();
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    thermostat.updatePairs(*data.positions, box);
+    pairSweep.prepare(thermostat);
+    pairSweep.run(thermostat, *data.velocities,
+                  LowePairUpdate{thermostat.getRandom(), current, integrator.getStepSize(), parameters.getKT(),
+                                 parameters.getInverseMasses()},
+                  false);
 }
 
 // After the shared part (seed, validity, slow force): the fast force on each polymer particle.

@@ -12,7 +12,8 @@ namespace DPDPlugin {
 
 /**
  * The time-staggered schemes (algorithms.md section 6): one slow-force evaluation (and one
- * pair search) per outer step Dt for every particle, K sub-steps of the polymer alone with
+ * pair search; the Lowe base a second one, for its thermalisation at the end-of-step
+ * positions) per outer step Dt for every particle, K sub-steps of the polymer alone with
  * only the fast forces re-evaluated.
  *
  * Carried from one outer step to the next (and saved in checkpoints): the slow force
@@ -57,6 +58,24 @@ private:
     static void syncContext(OpenMM::ContextImpl& context, OpenMM::Context& target, OpenMM::Vec3* box);
     /** force <- the slow force, fastForce <- the fast one, at the current state. */
     void computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+
+    // The steps of step(), in order (algorithms.md section 6).
+    /** Checks, the polymer and side Contexts for the integrator's settings, F and Fp if stale. */
+    void prepareStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+    /** K > 1: try the Contexts of the polymer alone and of the slow forces (once). */
+    void makeSideContexts(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+    /** Moves r to (r_s, r^^_p); predicted <- (u^_s, u^^_p) (velocity-Verlet base). */
+    void predict(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long next);
+    /** newForce <- F^ at (r_s, r^^_p), with the predicted velocities for the velocity-Verlet base. */
+    void evaluatePredictedForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long next);
+    /** u_s <- u_s + Dt/(2m) (F_s + F^_s). */
+    void kickSolvent(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
+    /** The polymer back to startPositions, then K sub-steps driven by b F + (1 - b) F^ and Fp. */
+    void subCycle(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long next);
+    /** Sub-step s of K: r_p, Fp at the new r_p, u_p. */
+    void subStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, int s, long long next);
+    /** Lowe base: Lowe's thermalisation over the pairs at the end-of-step positions. */
+    void thermalise(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long current);
 
     const StaggeredDPDIntegrator::BaseScheme baseScheme;
     int polymerGroups;
