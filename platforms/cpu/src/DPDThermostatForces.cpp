@@ -6,6 +6,7 @@
 #include "openmm/internal/OSRngSeed.h"
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <sstream>
 
 using namespace DPDPlugin;
@@ -181,7 +182,10 @@ Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& b
 
 namespace {
 
-/** FD(v) + FR (+ the soft force, if given) of the pairs within their thermostat cutoff. */
+/**
+ * FD(v) + FR (+ the soft force, if given) of the pairs within their thermostat cutoff.  One
+ * per worker: its scratch arrays are set up once, not per block (a Vec3 zeroes itself).
+ */
 struct DPDSlotForces {
     const DPDPairParameters& parameters;
     const PairRandom& random;
@@ -190,10 +194,12 @@ struct DPDSlotForces {
     const SoftRepulsionKernel* soft;
     long long step;
     double invSqrtDt;
+    PairGeometry g[PairSearch::MAX_BLOCK];
+    int first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
+    r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
+    double xi[PairSearch::MAX_BLOCK];
 
-    int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3* forces) const {
-        PairGeometry g[PairSearch::MAX_BLOCK];
-        int first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
+    int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3* forces) {
         const int i = sortedIndex[p];
         int n = 0;
         for (int k = 0; k < count; k++) {
@@ -205,8 +211,6 @@ struct DPDSlotForces {
             }
         }
         // The same numbers as random.gaussian(), drawn for the whole block at once.
-        r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
-        double xi[PairSearch::MAX_BLOCK];
         PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
         PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
         for (int k = 0; k < n; k++) {
@@ -222,6 +226,28 @@ struct DPDSlotForces {
 } // namespace
 
 void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
-    DPDSlotForces evaluate{parameters, random, search.getSortedIndex(), sortedVelocities, soft, step, 1 / std::sqrt(dt)};
-    accumulateBySlot(search, w, executor.getNumWorkers(), evaluate, workerDissipative[w]);
+    std::unique_ptr<DPDSlotForces> evaluate(
+            new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, soft, step, 1 / std::sqrt(dt)});
+    accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, workerDissipative[w]);
+}
+
+void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {
+    constexpr size_t CHUNK = 64;
+    xi.resize(pairs.size());
+    const size_t chunks = (pairs.size() + CHUNK - 1) / CHUNK;
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, chunks, begin, end);
+        int first[CHUNK], second[CHUNK];
+        r123::Philox4x32::ctr_type bits[CHUNK];
+        for (size_t c = begin; c < end; c++) {
+            const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
+            for (size_t k = 0; k < n; k++) {
+                first[k] = pairs[start + k].i;
+                second[k] = pairs[start + k].j;
+            }
+            PairRandomBatch::bits(random, stream, step, first, second, (int) n, bits);
+            PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], (int) n, 4, &xi[start]);
+        }
+    });
 }

@@ -47,6 +47,11 @@ void SweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups
     });
 }
 
+SweepDynamics::BatchNormals SweepDynamics::normals(PairRandom::Stream stream, long long step) {
+    thermostat.drawNormals(stream, step, pairNormals);
+    return BatchNormals{pairNormals, thermostat.getPairs().data()};
+}
+
 void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     const double dt = integrator.getStepSize();
@@ -57,10 +62,10 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order.
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
-    sweep(*data.velocities, ShardlowPairUpdate{random, PairRandom::RandomForce, current, h, invMass}, false);
+    sweep(*data.velocities, ShardlowPairUpdate<BatchNormals>{normals(PairRandom::RandomForce, current), h, invMass}, false);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder)
-        sweep(*data.velocities, ShardlowPairUpdate{random, PairRandom::SecondSweep, current, h, invMass}, true);
+        sweep(*data.velocities, ShardlowPairUpdate<BatchNormals>{normals(PairRandom::SecondSweep, current), h, invMass}, true);
     finishStep(data, dt);
 }
 
@@ -76,6 +81,7 @@ void LoweAndersenDynamics::step(OpenMM::ContextImpl& context, const LoweAndersen
     if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
         sweep(*data.velocities, LowePairUpdate{random, current, dt, kT, invMass}, false);
     else
-        sweep(*data.velocities, PairOrnsteinUhlenbeckUpdate{random, current, dt, kT, invMass}, false);
+        sweep(*data.velocities, PairOrnsteinUhlenbeckUpdate<BatchNormals>{normals(PairRandom::PairThermalisation, current), dt, kT,
+                                                                          invMass}, false);
     finishStep(data, dt);
 }

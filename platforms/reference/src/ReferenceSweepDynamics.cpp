@@ -65,10 +65,10 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
     const double h = secondOrder ? 0.5 * dt : dt;
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
     // the pairs at the new positions and with numbers of their own.
-    sweep(findPairs(context), ShardlowPairUpdate{random, PairRandom::RandomForce, current, h, invMass}, v);
+    sweep(findPairs(context), ShardlowPairUpdate<>{{random, PairRandom::RandomForce, current}, h, invMass}, v);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder)
-        sweepInReverse(findPairs(context), ShardlowPairUpdate{random, PairRandom::SecondSweep, current, h, invMass}, v);
+        sweepInReverse(findPairs(context), ShardlowPairUpdate<>{{random, PairRandom::SecondSweep, current}, h, invMass}, v);
     finishStep(context, dt);
 }
 
@@ -85,6 +85,6 @@ void ReferenceLoweAndersenDynamics::step(OpenMM::ContextImpl& context, const Low
     if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
         sweep(pairs, LowePairUpdate{random, current, dt, kT, invMass}, v);
     else
-        sweep(pairs, PairOrnsteinUhlenbeckUpdate{random, current, dt, kT, invMass}, v);
+        sweep(pairs, PairOrnsteinUhlenbeckUpdate<>{{random, PairRandom::PairThermalisation, current}, dt, kT, invMass}, v);
     finishStep(context, dt);
 }

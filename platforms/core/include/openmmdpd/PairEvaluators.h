@@ -98,16 +98,26 @@ struct PairImpulse {
     }
 };
 
-/** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
-struct ShardlowPairUpdate {
+/**
+ * A pair's normal number for a sweep, drawn from PairRandom (the definition).  A platform
+ * may give the sweep rules the same numbers drawn ahead in batches instead.
+ */
+struct DrawnNormals {
     const PairRandom& random;
     PairRandom::Stream stream;
     long long step;
+    double operator()(const PairGeometry& p) const { return random.gaussian(stream, step, p.i, p.j); }
+};
+
+/** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
+template <class Normals = DrawnNormals>
+struct ShardlowPairUpdate {
+    Normals normal;
     double h;
     const std::vector<double>& invMass;
 
     void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
-        const double noise = p.sigmaWR * random.gaussian(stream, step, p.i, p.j) * std::sqrt(h);
+        const double noise = p.sigmaWR * normal(p) * std::sqrt(h);
         const double friction = p.gammaWD * h;
         // explicit half
         double u = p.e.dot(v[p.i] - v[p.j]);
@@ -142,9 +152,9 @@ struct LowePairUpdate {
  * The exact solution over h of the pair's Ornstein-Uhlenbeck equation for its relative
  * normal velocity, du = -(gamma wD/mu) u dt + noise: exact for the ideal gas at any h.
  */
+template <class Normals = DrawnNormals>
 struct PairOrnsteinUhlenbeckUpdate {
-    const PairRandom& random;
-    long long step;
+    Normals normal;  // of stream PairThermalisation
     double h, kT;
     const std::vector<double>& invMass;
 
@@ -152,8 +162,7 @@ struct PairOrnsteinUhlenbeckUpdate {
         const double mu = PairImpulse::reducedMass(p, invMass);
         const double decay = std::exp(-p.gammaWD * h / mu);
         const double u = p.e.dot(v[p.i] - v[p.j]);
-        const double xi = random.gaussian(PairRandom::PairThermalisation, step, p.i, p.j);
-        const double target = u * decay + std::sqrt(kT / mu * (1 - decay * decay)) * xi;
+        const double target = u * decay + std::sqrt(kT / mu * (1 - decay * decay)) * normal(p);
         PairImpulse::apply(p, mu * (target - u), invMass, v);
     }
 };

@@ -53,6 +53,8 @@ public:
                           const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
                           const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base,
                           std::vector<OpenMM::Vec3>& out);
+    /** xi[k] = getRandom().gaussian(stream, step, pair k), for every pair of the list, in batches. */
+    void drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     uint32_t getSeed() const { return random.getSeed(); }
 

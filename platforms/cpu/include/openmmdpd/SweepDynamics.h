@@ -22,6 +22,14 @@ protected:
     void startStep(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r), pairs at r ; v += dt/2m F. */
     void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
+    /** The normal numbers of the current pair list, drawn ahead in batches (the same numbers as DrawnNormals). */
+    struct BatchNormals {
+        const std::vector<double>& xi;
+        const PairGeometry* first;  // the pair list's first pair: a pair's index is its offset
+        double operator()(const PairGeometry& p) const { return xi[&p - first]; }
+    };
+    /** Draw this step's numbers of a stream for every pair of the current list. */
+    BatchNormals normals(PairRandom::Stream stream, long long step);
     /** Apply a pair rule (PairEvaluators.h) to every pair, in the sweep order or its reverse. */
     template <class Rule>
     void sweep(std::vector<OpenMM::Vec3>& v, const Rule& rule, bool reverse) {
@@ -33,6 +41,7 @@ private:
     void updatePairs(OpenMM::ContextImpl& context);
     PairSweep pairSweep;
     long long pairsStep;
+    std::vector<double> pairNormals;
 };
 
 /** Shardlow's S1 and S2 (ShardlowIntegrator). */
