@@ -194,6 +194,37 @@ TEST(PlatformsAgree, EDPDForgetsAndRecallsPairsAlike) {
     }
 }
 
+/** Every thermostat setter of a live Context, at once: hotter, more friction, other types and type pairs. */
+void changeThermostat(DPDThermostatIntegrator& integrator) {
+    integrator.setTemperature(2 * KT_KELVIN);
+    integrator.setDefaultFriction(6.0);
+    integrator.setDefaultCutoff(0.95);
+    integrator.setParticleType(4, 1);
+    integrator.setTypePairParameters(0, 0, 1, 2.0, 0.8);
+    integrator.addTypePair(0, 0, 5.0, 1.0);
+}
+
+TEST_P(PlatformsAgree, LiveThermostatChangesTakeEffectAlike) {
+    // The setters change the dynamics from the next step on (not only what the getters
+    // return), the same way on both platforms.
+    const Scheme& scheme = std::get<0>(GetParam());
+    std::vector<Vec3> positions, velocities;
+    std::unique_ptr<System> system(makeSystem(std::get<1>(GetParam()), positions, velocities));
+    Simulation reference = start(*system, scheme, "Reference", 1, positions, velocities);
+    Simulation cpu = start(*system, scheme, "CPU", 2, positions, velocities);
+    Simulation unchanged = start(*system, scheme, "CPU", 2, positions, velocities);
+    for (Simulation* s : {&reference, &cpu, &unchanged})
+        s->integrator->step(3);
+    changeThermostat(*reference.integrator);
+    changeThermostat(*cpu.integrator);
+    for (Simulation* s : {&reference, &cpu, &unchanged})
+        s->integrator->step(5);
+    const State a = reference.context->getState(State::Velocities), b = cpu.context->getState(State::Velocities);
+    const State c = unchanged.context->getState(State::Velocities);
+    EXPECT_LT(relativeDifference(a.getVelocities(), b.getVelocities()), TOLERANCE) << scheme.name;
+    EXPECT_GT(relativeDifference(c.getVelocities(), b.getVelocities()), 1e-3) << scheme.name << ": the change had no effect";
+}
+
 std::string caseName(const testing::TestParamInfo<PlatformsAgree::ParamType>& info) {
     std::string name = std::get<0>(info.param).name + (std::get<1>(info.param) ? "_soft" : "_ideal");
     for (char& c : name)

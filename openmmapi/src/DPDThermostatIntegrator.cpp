@@ -26,16 +26,19 @@ DPDThermostatIntegrator::DPDThermostatIntegrator(double temperature, double defa
 void DPDThermostatIntegrator::setTemperature(double temp) {
     require(std::isfinite(temp) && temp >= 0, "temperature must be >= 0 K, got " + numberText(temp));
     temperature = temp;
+    parametersVersion++;
 }
 
 void DPDThermostatIntegrator::setDefaultFriction(double friction) {
     require(std::isfinite(friction) && friction >= 0, "defaultFriction must be >= 0 /ps, got " + numberText(friction));
     defaultFriction = friction;
+    parametersVersion++;
 }
 
 void DPDThermostatIntegrator::setDefaultCutoff(double cutoff) {
     require(std::isfinite(cutoff) && cutoff > 0, "defaultCutoff must be > 0 nm, got " + numberText(cutoff));
     defaultCutoff = cutoff;
+    parametersVersion++;
 }
 
 void DPDThermostatIntegrator::setStepSize(double size) {

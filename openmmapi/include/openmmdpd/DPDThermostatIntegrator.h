@@ -53,7 +53,10 @@ public:
     /** Get the type of a particle (0 unless set). */
     int getParticleType(int index) const { return types.getParticleType(index); }
     /** Set the type of a particle; types are integers >= 0. */
-    void setParticleType(int index, int type) { types.setParticleType(index, type); }
+    void setParticleType(int index, int type) {
+        types.setParticleType(index, type);
+        parametersVersion++;
+    }
     /** Get every particle type that was set explicitly, by particle index. */
     const std::map<int, int>& getParticleTypes() const { return types.getParticleTypes(); }
     /**
@@ -63,7 +66,11 @@ public:
      * @param cutoff    the thermostat cutoff of such pairs (nm), > 0
      * @return the index of the type pair
      */
-    int addTypePair(int type1, int type2, double friction, double cutoff) { return types.addTypePair(type1, type2, friction, cutoff); }
+    int addTypePair(int type1, int type2, double friction, double cutoff) {
+        const int index = types.addTypePair(type1, type2, friction, cutoff);
+        parametersVersion++;
+        return index;
+    }
     /** Get the number of type pairs that were added. */
     int getNumTypePairs() const { return types.getNumTypePairs(); }
     /** Get the parameters of a type pair (friction in 1/ps, cutoff in nm). */
@@ -71,6 +78,7 @@ public:
     /** Set the parameters of a type pair (friction in 1/ps, cutoff in nm). */
     void setTypePairParameters(int pairIndex, int type1, int type2, double friction, double cutoff) {
         types.setTypePair(pairIndex, type1, type2, friction, cutoff);
+        parametersVersion++;
     }
     /**
      * Get the random number seed.  0 (the default) means that a new seed is chosen each
@@ -83,6 +91,11 @@ public:
     double getMaxCutoff() const { return types.getMaxCutoff(defaultCutoff); }
     /** The largest friction over the defaults and all type pairs (1/ps). */
     double getMaxFriction() const { return types.getMaxValue(defaultFriction); }
+    /**
+     * Changes whenever a thermostat parameter does (temperature, friction, cutoffs, types,
+     * type pairs): the step kernels take such changes into a live Context at the next step.
+     */
+    int getThermostatParametersVersion() const { return parametersVersion; }
     /** Advance the simulation by a number of steps. */
     void step(int steps) override;
 
@@ -113,7 +126,7 @@ protected:
 
 private:
     double temperature, defaultFriction, defaultCutoff;
-    int randomNumberSeed;
+    int randomNumberSeed, parametersVersion = 0;
     ParticleTypeTable types;
     OpenMM::Kernel kernel;
 };

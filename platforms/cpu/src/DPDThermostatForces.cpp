@@ -25,12 +25,17 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
                                          ParallelExecutor& executor, int cellMultiple) :
         parameters(system, integrator), executor(executor),
         search(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
-        random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
+        cellMultiple(cellMultiple), random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
     const int workers = executor.getNumWorkers();
     workerPairs.resize(workers);
     workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
     if (workers > 1)
         workerRandom.assign(workers, std::vector<Vec3>(system.getNumParticles()));
+}
+
+void DPDThermostatForces::setParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
+    parameters = DPDPairParameters(system, integrator);
+    search = PairSearch(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple);
 }
 
 void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {

@@ -44,6 +44,12 @@ void PairDynamics::checkMoves(long long step) const {
     checkMove(maxMove2, thermostat.getParameters().getMaxCutoff(), step, name);
 }
 
+void PairDynamics::updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
+    thermostat.setParameters(system, integrator);
+    fusedVersion = -1;  // whether the soft force can be fused depends on the thermostat cutoffs
+    parametersChanged();
+}
+
 double PairDynamics::sumMV2(const std::vector<Vec3>& velocities) const {
     const std::vector<double>& mass = thermostat.getParameters().getMasses();
     executor.execute([&](int w) {

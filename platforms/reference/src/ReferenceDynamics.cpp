@@ -12,7 +12,14 @@ ReferenceDynamics::ReferenceDynamics(const OpenMM::System& system, const DPDTher
         name(integrator.className()), parameters(system, integrator),
         random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()),
         carried(system.getNumParticles()),
-        pairList(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple) {
+        pairList(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
+        cellMultiple(cellMultiple) {
+}
+
+void ReferenceDynamics::updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
+    parameters = DPDPairParameters(system, integrator);
+    pairList = ReferencePairList(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(),
+                                 cellMultiple);
 }
 
 std::vector<PairGeometry> ReferenceDynamics::findPairs(OpenMM::ContextImpl& context) const {

@@ -22,8 +22,15 @@ public:
             Interface(name, platform), executor(threads) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
         dynamics.reset(new Dynamics(system, integrator, executor));
+        parametersVersion = integrator.getThermostatParametersVersion();
     }
-    void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override { dynamics->step(context, integrator); }
+    void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
+        if (integrator.getThermostatParametersVersion() != parametersVersion) {
+            dynamics->updateParameters(context.getSystem(), integrator);
+            parametersVersion = integrator.getThermostatParametersVersion();
+        }
+        dynamics->step(context, integrator);
+    }
     double computeKineticEnergy(OpenMM::ContextImpl& context) override { return dynamics->computeKineticEnergy(context); }
     void invalidateForces() override { dynamics->invalidateForces(); }
     void createCheckpoint(OpenMM::ContextImpl&, std::ostream& stream) const override { dynamics->createCheckpoint(stream); }
@@ -32,6 +39,7 @@ public:
 protected:
     ThreadPoolExecutor executor;
     std::unique_ptr<Dynamics> dynamics;
+    int parametersVersion = 0;
 };
 
 using CpuIntegrateDPDVVStepKernel = CpuStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, DPDVVDynamics>;

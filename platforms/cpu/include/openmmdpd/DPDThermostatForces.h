@@ -24,6 +24,8 @@ public:
     DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor,
                         int cellMultiple = 1);
     const DPDPairParameters& getParameters() const { return parameters; }
+    /** New thermostat parameters (a live change): the pairs are found anew from the next search. */
+    void setParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
     /** Find the pairs within their cutoffs at these positions. */
     void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     const std::vector<PairGeometry>& getPairs() const { return pairs; }
@@ -77,6 +79,7 @@ private:
     DPDPairParameters parameters;
     ParallelExecutor& executor;
     PairSearch search;
+    int cellMultiple;
     PairRandom random;
     std::vector<PairGeometry> pairs;
     std::vector<int> cellPairStart;

@@ -32,12 +32,16 @@ public:
      * is kept if the state is still the restored one when the next step starts.
      */
     void invalidateForces() { carried.invalidate(); }
+    /** The integrator's thermostat parameters changed on a live Context: use them from now on. */
+    void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
     void createCheckpoint(std::ostream& stream) const;
     void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
 
 protected:
     /** Called after a checkpoint was loaded (state kept beyond the carried force is stale). */
     virtual void stateRestored() {}
+    /** Called after the thermostat parameters changed (state derived from them is stale). */
+    virtual void parametersChanged() {}
     /**
      * A subclass that carries more than `force` from one step to the next writes it here
      * (after the shared part of the checkpoint) and reads it back in loadExtraState().

@@ -18,6 +18,7 @@ class SweepDynamics : public PairDynamics {
 protected:
     SweepDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor);
     void stateRestored() override { pairsStep = -1; }
+    void parametersChanged() override { pairsStep = -1; }
     /** At the start of a step: the carried force and the pair list at the current positions. */
     void startStep(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r), pairs at r ; v += dt/2m F. */

@@ -17,8 +17,15 @@ public:
     ReferenceStepKernel(std::string name, const OpenMM::Platform& platform) : Interface(name, platform) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
         dynamics.reset(new Dynamics(system, integrator));
+        parametersVersion = integrator.getThermostatParametersVersion();
     }
-    void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override { dynamics->step(context, integrator); }
+    void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
+        if (integrator.getThermostatParametersVersion() != parametersVersion) {
+            dynamics->updateParameters(context.getSystem(), integrator);
+            parametersVersion = integrator.getThermostatParametersVersion();
+        }
+        dynamics->step(context, integrator);
+    }
     double computeKineticEnergy(OpenMM::ContextImpl& context) override { return dynamics->computeKineticEnergy(context); }
     void invalidateForces() override { dynamics->invalidateForces(); }
     void createCheckpoint(OpenMM::ContextImpl&, std::ostream& stream) const override { dynamics->createCheckpoint(stream); }
@@ -26,6 +33,7 @@ public:
 
 protected:
     std::unique_ptr<Dynamics> dynamics;
+    int parametersVersion = 0;
 };
 
 using ReferenceIntegrateDPDVVStepKernel = ReferenceStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, ReferenceDPDVVDynamics>;

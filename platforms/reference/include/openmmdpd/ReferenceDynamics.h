@@ -28,6 +28,8 @@ public:
     virtual ~ReferenceDynamics() {}
     double computeKineticEnergy(OpenMM::ContextImpl& context) const;
     void invalidateForces() { carried.invalidate(); }
+    /** The integrator's thermostat parameters changed on a live Context: use them from now on. */
+    void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
     void createCheckpoint(std::ostream& stream) const;
     void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
 
@@ -54,12 +56,13 @@ protected:
     void finishStep(OpenMM::ContextImpl& context, double dt) const;
 
     const std::string name;
-    const DPDPairParameters parameters;
+    DPDPairParameters parameters;
     PairRandom random;
     CarriedForce carried;
 
 private:
     ReferencePairList pairList;
+    int cellMultiple;
 };
 
 } // namespace DPDPlugin
