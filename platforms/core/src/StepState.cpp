@@ -1,4 +1,5 @@
 #include "openmmdpd/StepState.h"
+#include "openmmdpd/CheckpointIO.h"
 #include "openmm/OpenMMException.h"
 #include <cmath>
 #include <istream>
@@ -26,26 +27,15 @@ bool CarriedForce::isValid(const std::vector<Vec3>& r, const std::vector<Vec3>& 
 }
 
 void CarriedForce::write(std::ostream& stream, uint32_t seed) const {
-    const char flag = valid ? 1 : 0;
-    const uint64_t n = force.size();
-    stream.write((const char*) &seed, sizeof(seed));
-    stream.write(&flag, 1);
-    stream.write((const char*) &n, sizeof(n));
-    stream.write((const char*) force.data(), n * sizeof(Vec3));
+    putField<uint32_t>(stream, seed);
+    putField<char>(stream, valid ? 1 : 0);
+    putVectors(stream, force);
 }
 
 uint32_t CarriedForce::read(std::istream& stream, const std::vector<Vec3>& r, const std::vector<Vec3>& v, const std::string& name) {
-    uint32_t seed;
-    char flag;
-    uint64_t n;
-    stream.read((char*) &seed, sizeof(seed));
-    stream.read(&flag, 1);
-    stream.read((char*) &n, sizeof(n));
-    if (!stream || n != force.size())
-        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System");
-    stream.read((char*) force.data(), n * sizeof(Vec3));
-    if (!stream)
-        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+    const uint32_t seed = takeField<uint32_t>(stream, name);
+    const char flag = takeField<char>(stream, name);
+    takeVectors(stream, force, name, "particles");
     valid = (flag != 0);
     restoredPositions = r;
     restoredVelocities = v;

@@ -1,3 +1,4 @@
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/PairMemory.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
@@ -169,66 +170,48 @@ long long PairMemory::size() const {
     return total;
 }
 
-// Binary, field by field, so that a continuation is bit-exact.
-namespace {
-
-template <class T>
-void put(std::ostream& stream, const T& value) {
-    stream.write((const char*) &value, sizeof(T));
-}
-
-template <class T>
-T take(std::istream& stream) {
-    T value;
-    stream.read((char*) &value, sizeof(T));
-    if (!stream)
-        throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint is truncated");
-    return value;
-}
-
-} // namespace
 
 void PairMemory::write(std::ostream& stream) const {
-    put<int64_t>(stream, inRangeStep);
-    put<uint64_t>(stream, archived.size());
-    put<uint64_t>(stream, inRange.size());
+    putField<int64_t>(stream, inRangeStep);
+    putField<uint64_t>(stream, archived.size());
+    putField<uint64_t>(stream, inRange.size());
     for (int start : inRangeStart)
-        put<int32_t>(stream, start);
+        putField<int32_t>(stream, start);
     for (const InRange& p : inRange) {
-        put<int32_t>(stream, p.j);
-        put<double>(stream, p.s);
-        put<double>(stream, p.wR2);
+        putField<int32_t>(stream, p.j);
+        putField<double>(stream, p.s);
+        putField<double>(stream, p.wR2);
     }
     for (const std::vector<Archived>& list : archived) {
-        put<uint64_t>(stream, list.size());
+        putField<uint64_t>(stream, list.size());
         for (const Archived& a : list) {
-            put<int32_t>(stream, a.j);
-            put<double>(stream, a.s);
-            put<int64_t>(stream, a.step);
+            putField<int32_t>(stream, a.j);
+            putField<double>(stream, a.s);
+            putField<int64_t>(stream, a.step);
         }
     }
 }
 
 void PairMemory::read(std::istream& stream) {
-    const long long step = take<int64_t>(stream);
-    if (take<uint64_t>(stream) != archived.size())
+    const long long step = takeField<int64_t>(stream, "EDPDIntegrator");
+    if (takeField<uint64_t>(stream, "EDPDIntegrator") != archived.size())
         throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint does not match this System");
-    std::vector<InRange> pairs(take<uint64_t>(stream));
+    std::vector<InRange> pairs(takeField<uint64_t>(stream, "EDPDIntegrator"));
     std::vector<int> start(inRangeStart.size());
     for (int& s : start)
-        s = take<int32_t>(stream);
+        s = takeField<int32_t>(stream, "EDPDIntegrator");
     for (InRange& p : pairs) {
-        p.j = take<int32_t>(stream);
-        p.s = take<double>(stream);
-        p.wR2 = take<double>(stream);
+        p.j = takeField<int32_t>(stream, "EDPDIntegrator");
+        p.s = takeField<double>(stream, "EDPDIntegrator");
+        p.wR2 = takeField<double>(stream, "EDPDIntegrator");
     }
     std::vector<std::vector<Archived>> lists(archived.size());
     for (std::vector<Archived>& list : lists) {
-        list.resize(take<uint64_t>(stream));
+        list.resize(takeField<uint64_t>(stream, "EDPDIntegrator"));
         for (Archived& a : list) {
-            a.j = take<int32_t>(stream);
-            a.s = take<double>(stream);
-            a.step = take<int64_t>(stream);
+            a.j = takeField<int32_t>(stream, "EDPDIntegrator");
+            a.s = takeField<double>(stream, "EDPDIntegrator");
+            a.step = takeField<int64_t>(stream, "EDPDIntegrator");
         }
     }
     inRangeStep = step;

@@ -1,4 +1,5 @@
 #include "openmmdpd/PairSearch.h"
+#include "openmmdpd/BoxGeometry.h"
 #include <algorithm>
 #include <cmath>
 
@@ -106,12 +107,8 @@ void PairSearch::fractionalCoordinates(const std::vector<Vec3>& positions, doubl
     const int n = (int) positions.size();
     frac.resize(n);
     if (periodic) {
-        const Vec3 &a = box[0], &b = box[1], &c = box[2];
-        // Rows of the inverse of the upper-triangular box matrix [a b c].
-        const Vec3 rowZ(0, 0, 1 / c[2]);
-        const Vec3 rowY(0, 1 / b[1], -c[1] / (b[1] * c[2]));
-        const Vec3 rowX(1 / a[0], -b[0] / (a[0] * b[1]), (b[0] * c[1] / b[1] - c[0]) / (a[0] * c[2]));
-        const Vec3 rows[3] = {rowX, rowY, rowZ};
+        Vec3 rows[3];
+        inverseBoxRows(box, rows);
         for (int k = 0; k < 3; k++)
             reach[k] = cutoff * std::sqrt(rows[k].dot(rows[k]));
         for (int i = 0; i < n; i++)

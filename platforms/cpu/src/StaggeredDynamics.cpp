@@ -1,3 +1,4 @@
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/StaggeredDynamics.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
@@ -472,15 +473,9 @@ void StaggeredDynamics::thermalise(OpenMM::ContextImpl& context, const Staggered
 
 // After the shared part (seed, validity, slow force): the fast force on each polymer particle.
 void StaggeredDynamics::saveExtraState(std::ostream& stream) const {
-    const uint64_t count = fastForce.size();
-    stream.write((const char*) &count, sizeof(count));
-    stream.write((const char*) fastForce.data(), count * sizeof(Vec3));
+    putVectors(stream, fastForce);
 }
 
 void StaggeredDynamics::loadExtraState(std::istream& stream) {
-    uint64_t count;
-    stream.read((char*) &count, sizeof(count));
-    if (!stream || count != fastForce.size())
-        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System's polymer particles");
-    stream.read((char*) fastForce.data(), count * sizeof(Vec3));
+    takeVectors(stream, fastForce, name, "polymer particles");
 }

@@ -1,4 +1,5 @@
 #include "openmmdpd/ReferencePairList.h"
+#include "openmmdpd/BoxGeometry.h"
 #include <algorithm>
 #include <cmath>
 
@@ -15,14 +16,6 @@ Vec3 nearestImage(Vec3 d, const Vec3* box, bool periodic) {
         d -= box[0] * std::round(d[0] / box[0][0]);
     }
     return d;
-}
-
-/** The rows of the inverse of the upper-triangular box matrix [a b c]: fractional coordinate k = rows[k] . r. */
-void inverseBoxRows(const Vec3* box, Vec3* rows) {
-    const Vec3 &a = box[0], &b = box[1], &c = box[2];
-    rows[0] = Vec3(1 / a[0], -b[0] / (a[0] * b[1]), (b[0] * c[1] / b[1] - c[0]) / (a[0] * c[2]));
-    rows[1] = Vec3(0, 1 / b[1], -c[1] / (b[1] * c[2]));
-    rows[2] = Vec3(0, 0, 1 / c[2]);
 }
 
 int colourOf(int cell, const int* n) {

@@ -1,3 +1,4 @@
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ReferencePairMemory.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
@@ -120,67 +121,50 @@ bool ReferencePairMemory::find(int i, int j, double& s, long long& step) const {
     return false;
 }
 
-namespace {
-
-template <class T>
-void put(std::ostream& stream, const T& value) {
-    stream.write((const char*) &value, sizeof(T));
-}
-
-template <class T>
-T take(std::istream& stream) {
-    T value;
-    stream.read((char*) &value, sizeof(T));
-    if (!stream)
-        throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint is truncated");
-    return value;
-}
-
-} // namespace
 
 void ReferencePairMemory::write(std::ostream& stream) const {
-    put<int32_t>(stream, parameters.getNumParticles());
-    put<int64_t>(stream, inRangeStep);
-    put<uint64_t>(stream, inRange.size());
+    putField<int32_t>(stream, parameters.getNumParticles());
+    putField<int64_t>(stream, inRangeStep);
+    putField<uint64_t>(stream, inRange.size());
     for (const auto& p : inRange) {
-        put<int32_t>(stream, p.first.first);
-        put<int32_t>(stream, p.first.second);
-        put<double>(stream, p.second.s);
-        put<double>(stream, p.second.wR2);
+        putField<int32_t>(stream, p.first.first);
+        putField<int32_t>(stream, p.first.second);
+        putField<double>(stream, p.second.s);
+        putField<double>(stream, p.second.wR2);
     }
-    put<uint64_t>(stream, archived.size());
+    putField<uint64_t>(stream, archived.size());
     for (const auto& a : archived) {
-        put<int32_t>(stream, a.first.first);
-        put<int32_t>(stream, a.first.second);
-        put<double>(stream, a.second.s);
-        put<int64_t>(stream, a.second.step);
+        putField<int32_t>(stream, a.first.first);
+        putField<int32_t>(stream, a.first.second);
+        putField<double>(stream, a.second.s);
+        putField<int64_t>(stream, a.second.step);
     }
 }
 
 void ReferencePairMemory::read(std::istream& stream) {
     const int n = parameters.getNumParticles();
-    if (take<int32_t>(stream) != n)
+    if (takeField<int32_t>(stream, "EDPDIntegrator") != n)
         throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint does not match this System");
     auto readKey = [&]() {
-        const int i = take<int32_t>(stream), j = take<int32_t>(stream);
+        const int i = takeField<int32_t>(stream, "EDPDIntegrator"), j = takeField<int32_t>(stream, "EDPDIntegrator");
         if (i < 0 || i >= j || j >= n)
             throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint does not match this System");
         return Key(i, j);
     };
-    const long long step = take<int64_t>(stream);
+    const long long step = takeField<int64_t>(stream, "EDPDIntegrator");
     std::map<Key, InRange> readInRange;
-    for (uint64_t count = take<uint64_t>(stream); count > 0; count--) {
+    for (uint64_t count = takeField<uint64_t>(stream, "EDPDIntegrator"); count > 0; count--) {
         const Key k = readKey();
         InRange& p = readInRange[k];
-        p.s = take<double>(stream);
-        p.wR2 = take<double>(stream);
+        p.s = takeField<double>(stream, "EDPDIntegrator");
+        p.wR2 = takeField<double>(stream, "EDPDIntegrator");
     }
     std::map<Key, Archived> readArchived;
-    for (uint64_t count = take<uint64_t>(stream); count > 0; count--) {
+    for (uint64_t count = takeField<uint64_t>(stream, "EDPDIntegrator"); count > 0; count--) {
         const Key k = readKey();
         Archived& a = readArchived[k];
-        a.s = take<double>(stream);
-        a.step = take<int64_t>(stream);
+        a.s = takeField<double>(stream, "EDPDIntegrator");
+        a.step = takeField<int64_t>(stream, "EDPDIntegrator");
     }
     inRangeStep = step;
     inRange.swap(readInRange);

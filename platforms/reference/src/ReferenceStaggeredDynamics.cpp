@@ -1,3 +1,4 @@
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ReferenceStaggeredDynamics.h"
 #include "openmm/OpenMMException.h"
 #include <istream>
@@ -195,15 +196,9 @@ void ReferenceStaggeredDynamics::thermalise(OpenMM::ContextImpl& context, const 
 
 // The CPU platform's layout: the number of polymer particles, then Fp on each.
 void ReferenceStaggeredDynamics::saveExtraState(std::ostream& stream) const {
-    const uint64_t count = Fp.size();
-    stream.write((const char*) &count, sizeof(count));
-    stream.write((const char*) Fp.data(), count * sizeof(Vec3));
+    putVectors(stream, Fp);
 }
 
 void ReferenceStaggeredDynamics::loadExtraState(std::istream& stream) {
-    uint64_t count;
-    stream.read((char*) &count, sizeof(count));
-    if (!stream || count != Fp.size())
-        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System's polymer particles");
-    stream.read((char*) Fp.data(), count * sizeof(Vec3));
+    takeVectors(stream, Fp, name, "polymer particles");
 }

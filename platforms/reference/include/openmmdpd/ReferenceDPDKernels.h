@@ -1,39 +1,24 @@
 #ifndef OPENMMDPD_REFERENCEDPDKERNELS_H_
 #define OPENMMDPD_REFERENCEDPDKERNELS_H_
 
-#include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/DynamicsStepKernel.h"
 #include "openmmdpd/ReferenceDPDVVDynamics.h"
 #include "openmmdpd/ReferenceEDPDDynamics.h"
 #include "openmmdpd/ReferenceStaggeredDynamics.h"
 #include "openmmdpd/ReferenceSweepDynamics.h"
-#include <memory>
 
 namespace DPDPlugin {
 
-/** A Reference step kernel: the typed interface Interface of Integrator, run by a ReferenceDynamics. */
+/** A Reference step kernel: a ReferenceDynamics subclass, in the calling thread. */
 template <class Interface, class Integrator, class Dynamics>
-class ReferenceStepKernel : public Interface {
+class ReferenceStepKernel : public DynamicsStepKernel<Interface, Integrator, Dynamics> {
 public:
-    ReferenceStepKernel(std::string name, const OpenMM::Platform& platform) : Interface(name, platform) {}
-    void initialize(const OpenMM::System& system, const Integrator& integrator) override {
-        dynamics.reset(new Dynamics(system, integrator));
-        parametersVersion = integrator.getThermostatParametersVersion();
-    }
-    void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
-        if (integrator.getThermostatParametersVersion() != parametersVersion) {
-            dynamics->updateParameters(context.getSystem(), integrator);
-            parametersVersion = integrator.getThermostatParametersVersion();
-        }
-        dynamics->step(context, integrator);
-    }
-    double computeKineticEnergy(OpenMM::ContextImpl& context) override { return dynamics->computeKineticEnergy(context); }
-    void invalidateForces() override { dynamics->invalidateForces(); }
-    void createCheckpoint(OpenMM::ContextImpl&, std::ostream& stream) const override { dynamics->createCheckpoint(stream); }
-    void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) override { dynamics->loadCheckpoint(context, stream); }
+    using DynamicsStepKernel<Interface, Integrator, Dynamics>::DynamicsStepKernel;
 
 protected:
-    std::unique_ptr<Dynamics> dynamics;
-    int parametersVersion = 0;
+    Dynamics* createDynamics(const OpenMM::System& system, const Integrator& integrator) override {
+        return new Dynamics(system, integrator);
+    }
 };
 
 using ReferenceIntegrateDPDVVStepKernel = ReferenceStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, ReferenceDPDVVDynamics>;
@@ -48,9 +33,9 @@ class ReferenceIntegrateEDPDStepKernel : public ReferenceStepKernel<IntegrateEDP
 public:
     using ReferenceStepKernel::ReferenceStepKernel;
     bool getPairVariable(int i, int j, double& value, long long& step) const override {
-        return dynamics->getPairVariable(i, j, value, step);
+        return this->dynamics->getPairVariable(i, j, value, step);
     }
-    long long getNumPairVariables() const override { return dynamics->getNumPairVariables(); }
+    long long getNumPairVariables() const override { return this->dynamics->getNumPairVariables(); }
 };
 
 } // namespace DPDPlugin
