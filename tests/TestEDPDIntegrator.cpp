@@ -281,3 +281,28 @@ TEST(EDPDIntegrator, PairMovingOutAndBackIsArchivedMeanwhile) {
     EXPECT_GT(left, 10);
     EXPECT_GT(returned, left + 100);
 }
+
+// Context.setStepCount() renumbers the steps; the pair variables, in range or archived, keep
+// their values (a redraw would be far from them at this memory of ~10^6 steps).
+TEST(EDPDIntegrator, SetStepCountKeepsThePairVariables) {
+    std::unique_ptr<System> system(makeTwoParticles());
+    const std::vector<Vec3> near = {Vec3(1, 1, 1), Vec3(1.5, 1, 1)}, far = {Vec3(1, 1, 1), Vec3(2.8, 1, 1)};
+    for (const std::string& platform : platforms()) {
+        EDPDIntegrator integrator = makeIntegrator(EDPDIntegrator::OneSided, 1e-4, 0.01, 3);
+        auto context = makeContext(*system, integrator, platform, near);
+        integrator.step(5);
+        const double inRange = integrator.getPairVariable(0, 1);
+        context->setStepCount(1000);
+        integrator.step(1);
+        EXPECT_EQ(integrator.getPairVariableStep(0, 1), 1001) << platform;
+        EXPECT_LT(std::fabs(integrator.getPairVariable(0, 1) - inRange), 0.1 * std::fabs(inRange)) << platform;
+        context->setPositions(far);
+        integrator.step(1);
+        const double archived = integrator.getPairVariable(0, 1);
+        const long long archivedStep = integrator.getPairVariableStep(0, 1);
+        context->setStepCount(50);
+        EXPECT_NO_THROW(integrator.step(2)) << platform;
+        EXPECT_EQ(integrator.getPairVariableStep(0, 1), archivedStep + 50 - 1002) << platform;
+        EXPECT_EQ(integrator.getPairVariable(0, 1), archived) << platform;
+    }
+}

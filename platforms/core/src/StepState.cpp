@@ -32,10 +32,12 @@ void CarriedForce::write(std::ostream& stream, uint32_t seed) const {
     putVectors(stream, force);
 }
 
-uint32_t CarriedForce::read(std::istream& stream, const std::vector<Vec3>& r, const std::vector<Vec3>& v, const std::string& name) {
-    const uint32_t seed = takeField<uint32_t>(stream, name);
-    const char flag = takeField<char>(stream, name);
-    takeVectors(stream, force, name, "particles");
+uint32_t CarriedForce::read(CheckpointReader& reader, const std::vector<Vec3>& r, const std::vector<Vec3>& v) {
+    const uint32_t seed = reader.take<uint32_t>("the random number seed");
+    const char flag = reader.take<char>("the carried force's flag");
+    if (flag != 0 && flag != 1)
+        reader.damaged("the carried force's flag is " + std::to_string((int) flag) + ", not 0 or 1");
+    reader.takeVectors(force, "the carried force");
     valid = (flag != 0);
     restoredPositions = r;
     restoredVelocities = v;

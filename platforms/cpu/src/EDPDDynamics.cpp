@@ -25,6 +25,7 @@ void EDPDDynamics::step(OpenMM::ContextImpl& context, const EDPDIntegrator& inte
     const long long current = data.stepCount, next = current + 1;
     const AuxiliaryRecurrence recurrence(integrator.getAlpha(), dt, thermostat.getParameters().getKT(),
                                          integrator.getScheme() == EDPDIntegrator::Symmetric);
+    memory.renumberSteps(current);
     if (!carriedForceValid(r, v)) {
         // A start, or positions set from outside: the pairs in range and their h are the
         // current ones; the s they carry are kept.

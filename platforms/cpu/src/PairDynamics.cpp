@@ -191,12 +191,20 @@ void PairDynamics::createCheckpoint(std::ostream& stream) const {
     saveExtraState(stream);
 }
 
-void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) {
+void PairDynamics::loadCheckpoint(OpenMM::ContextImpl& context, CheckpointReader& reader) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
-    const uint32_t seed = carried.read(stream, *data.positions, *data.velocities, name);
-    loadExtraState(stream);
-    if (!stream)
-        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+    CarriedForce loaded(force.size());
+    const uint32_t seed = loaded.read(reader, *data.positions, *data.velocities);
+    loadExtraState(reader);
+    reader.expectEnd();
+    commitExtraState();
+    carried = std::move(loaded);
     thermostat.setSeed(seed);
+    stateRestored();
+}
+
+void PairDynamics::resetState() {
+    carried = CarriedForce(force.size());
+    resetExtraState();
     stateRestored();
 }

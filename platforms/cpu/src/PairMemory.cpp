@@ -3,6 +3,7 @@
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <istream>
 #include <ostream>
 
@@ -192,30 +193,90 @@ void PairMemory::write(std::ostream& stream) const {
     }
 }
 
-void PairMemory::read(std::istream& stream) {
-    const long long step = takeField<int64_t>(stream, "EDPDIntegrator");
-    if (takeField<uint64_t>(stream, "EDPDIntegrator") != archived.size())
-        throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint does not match this System");
-    std::vector<InRange> pairs(takeField<uint64_t>(stream, "EDPDIntegrator"));
-    std::vector<int> start(inRangeStart.size());
-    for (int& s : start)
-        s = takeField<int32_t>(stream, "EDPDIntegrator");
-    for (InRange& p : pairs) {
-        p.j = takeField<int32_t>(stream, "EDPDIntegrator");
-        p.s = takeField<double>(stream, "EDPDIntegrator");
-        p.wR2 = takeField<double>(stream, "EDPDIntegrator");
+PairMemory::Saved PairMemory::read(CheckpointReader& reader) const {
+    Saved saved;
+    saved.inRangeStep = reader.take<int64_t>("the step of the pair variables");
+    if (std::abs(saved.inRangeStep) > MAX_STEP_NUMBER)
+        reader.damaged("the pair variables are of step " + std::to_string(saved.inRangeStep));
+    if (reader.take<uint64_t>("the particle count of the pair variables") != archived.size())
+        reader.damaged("the pair variables are for another particle count");
+    readInRange(reader, saved);
+    readArchived(reader, saved);
+    return saved;
+}
+
+// Offsets monotone from 0 to the pair count, partners above their particle, sorted, and
+// finite values: what merge() and find() rely on.
+void PairMemory::readInRange(CheckpointReader& reader, Saved& saved) const {
+    const int n = (int) archived.size();
+    saved.inRange.resize(reader.takeCount("the number of pairs in range", 20));
+    saved.inRangeStart.resize(n + 1);
+    for (int& start : saved.inRangeStart)
+        start = reader.take<int32_t>("the pairs' offsets");
+    if (saved.inRangeStart[0] != 0 || saved.inRangeStart[n] != (long long) saved.inRange.size())
+        reader.damaged("the pairs' offsets do not run from 0 to the number of pairs");
+    if (saved.inRangeStep == -1 && !saved.inRange.empty())
+        reader.damaged("pairs in range before the first step");
+    for (InRange& p : saved.inRange) {
+        p.j = reader.take<int32_t>("a pair's partner");
+        p.s = reader.takeFinite("a pair variable");
+        p.wR2 = reader.takeFinite("a pair weight");
+        if (p.wR2 < 0 || p.wR2 > 1)
+            reader.damaged("a pair weight wR^2 is " + std::to_string(p.wR2) + ", outside [0, 1]");
     }
-    std::vector<std::vector<Archived>> lists(archived.size());
-    for (std::vector<Archived>& list : lists) {
-        list.resize(takeField<uint64_t>(stream, "EDPDIntegrator"));
-        for (Archived& a : list) {
-            a.j = takeField<int32_t>(stream, "EDPDIntegrator");
-            a.s = takeField<double>(stream, "EDPDIntegrator");
-            a.step = takeField<int64_t>(stream, "EDPDIntegrator");
+    for (int i = 0; i < n; i++) {
+        const int begin = saved.inRangeStart[i], end = saved.inRangeStart[i + 1];
+        if (begin > end)
+            reader.damaged("the pairs' offsets decrease at particle " + std::to_string(i));
+        for (int k = begin; k < end; k++)
+            if (saved.inRange[k].j <= (k > begin ? saved.inRange[k - 1].j : i) || saved.inRange[k].j >= n)
+                reader.damaged("particle " + std::to_string(i) + " has the partner " + std::to_string(saved.inRange[k].j) +
+                               " out of order or out of range");
+    }
+}
+
+void PairMemory::readArchived(CheckpointReader& reader, Saved& saved) const {
+    const int n = (int) archived.size();
+    saved.archived.resize(n);
+    for (int i = 0; i < n; i++) {
+        std::vector<Archived>& list = saved.archived[i];
+        list.resize(reader.takeCount("the number of archived pairs", 20));
+        for (size_t k = 0; k < list.size(); k++) {
+            Archived& a = list[k];
+            a.j = reader.take<int32_t>("an archived pair's partner");
+            a.s = reader.takeFinite("an archived pair variable");
+            a.step = reader.take<int64_t>("the step of an archived pair");
+            if (a.j <= (k > 0 ? list[k - 1].j : i) || a.j >= n)
+                reader.damaged("particle " + std::to_string(i) + " has the archived partner " + std::to_string(a.j) +
+                               " out of order or out of range");
+            if (a.step > saved.inRangeStep || a.step < -MAX_STEP_NUMBER)
+                reader.damaged("an archived pair variable is of step " + std::to_string(a.step) + ", after the pairs in range (" +
+                               std::to_string(saved.inRangeStep) + ")");
         }
     }
+}
+
+void PairMemory::restore(Saved&& saved) {
+    inRangeStep = saved.inRangeStep;
+    inRangeStart.swap(saved.inRangeStart);
+    inRange.swap(saved.inRange);
+    archived.swap(saved.archived);
+}
+
+void PairMemory::renumberSteps(long long step) {
+    if (inRangeStep < 0 || inRangeStep == step)
+        return;
+    const long long shift = step - inRangeStep;
+    for (std::vector<Archived>& list : archived)
+        for (Archived& a : list)
+            a.step += shift;
     inRangeStep = step;
-    inRangeStart.swap(start);
-    inRange.swap(pairs);
-    archived.swap(lists);
+}
+
+void PairMemory::clear() {
+    inRangeStep = -1;
+    std::fill(inRangeStart.begin(), inRangeStart.end(), 0);
+    inRange.clear();
+    for (std::vector<Archived>& list : archived)
+        list.clear();
 }

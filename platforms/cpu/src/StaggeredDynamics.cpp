@@ -476,6 +476,7 @@ void StaggeredDynamics::saveExtraState(std::ostream& stream) const {
     putVectors(stream, fastForce);
 }
 
-void StaggeredDynamics::loadExtraState(std::istream& stream) {
-    takeVectors(stream, fastForce, name, "polymer particles");
+void StaggeredDynamics::loadExtraState(CheckpointReader& reader) {
+    loadedFastForce.resize(fastForce.size());
+    reader.takeVectors(loadedFastForce, "the fast force on the polymer particles");
 }

@@ -93,10 +93,17 @@ void ReferenceDynamics::createCheckpoint(std::ostream& stream) const {
     saveExtraState(stream);
 }
 
-void ReferenceDynamics::loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) {
-    const uint32_t seed = carried.read(stream, *data(context).positions, *data(context).velocities, name);
-    loadExtraState(stream);
-    if (!stream)
-        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
+void ReferenceDynamics::loadCheckpoint(OpenMM::ContextImpl& context, CheckpointReader& reader) {
+    CarriedForce loaded(parameters.getNumParticles());
+    const uint32_t seed = loaded.read(reader, *data(context).positions, *data(context).velocities);
+    loadExtraState(reader);
+    reader.expectEnd();
+    commitExtraState();
+    carried = std::move(loaded);
     random = PairRandom(seed);
+}
+
+void ReferenceDynamics::resetState() {
+    carried = CarriedForce(parameters.getNumParticles());
+    resetExtraState();
 }

@@ -35,6 +35,7 @@ void ReferenceEDPDDynamics::step(OpenMM::ContextImpl& context, const EDPDIntegra
     const int groups = integrator.getIntegrationForceGroups();
     const long long current = data(context).stepCount, next = current + 1;
     const AuxiliaryRecurrence rec = recurrence(integrator);
+    memory.renumberSteps(current);
     if (!carried.isValid(r, v)) {
         // A start, or a state set from outside: the pairs in range are those at the current
         // positions, with the s they carry (kept, caught up, or drawn if new).

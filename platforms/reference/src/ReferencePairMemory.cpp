@@ -2,6 +2,7 @@
 #include "openmmdpd/ReferencePairMemory.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
+#include <cstdlib>
 #include <cstdint>
 #include <istream>
 #include <ostream>
@@ -141,32 +142,61 @@ void ReferencePairMemory::write(std::ostream& stream) const {
     }
 }
 
-void ReferencePairMemory::read(std::istream& stream) {
+ReferencePairMemory::Saved ReferencePairMemory::read(CheckpointReader& reader) const {
     const int n = parameters.getNumParticles();
-    if (takeField<int32_t>(stream, "EDPDIntegrator") != n)
-        throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint does not match this System");
-    auto readKey = [&]() {
-        const int i = takeField<int32_t>(stream, "EDPDIntegrator"), j = takeField<int32_t>(stream, "EDPDIntegrator");
+    if (reader.take<int32_t>("the particle count of the pair variables") != n)
+        reader.damaged("the pair variables are for another particle count");
+    auto takeKey = [&]() {
+        const int i = reader.take<int32_t>("a pair"), j = reader.take<int32_t>("a pair");
         if (i < 0 || i >= j || j >= n)
-            throw OpenMM::OpenMMException("EDPDIntegrator: the checkpoint does not match this System");
+            reader.damaged("a pair variable is for the particles (" + std::to_string(i) + ", " + std::to_string(j) +
+                           "), not 0 <= i < j < " + std::to_string(n));
         return Key(i, j);
     };
-    const long long step = takeField<int64_t>(stream, "EDPDIntegrator");
-    std::map<Key, InRange> readInRange;
-    for (uint64_t count = takeField<uint64_t>(stream, "EDPDIntegrator"); count > 0; count--) {
-        const Key k = readKey();
-        InRange& p = readInRange[k];
-        p.s = takeField<double>(stream, "EDPDIntegrator");
-        p.wR2 = takeField<double>(stream, "EDPDIntegrator");
+    Saved saved;
+    saved.inRangeStep = reader.take<int64_t>("the step of the pair variables");
+    if (std::abs(saved.inRangeStep) > MAX_STEP_NUMBER)
+        reader.damaged("the pair variables are of step " + std::to_string(saved.inRangeStep));
+    for (uint64_t count = reader.takeCount("the number of pairs in range", 24); count > 0; count--) {
+        const Key k = takeKey();
+        const double s = reader.takeFinite("a pair variable"), wR2 = reader.takeFinite("a pair weight");
+        if (wR2 < 0 || wR2 > 1)
+            reader.damaged("a pair weight wR^2 is " + std::to_string(wR2) + ", outside [0, 1]");
+        if (!saved.inRange.emplace(k, InRange{s, wR2}).second)
+            reader.damaged("a pair in range is listed twice");
     }
-    std::map<Key, Archived> readArchived;
-    for (uint64_t count = takeField<uint64_t>(stream, "EDPDIntegrator"); count > 0; count--) {
-        const Key k = readKey();
-        Archived& a = readArchived[k];
-        a.s = takeField<double>(stream, "EDPDIntegrator");
-        a.step = takeField<int64_t>(stream, "EDPDIntegrator");
+    for (uint64_t count = reader.takeCount("the number of archived pairs", 24); count > 0; count--) {
+        const Key k = takeKey();
+        const double s = reader.takeFinite("a pair variable");
+        const long long step = reader.take<int64_t>("the step of an archived pair");
+        if (step > saved.inRangeStep || step < -MAX_STEP_NUMBER)
+            reader.damaged("an archived pair variable is of step " + std::to_string(step) + ", after the pairs in range (" +
+                           std::to_string(saved.inRangeStep) + ")");
+        if (!saved.archived.emplace(k, Archived{s, step}).second)
+            reader.damaged("an archived pair is listed twice");
     }
+    if (saved.inRangeStep == -1 && !saved.inRange.empty())
+        reader.damaged("pairs in range before the first step");
+    return saved;
+}
+
+void ReferencePairMemory::restore(Saved&& saved) {
+    inRangeStep = saved.inRangeStep;
+    inRange.swap(saved.inRange);
+    archived.swap(saved.archived);
+}
+
+void ReferencePairMemory::renumberSteps(long long step) {
+    if (inRangeStep < 0 || inRangeStep == step)
+        return;
+    const long long shift = step - inRangeStep;
+    for (auto& a : archived)
+        a.second.step += shift;
     inRangeStep = step;
-    inRange.swap(readInRange);
-    archived.swap(readArchived);
+}
+
+void ReferencePairMemory::clear() {
+    inRangeStep = -1;
+    inRange.clear();
+    archived.clear();
 }

@@ -199,6 +199,7 @@ void ReferenceStaggeredDynamics::saveExtraState(std::ostream& stream) const {
     putVectors(stream, Fp);
 }
 
-void ReferenceStaggeredDynamics::loadExtraState(std::istream& stream) {
-    takeVectors(stream, Fp, name, "polymer particles");
+void ReferenceStaggeredDynamics::loadExtraState(CheckpointReader& reader) {
+    loadedFp.resize(Fp.size());
+    reader.takeVectors(loadedFp, "the fast force on the polymer particles");
 }

@@ -1,7 +1,6 @@
 #ifndef OPENMMDPD_CHECKPOINTIO_H_
 #define OPENMMDPD_CHECKPOINTIO_H_
 
-#include "openmm/OpenMMException.h"
 #include "openmm/Vec3.h"
 #include <cstdint>
 #include <istream>
@@ -12,23 +11,26 @@
 namespace DPDPlugin {
 
 /*
- * The binary fields of this plugin's checkpoints, written and read in one place for every
- * platform: binary so that a continuation is bit-exact.
+ * The integrator part of this plugin's checkpoints, written and read in one place for
+ * every platform and integrator.  Binary, so that a continuation is bit-exact:
+ *
+ *   magic "OMMDPDCK", format version (uint32), integrator tag (uint32 length + chars: the
+ *   class and its variant), particle count (int32), payload size (uint64), payload.
+ *
+ * The payload is read whole before any of it is used, and every field taken from it is
+ * checked (sizes against what is left, indices, finiteness), so that a damaged or foreign
+ * checkpoint is refused with an OpenMMException before any integrator state changes.
  */
+
+/** The format this version writes; checkpoints without the header (format 1) are refused. */
+constexpr uint32_t CHECKPOINT_FORMAT_VERSION = 2;
+
+/** Step numbers read from a checkpoint lie within +-MAX_STEP_NUMBER, so differences of two cannot overflow. */
+constexpr long long MAX_STEP_NUMBER = 1LL << 62;
 
 template <class T>
 void putField(std::ostream& stream, const T& value) {
     stream.write((const char*) &value, sizeof(T));
-}
-
-/** A field of type T; `name` prefixes the error if the stream ends first. */
-template <class T>
-T takeField(std::istream& stream, const std::string& name) {
-    T value;
-    stream.read((char*) &value, sizeof(T));
-    if (!stream)
-        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
-    return value;
 }
 
 /** A count, then the vectors. */
@@ -37,14 +39,46 @@ inline void putVectors(std::ostream& stream, const std::vector<OpenMM::Vec3>& va
     stream.write((const char*) values.data(), values.size() * sizeof(OpenMM::Vec3));
 }
 
-/** Reads what putVectors wrote into `values`, which must already have the size written. */
-inline void takeVectors(std::istream& stream, std::vector<OpenMM::Vec3>& values, const std::string& name, const std::string& what) {
-    if (takeField<uint64_t>(stream, name) != values.size())
-        throw OpenMM::OpenMMException(name + ": the checkpoint does not match this System's " + what);
-    stream.read((char*) values.data(), values.size() * sizeof(OpenMM::Vec3));
-    if (!stream)
-        throw OpenMM::OpenMMException(name + ": the checkpoint is truncated");
-}
+/** The header, then the payload. */
+void writeCheckpoint(std::ostream& stream, const std::string& tag, int numParticles, const std::string& payload);
+
+/**
+ * The fields of a payload, taken in order.  Every error names the integrator (`name`) and
+ * says what was wrong, e.g. "DPDVVIntegrator: the checkpoint is damaged: ...".
+ */
+class CheckpointReader {
+public:
+    CheckpointReader(std::string payload, std::string name) : payload(std::move(payload)), name(std::move(name)) {}
+    template <class T>
+    T take(const char* what) {
+        T value;
+        takeBytes(&value, sizeof(T), what);
+        return value;
+    }
+    /** A finite double. */
+    double takeFinite(const char* what);
+    /** A count of items of itemBytes bytes each that must fit in what is left. */
+    uint64_t takeCount(const char* what, size_t itemBytes);
+    /** What putVectors wrote, into `values`, which must already have the size written; all finite. */
+    void takeVectors(std::vector<OpenMM::Vec3>& values, const char* what);
+    /** Every byte of the payload must have been taken. */
+    void expectEnd() const;
+    /** Throws "<name>: the checkpoint is damaged: <what>". */
+    [[noreturn]] void damaged(const std::string& what) const;
+
+private:
+    void takeBytes(void* destination, size_t bytes, const char* what);
+    std::string payload;
+    size_t offset = 0;
+    std::string name;
+};
+
+/**
+ * Reads the header and the payload written by writeCheckpoint, refusing a checkpoint that
+ * is not this plugin's, of another format, another integrator (tag) or particle count.
+ * `name` (the integrator class) prefixes the errors.
+ */
+CheckpointReader readCheckpoint(std::istream& stream, const std::string& tag, int numParticles, const std::string& name);
 
 } // namespace DPDPlugin
 

@@ -1,8 +1,12 @@
 #ifndef OPENMMDPD_DYNAMICSSTEPKERNEL_H_
 #define OPENMMDPD_DYNAMICSSTEPKERNEL_H_
 
+#include "openmmdpd/CheckpointIO.h"
+#include "openmmdpd/CheckpointTags.h"
 #include "openmmdpd/DPDKernels.h"
+#include "openmm/internal/ContextImpl.h"
 #include <memory>
+#include <sstream>
 
 namespace DPDPlugin {
 
@@ -11,6 +15,12 @@ namespace DPDPlugin {
  * Dynamics (its update rule): what every platform's kernels share.  Thermostat parameters
  * changed on a live Context reach the Dynamics before the next step.  A platform says how
  * to make its Dynamics.
+ *
+ * Checkpoints carry a header (CheckpointIO.h) tagged with the integrator's class and
+ * variant.  OpenMM restores positions, velocities, step count and time before the
+ * integrator reads its part; when that part is refused, the Dynamics drops everything it
+ * carried and re-derives it from the Context's current state at the next step, as a new
+ * Context would.
  */
 template <class Interface, class Integrator, class Dynamics>
 class DynamicsStepKernel : public Interface {
@@ -18,6 +28,7 @@ public:
     DynamicsStepKernel(std::string name, const OpenMM::Platform& platform) : Interface(name, platform) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
         dynamics.reset(createDynamics(system, integrator));
+        owner = &integrator;
         parametersVersion = integrator.getThermostatParametersVersion();
     }
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
@@ -29,12 +40,27 @@ public:
     }
     double computeKineticEnergy(OpenMM::ContextImpl& context) override { return dynamics->computeKineticEnergy(context); }
     void invalidateForces() override { dynamics->invalidateForces(); }
-    void createCheckpoint(OpenMM::ContextImpl&, std::ostream& stream) const override { dynamics->createCheckpoint(stream); }
-    void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) override { dynamics->loadCheckpoint(context, stream); }
+    void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream) const override {
+        std::ostringstream payload;
+        dynamics->createCheckpoint(payload);
+        writeCheckpoint(stream, checkpointTag(*owner), context.getSystem().getNumParticles(), payload.str());
+    }
+    void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) override {
+        const std::string tag = checkpointTag(*owner);
+        try {
+            CheckpointReader reader = readCheckpoint(stream, tag, context.getSystem().getNumParticles(), tag.substr(0, tag.find(' ')));
+            dynamics->loadCheckpoint(context, reader);
+        }
+        catch (...) {
+            dynamics->resetState();
+            throw;
+        }
+    }
 
 protected:
     virtual Dynamics* createDynamics(const OpenMM::System& system, const Integrator& integrator) = 0;
     std::unique_ptr<Dynamics> dynamics;
+    const Integrator* owner = nullptr;
     int parametersVersion = 0;
 };
 

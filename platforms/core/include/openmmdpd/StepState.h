@@ -9,6 +9,8 @@
 
 namespace DPDPlugin {
 
+class CheckpointReader;
+
 /** A step that moves a particle farther than this many thermostat cutoffs has blown up. */
 constexpr double MAX_MOVE_PER_STEP = 5.0;
 
@@ -31,10 +33,11 @@ public:
     void write(std::ostream& stream, uint32_t seed) const;
     /**
      * Read what write() wrote, for a Context now at these positions and velocities (the
-     * restored ones); returns the seed.  `name` prefixes the errors.
+     * restored ones); returns the seed.  Meant for a fresh CarriedForce that replaces the
+     * one in use once the whole checkpoint has been read.
      */
-    uint32_t read(std::istream& stream, const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
-                  const std::string& name);
+    uint32_t read(CheckpointReader& reader, const std::vector<OpenMM::Vec3>& positions,
+                  const std::vector<OpenMM::Vec3>& velocities);
 
 private:
     bool valid = false, verifyRestoredState = false;

@@ -19,12 +19,15 @@ public:
 
 protected:
     void saveExtraState(std::ostream& stream) const override { memory.write(stream); }
-    void loadExtraState(std::istream& stream) override { memory.read(stream); }
+    void loadExtraState(CheckpointReader& reader) override { loaded = memory.read(reader); }
+    void commitExtraState() override { memory.restore(std::move(loaded)); }
+    void resetExtraState() override { memory.clear(); }
 
 private:
     /** auxiliary <- -sum_k wR e s_k over the pairs in range, from pairS. */
     void computeAuxiliaryForce();
     PairMemory memory;
+    PairMemory::Saved loaded;  // read from a checkpoint, until all of it is read
     std::vector<double> pairS, coefficient;
     std::vector<OpenMM::Vec3> auxiliary;
 };

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_PAIRDYNAMICS_H_
 #define OPENMMDPD_PAIRDYNAMICS_H_
 
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/DPDThermostatForces.h"
 #include "openmmdpd/StepState.h"
 #include "openmm/internal/ContextImpl.h"
@@ -35,19 +36,26 @@ public:
     /** The integrator's thermostat parameters changed on a live Context: use them from now on. */
     void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
     void createCheckpoint(std::ostream& stream) const;
-    void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
+    /** Reads and checks the whole payload, then replaces the carried state with it. */
+    void loadCheckpoint(OpenMM::ContextImpl& context, CheckpointReader& reader);
+    /** Drops everything carried: the next step starts from the Context's state as a new Context would. */
+    void resetState();
 
 protected:
-    /** Called after a checkpoint was loaded (state kept beyond the carried force is stale). */
+    /** Called after a checkpoint was loaded or refused (state kept beyond the carried force is stale). */
     virtual void stateRestored() {}
     /** Called after the thermostat parameters changed (state derived from them is stale). */
     virtual void parametersChanged() {}
     /**
      * A subclass that carries more than `force` from one step to the next writes it here
-     * (after the shared part of the checkpoint) and reads it back in loadExtraState().
+     * (after the shared part of the checkpoint), reads and checks it without using it in
+     * loadExtraState(), takes it into use in commitExtraState() and drops it in
+     * resetExtraState().
      */
     virtual void saveExtraState(std::ostream& stream) const {}
-    virtual void loadExtraState(std::istream& stream) {}
+    virtual void loadExtraState(CheckpointReader& reader) {}
+    virtual void commitExtraState() {}
+    virtual void resetExtraState() {}
     /** Call at the start of a step: whether `force` still holds for the current state. */
     bool carriedForceValid(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities) {
         return carried.isValid(positions, velocities);

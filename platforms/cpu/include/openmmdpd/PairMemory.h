@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_PAIRMEMORY_H_
 #define OPENMMDPD_PAIRMEMORY_H_
 
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/DPDPairCore.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/ParallelExecutor.h"
@@ -45,8 +46,13 @@ public:
     bool find(int i, int j, double& s, long long& step) const;
     /** The number of pair variables held (in range and archived). */
     long long size() const;
-    void write(std::ostream& stream) const;
-    void read(std::istream& stream);
+    /**
+     * The Context's step count was set from outside to `step`: the pair variables keep
+     * their values and move to the new step numbering.
+     */
+    void renumberSteps(long long step);
+    /** Forget every pair (as a new Context). */
+    void clear();
 
 private:
     struct InRange {
@@ -58,6 +64,26 @@ private:
         double s;
         long long step;
     };
+
+public:
+    /** The pair variables as a checkpoint holds them. */
+    struct Saved {
+        long long inRangeStep = -1;
+        std::vector<int> inRangeStart;
+        std::vector<InRange> inRange;
+        std::vector<std::vector<Archived>> archived;
+    };
+    /** Binary, field by field, so that a continuation is bit-exact. */
+    void write(std::ostream& stream) const;
+    /** Reads and checks what write() wrote, without using it. */
+    Saved read(CheckpointReader& reader) const;
+    void restore(Saved&& saved);
+
+private:
+    /** Reads and checks saved.inRangeStart and saved.inRange. */
+    void readInRange(CheckpointReader& reader, Saved& saved) const;
+    /** Reads and checks saved.archived. */
+    void readArchived(CheckpointReader& reader, Saved& saved) const;
     template <class PairUpdate>
     void merge(const std::vector<PairGeometry>& pairs, long long step, const AuxiliaryRecurrence& recurrence,
                std::vector<double>& pairS, PairUpdate update);

@@ -29,7 +29,8 @@ protected:
     /** K > 1: the slow forces come from the Context of the System without its fast forces. */
     void computeConservative(OpenMM::ContextImpl& context, int forceGroups) override;
     void saveExtraState(std::ostream& stream) const override;
-    void loadExtraState(std::istream& stream) override;
+    void loadExtraState(CheckpointReader& reader) override;
+    void commitExtraState() override { fastForce.swap(loadedFastForce); }
 
 private:
     /** The polymer particles for the integrator's current fast groups and explicit list. */
@@ -86,6 +87,7 @@ private:
     // Per polymer particle (index k of polymer[k]): the fast force, the one at the new
     // sub-step positions, the start of the outer step, the slow force driving the sub-steps.
     std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, drivingForce, fastPositions;
+    std::vector<OpenMM::Vec3> loadedFastForce;  // read from a checkpoint, until all of it is read
     std::unique_ptr<OpenMM::System> fastSystem;
     std::unique_ptr<OpenMM::VerletIntegrator> fastIntegrator;
     std::unique_ptr<OpenMM::Context> fastContext;

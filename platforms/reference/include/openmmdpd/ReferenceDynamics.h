@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_REFERENCEDYNAMICS_H_
 #define OPENMMDPD_REFERENCEDYNAMICS_H_
 
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
@@ -31,12 +32,21 @@ public:
     /** The integrator's thermostat parameters changed on a live Context: use them from now on. */
     void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
     void createCheckpoint(std::ostream& stream) const;
-    void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
+    /** Reads and checks the whole payload, then replaces the carried state with it. */
+    void loadCheckpoint(OpenMM::ContextImpl& context, CheckpointReader& reader);
+    /** Drops everything carried: the next step starts from the Context's state as a new Context would. */
+    void resetState();
 
 protected:
-    /** What a subclass carries beyond `carried` (written after it in a checkpoint). */
+    /**
+     * What a subclass carries beyond `carried` (written after it in a checkpoint): read and
+     * check it in loadExtraState without using it, take it into use in commitExtraState,
+     * drop it in resetExtraState.
+     */
     virtual void saveExtraState(std::ostream& stream) const {}
-    virtual void loadExtraState(std::istream& stream) {}
+    virtual void loadExtraState(CheckpointReader& reader) {}
+    virtual void commitExtraState() {}
+    virtual void resetExtraState() {}
     static OpenMM::ReferencePlatform::PlatformData& data(OpenMM::ContextImpl& context) {
         return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     }

@@ -22,7 +22,9 @@ public:
 
 protected:
     void saveExtraState(std::ostream& stream) const override { memory.write(stream); }
-    void loadExtraState(std::istream& stream) override { memory.read(stream); }
+    void loadExtraState(CheckpointReader& reader) override { loaded = memory.read(reader); }
+    void commitExtraState() override { memory.restore(std::move(loaded)); }
+    void resetExtraState() override { memory.clear(); }
 
 private:
     /** The recurrence of the integrator's scheme, alpha and step size. */
@@ -32,6 +34,7 @@ private:
     /** v += dt/(2m) F for every particle. */
     void halfKick(std::vector<OpenMM::Vec3>& v, const std::vector<OpenMM::Vec3>& F, double dt) const;
     ReferencePairMemory memory;
+    ReferencePairMemory::Saved loaded;  // read from a checkpoint, until all of it is read
 };
 
 } // namespace DPDPlugin

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_REFERENCEPAIRMEMORY_H_
 #define OPENMMDPD_REFERENCEPAIRMEMORY_H_
 
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
@@ -52,9 +53,13 @@ public:
     bool find(int i, int j, double& s, long long& step) const;
     /** The number of entries held, in range and archived. */
     long long size() const { return (long long) (inRange.size() + archived.size()); }
-    /** Binary, field by field, so that a continuation is bit-exact. */
-    void write(std::ostream& stream) const;
-    void read(std::istream& stream);
+    /**
+     * The Context's step count was set from outside to `step`: the pair variables keep
+     * their values and move to the new step numbering.
+     */
+    void renumberSteps(long long step);
+    /** Forget every pair (as a new Context). */
+    void clear();
 
 private:
     typedef std::pair<int, int> Key;
@@ -65,6 +70,21 @@ private:
         double s;
         long long step;
     };
+
+public:
+    /** The pair variables as a checkpoint holds them. */
+    struct Saved {
+        long long inRangeStep = -1;
+        std::map<Key, InRange> inRange;
+        std::map<Key, Archived> archived;
+    };
+    /** Binary, field by field, so that a continuation is bit-exact. */
+    void write(std::ostream& stream) const;
+    /** Reads and checks what write() wrote, without using it. */
+    Saved read(CheckpointReader& reader) const;
+    void restore(Saved&& saved);
+
+private:
     static Key key(int i, int j) { return i < j ? Key(i, j) : Key(j, i); }
     /** lambda_ij = alpha gamma_ij. */
     double lambda(const Key& k, const AuxiliaryRecurrence& recurrence) const;

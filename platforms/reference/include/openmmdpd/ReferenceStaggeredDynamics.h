@@ -25,7 +25,8 @@ public:
 protected:
     /** After the slow force: the number of polymer particles and the fast force on each. */
     void saveExtraState(std::ostream& stream) const override;
-    void loadExtraState(std::istream& stream) override;
+    void loadExtraState(CheckpointReader& reader) override;
+    void commitExtraState() override { Fp.swap(loadedFp); }
 
 private:
     /** The polymer particles for the integrator's current fast groups and explicit list. */
@@ -62,6 +63,7 @@ private:
     std::vector<int> polymerExplicit, polymer;
     std::vector<int> polymerIndex;  // k with polymer[k] = i, or -1, by particle i
     std::vector<OpenMM::Vec3> Fp;   // the fast force on polymer[k], carried
+    std::vector<OpenMM::Vec3> loadedFp;  // Fp read from a checkpoint, until all of it is read
 };
 
 } // namespace DPDPlugin
