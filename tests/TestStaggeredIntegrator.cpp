@@ -378,6 +378,32 @@ TEST(StaggeredIntegrator, PolymerListCheckedAgainWhenItOrTheContextChanges) {
     }
 }
 
+TEST(StaggeredIntegrator, FastForceWithoutParticleListIsCheckedAtEveryEvaluation) {
+    // A CustomNonbondedForce without interaction groups lists no particles, so an explicit
+    // list cannot be checked when the Context is made.  This one joins polymer bead 0 to
+    // solvent particle 5 by a spring at its rest length: zero at the start, non-zero once
+    // bead 0 moves in the first sub-step.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(200, 18.75, positions));
+    CustomNonbondedForce* spring = new CustomNonbondedForce("f1*f2*100*(r-0.5)^2");
+    spring->addPerParticleParameter("f");
+    spring->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+    spring->setCutoffDistance(1.0);
+    for (int i = 0; i < 200; i++)
+        spring->addParticle({i == 0 || i == 5 ? 1.0 : 0.0});
+    spring->setForceGroup(1);
+    system->addForce(spring);
+    positions[0] = Vec3(1, 1, 1);
+    positions[5] = Vec3(1.5, 1, 1);
+    for (const std::string& platform : platforms()) {
+        StaggeredDPDIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01, 3);
+        integrator.setPolymerParticles({0, 1, 2, 3, 4});
+        EXPECT_FALSE(integrator.fastForcesListTheirParticles(*system));
+        auto context = makeContext(*system, integrator, platform, positions);
+        expectErrorNaming([&] { integrator.step(1); }, "at step 1 the fast forces act on particle 5, which is not a polymer particle");
+    }
+}
+
 TEST(StaggeredIntegrator, OneSubStepIsTheBaseIntegrator) {
     // K = 1 with (mu, a, b) = (0, 0, 1) is Groot-Warren velocity Verlet, or velocity Verlet
     // followed by Lowe-Andersen, step for step with the same random numbers.
