@@ -290,10 +290,11 @@ void requireFastTermsInPolymer(const OpenMM::System& system, int fastForceGroups
             continue;
         forEachTerm(force, [&](const Term& term) {
             for (int p : term.particles)
-                require(polymer.count(p) > 0, "StaggeredDPDIntegrator: particle " + std::to_string(p) + " is in " + term.kind +
-                        " " + std::to_string(term.index) + " of " + termForceText(term, force, f) + " but not in the "
-                        "polymer particles; add it with setPolymerParticles(), or move that force out of the fast force "
-                        "groups");
+                if (polymer.count(p) == 0)  // (the message is built only then: a System may have 10^6 terms)
+                    throw OpenMMException("StaggeredDPDIntegrator: particle " + std::to_string(p) + " is in " + term.kind +
+                                          " " + std::to_string(term.index) + " of " + termForceText(term, force, f) +
+                                          " but not in the polymer particles; add it with setPolymerParticles(), or move "
+                                          "that force out of the fast force groups");
         });
     }
 }
