@@ -3,10 +3,14 @@
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
+#include "openmm/CMAPTorsionForce.h"
 #include "openmm/CMMotionRemover.h"
 #include "openmm/CustomAngleForce.h"
 #include "openmm/CustomBondForce.h"
+#include "openmm/CustomCentroidBondForce.h"
 #include "openmm/CustomCompoundBondForce.h"
+#include "openmm/CustomExternalForce.h"
+#include "openmm/CustomHbondForce.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/CustomTorsionForce.h"
 #include "openmm/HarmonicAngleForce.h"
@@ -15,6 +19,7 @@
 #include "openmm/RBTorsionForce.h"
 #include "openmm/State.h"
 #include "openmm/serialization/XmlSerializer.h"
+#include <algorithm>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -165,11 +170,10 @@ TEST(StaggeredIntegrator, InvalidParametersNameThemselves) {
     fluid->getForce(0).setForceGroup(1);
     StaggeredDPDIntegrator everything(KT_KELVIN, 4.5, 1.0, 0.01, 5);
     expectErrorNaming([&] { Context c(*fluid, everything, reference); }, "without interaction groups");
-    // An explicit polymer list that leaves out particles the fast forces act on.
+    // An explicit polymer list that leaves out a particle of a FENE bond (bond 3: beads 3-4).
     StaggeredDPDIntegrator partial(KT_KELVIN, 4.5, 1.0, 0.01, 5);
     partial.setPolymerParticles({0, 1, 2, 3});
-    auto context = makeContext(*chains, partial, "Reference", positions);
-    expectErrorNaming([&] { partial.step(1); }, "not a polymer particle");
+    expectErrorNaming([&] { Context c(*chains, partial, reference); }, "particle 4 is in bond 3 of CustomBondForce (force 2, group 1)");
 }
 
 TEST(StaggeredIntegrator, PolymerParticlesDerivedFromFastForces) {
@@ -202,22 +206,202 @@ TEST(StaggeredIntegrator, PolymerParticlesDerivedFromFastForces) {
     customTorsion->addTorsion(218, 219, 220, 221, {});
     CustomCompoundBondForce* compound = new CustomCompoundBondForce(2, "0");
     compound->addBond({230, 231}, {});
-    for (Force* force : std::vector<Force*>{angle, customAngle, periodic, rb, customTorsion, compound}) {
+    CMAPTorsionForce* cmap = new CMAPTorsionForce();
+    cmap->addMap(2, {0, 0, 0, 0});
+    cmap->addTorsion(0, 240, 241, 242, 243, 244, 245, 246, 247);
+    // A centroid bond acts on the particles of the groups it joins, not on those of group 2.
+    CustomCentroidBondForce* centroid = new CustomCentroidBondForce(2, "distance(g1, g2)");
+    centroid->addGroup({250, 251});
+    centroid->addGroup({252});
+    centroid->addGroup({253});
+    centroid->addBond({0, 1}, {});
+    CustomExternalForce* external = new CustomExternalForce("x");
+    external->addParticle(260, {});
+    CustomHbondForce* hbond = new CustomHbondForce("distance(d1, a1)");
+    hbond->addDonor(270, 271, -1, {});
+    hbond->addAcceptor(272, -1, -1, {});
+    for (Force* force : std::vector<Force*>{angle, customAngle, periodic, rb, customTorsion, compound, cmap, centroid, external, hbond}) {
         force->setForceGroup(3);
         system->addForce(force);
     }
     integrator.setFastForceGroups(2 | 4 | 8);
-    for (int i : {200, 201, 202, 203, 204, 205, 210, 211, 212, 213, 214, 215, 216, 217, 218, 219, 220, 221, 230, 231})
+    for (int i : {200, 201, 202, 203, 204, 205, 210, 211, 212, 213, 214, 215, 216, 217, 218, 219, 220, 221, 230, 231, 240, 241,
+                  242, 243, 244, 245, 246, 247, 250, 251, 252, 260, 270, 271, 272})
         expected.push_back(i);
     EXPECT_EQ(integrator.findPolymerParticles(*system), expected);
+    EXPECT_TRUE(integrator.fastForcesListTheirParticles(*system));
     // A force it cannot see into asks for the explicit list.
     CMMotionRemover* remover = new CMMotionRemover();
     remover->setForceGroup(3);
     system->addForce(remover);
+    EXPECT_FALSE(integrator.fastForcesListTheirParticles(*system));
     expectErrorNaming([&] { integrator.findPolymerParticles(*system); }, "cannot tell which particles");
-    // The explicit list wins.
-    integrator.setPolymerParticles({7, 3, 3});
-    EXPECT_EQ(integrator.findPolymerParticles(*system), std::vector<int>({3, 7}));
+    // The explicit list wins: it may hold more than the fast forces' particles, in any order.
+    std::vector<int> explicitList(expected.rbegin(), expected.rend());
+    explicitList.push_back(7);
+    explicitList.push_back(400);
+    integrator.setPolymerParticles(explicitList);
+    expected.push_back(400);
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(integrator.findPolymerParticles(*system), expected);
+}
+
+namespace {
+
+/**
+ * Issue 13's case: beads 0-4 a chain of HarmonicBondForce (group 1, force 1) at its rest
+ * length 0.7, so that the fast force on every bead is zero at the start, in a soft fluid of
+ * n particles.
+ */
+System* makeRestingChain(int n, std::vector<Vec3>& positions) {
+    System* system = makeFluid(n, 18.75, positions);
+    HarmonicBondForce* bonds = new HarmonicBondForce();
+    bonds->setUsesPeriodicBoundaryConditions(true);
+    for (int i = 0; i < 5; i++) {
+        positions[i] = Vec3(0.3 + 0.7 * i, 1.0, 1.0);
+        if (i > 0)
+            bonds->addBond(i - 1, i, 0.7, 500);
+    }
+    bonds->setForceGroup(1);
+    system->addForce(bonds);
+    return system;
+}
+
+/** A fast force (group 1) whose terms act on particles 10-13, and what an error about particle 13 says. */
+struct FastForceCase {
+    std::function<Force*(int n)> make;
+    std::string named;  // the error when particle 13 is left out
+};
+
+std::vector<FastForceCase> fastForceCases() {
+    return {
+        {[](int) {
+             HarmonicAngleForce* angle = new HarmonicAngleForce();
+             angle->addAngle(10, 11, 12, 2, 10);
+             angle->addAngle(11, 12, 13, 2, 10);
+             return angle;
+         }, "particle 13 is in angle 1 of HarmonicAngleForce (force 1, group 1)"},
+        {[](int) {
+             CustomCompoundBondForce* compound = new CustomCompoundBondForce(3, "distance(p1, p3) + angle(p1, p2, p3)");
+             compound->addBond({10, 11, 12}, {});
+             compound->addBond({11, 12, 13}, {});
+             compound->setName("Stiffness");
+             return compound;
+         }, "particle 13 is in bond 1 of CustomCompoundBondForce \"Stiffness\" (force 1, group 1)"},
+        {[](int n) {
+             CustomNonbondedForce* wca = new CustomNonbondedForce("(0.8/r)^12");
+             wca->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+             wca->setCutoffDistance(1.0);
+             for (int i = 0; i < n; i++)
+                 wca->addParticle({});
+             wca->addInteractionGroup({10, 11}, {10, 11});
+             wca->addInteractionGroup({10, 11}, {12, 13});
+             return wca;
+         }, "particle 13 is in interaction group 1 of CustomNonbondedForce (force 1, group 1)"},
+        {[](int) {
+             CustomCentroidBondForce* centroid = new CustomCentroidBondForce(2, "distance(g1, g2)^2");
+             centroid->addGroup({10, 11});
+             centroid->addGroup({12, 13});
+             centroid->addBond({0, 1}, {});
+             return centroid;
+         }, "particle 13 is in bond 0 of CustomCentroidBondForce (force 1, group 1)"},
+        {[](int) {
+             CustomExternalForce* external = new CustomExternalForce("x^2");
+             for (int i = 10; i <= 13; i++)
+                 external->addParticle(i, {});
+             return external;
+         }, "particle 13 is in particle entry 3 of CustomExternalForce (force 1, group 1)"},
+    };
+}
+
+} // namespace
+
+TEST(StaggeredIntegrator, PolymerListMissingABondedBeadRaisesAtContextCreation) {
+    // Bonds at rest give no fast force at the start: only a check of the bonds' particles
+    // sees beads 3 and 4 left out (a run would drop the bond force on them).
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeRestingChain(200, positions));
+    for (const std::string& platform : platforms()) {
+        StaggeredDPDIntegrator partial(KT_KELVIN, 4.5, 1.0, 0.01, 3);
+        partial.setPolymerParticles({0, 1, 2});
+        expectErrorNaming([&] { Context c(*system, partial, Platform::getPlatformByName(platform)); },
+                          "StaggeredDPDIntegrator: particle 3 is in bond 2 of HarmonicBondForce (force 1, group 1) but not "
+                          "in the polymer particles");
+        // The whole chain: builds and runs with the total momentum conserved (every force is a
+        // pair force).  Measured drift over 100 steps: 2e-14 (Reference), 1e-6 to 3e-6 (CPU,
+        // whose CustomNonbondedForce is single precision); with the bond force on beads 3 and 4
+        // dropped (the check disabled, list {0, 1, 2}) it is 4 to 11.
+        StaggeredDPDIntegrator whole(KT_KELVIN, 4.5, 1.0, 0.01, 3);
+        whole.setPolymerParticles({4, 3, 2, 1, 0});
+        auto context = makeContext(*system, whole, platform, positions);
+        const Vec3 before = totalMomentum(*context);
+        whole.step(100);
+        const Vec3 drift = totalMomentum(*context) - before;
+        EXPECT_LT(std::sqrt(drift.dot(drift)), platform == "Reference" ? 1e-9 : 1e-4) << platform;
+    }
+}
+
+TEST(StaggeredIntegrator, PolymerListMissingAParticleOfAnyFastForceRaises) {
+    std::vector<Vec3> positions;
+    for (const FastForceCase& fast : fastForceCases()) {
+        std::unique_ptr<System> system(makeFluid(200, 18.75, positions));
+        Force* force = fast.make(200);
+        force->setForceGroup(1);
+        system->addForce(force);
+        StaggeredDPDIntegrator partial(KT_KELVIN, 4.5, 1.0, 0.01, 3);
+        partial.setPolymerParticles({10, 11, 12});
+        expectErrorNaming([&] { Context c(*system, partial, Platform::getPlatformByName("Reference")); }, fast.named);
+        StaggeredDPDIntegrator whole(KT_KELVIN, 4.5, 1.0, 0.01, 3);
+        whole.setPolymerParticles({10, 11, 12, 13});
+        EXPECT_NO_THROW(Context(*system, whole, Platform::getPlatformByName("Reference"))) << fast.named;
+    }
+}
+
+TEST(StaggeredIntegrator, PolymerListCheckedAgainWhenItOrTheContextChanges) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeRestingChain(200, positions));
+    const std::string missing = "particle 3 is in bond 2 of HarmonicBondForce";
+    for (const std::string& platform : platforms()) {
+        StaggeredDPDIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01, 3);
+        integrator.setPolymerParticles({0, 1, 2, 3, 4});
+        auto context = makeContext(*system, integrator, platform, positions);
+        integrator.step(2);
+        // A new list on the live Context is checked at the next step, before anything moves.
+        integrator.setPolymerParticles({0, 1, 2});
+        expectErrorNaming([&] { integrator.step(1); }, missing);
+        EXPECT_EQ(context->getState(0).getStepCount(), 2) << platform;
+        integrator.setPolymerParticles({0, 1, 2, 3, 4});
+        integrator.step(1);
+        // And again when the Context is reinitialized.
+        integrator.setPolymerParticles({0, 1, 2});
+        expectErrorNaming([&] { context->reinitialize(true); }, missing);
+    }
+}
+
+TEST(StaggeredIntegrator, FastForceWithoutParticleListIsCheckedAtEveryEvaluation) {
+    // A CustomNonbondedForce without interaction groups lists no particles, so an explicit
+    // list cannot be checked when the Context is made.  This one joins polymer bead 0 to
+    // solvent particle 5 by a spring at its rest length: zero at the start, non-zero once
+    // bead 0 moves in the first sub-step.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(200, 18.75, positions));
+    CustomNonbondedForce* spring = new CustomNonbondedForce("f1*f2*100*(r-0.5)^2");
+    spring->addPerParticleParameter("f");
+    spring->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+    spring->setCutoffDistance(1.0);
+    for (int i = 0; i < 200; i++)
+        spring->addParticle({i == 0 || i == 5 ? 1.0 : 0.0});
+    spring->setForceGroup(1);
+    system->addForce(spring);
+    positions[0] = Vec3(1, 1, 1);
+    positions[5] = Vec3(1.5, 1, 1);
+    for (const std::string& platform : platforms()) {
+        StaggeredDPDIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01, 3);
+        integrator.setPolymerParticles({0, 1, 2, 3, 4});
+        EXPECT_FALSE(integrator.fastForcesListTheirParticles(*system));
+        auto context = makeContext(*system, integrator, platform, positions);
+        expectErrorNaming([&] { integrator.step(1); }, "at step 1 the fast forces act on particle 5, which is not a polymer particle");
+    }
 }
 
 TEST(StaggeredIntegrator, OneSubStepIsTheBaseIntegrator) {

@@ -1,9 +1,13 @@
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmmdpd/DPDKernels.h"
 #include "openmmdpd/internal/ParameterChecks.h"
+#include "openmm/CMAPTorsionForce.h"
 #include "openmm/CustomAngleForce.h"
 #include "openmm/CustomBondForce.h"
+#include "openmm/CustomCentroidBondForce.h"
 #include "openmm/CustomCompoundBondForce.h"
+#include "openmm/CustomExternalForce.h"
+#include "openmm/CustomHbondForce.h"
 #include "openmm/CustomNonbondedForce.h"
 #include "openmm/CustomTorsionForce.h"
 #include "openmm/HarmonicAngleForce.h"
@@ -14,9 +18,10 @@
 #include "openmm/System.h"
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <iterator>
 #include <set>
 #include <sstream>
-#include <typeinfo>
 
 using namespace DPDPlugin;
 using OpenMM::OpenMMException;
@@ -28,125 +33,270 @@ void requireRelaxation(double value, const char* name) {
             std::string("StaggeredDPDIntegrator: ") + name + " must be in [-1, 1], got " + numberText(value));
 }
 
-std::string forceName(const OpenMM::Force& force, int index) {
-    std::string name = force.getName();
-    return "force " + std::to_string(index) + " (" + (name.empty() ? "unnamed" : name) + ")";
+bool isFast(const OpenMM::Force& force, int fastForceGroups) {
+    return (fastForceGroups & (1 << force.getForceGroup())) != 0;
 }
 
-// The particles of the terms of a fast force, by kind of force: each adds them to `found` and
-// returns true if `force` is of its kinds, else returns false.
+/** "force 3 (FENE, group 1)": where a force is in the System, for error messages. */
+std::string forcePlace(const OpenMM::Force& force, int index) {
+    std::string name = force.getName();
+    return "force " + std::to_string(index) + " (" + (name.empty() ? "unnamed" : name) + ", group " +
+           std::to_string(force.getForceGroup()) + ")";
+}
 
-bool addBondParticles(const OpenMM::Force& force, std::set<int>& found) {
-    int i, j;
+/** One term of a force: its class, what the class calls its terms, the index, the particles. */
+struct Term {
+    const char* forceClass;
+    const char* kind;
+    int index;
+    std::vector<int> particles;
+};
+
+using TermVisitor = std::function<void(const Term&)>;
+
+// The terms of the forces that list the particles each term acts on, by kind of force: each
+// calls `visit` for every term and returns true if `force` is of its kinds, else returns
+// false.  Every use of "which particles a fast force acts on" goes through forEachTerm().
+
+bool visitBonds(const OpenMM::Force& force, const TermVisitor& visit) {
+    Term term{"HarmonicBondForce", "bond", 0, {0, 0}};
     if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force)) {
         double length, kb;
-        for (int k = 0; k < bond->getNumBonds(); k++) {
-            bond->getBondParameters(k, i, j, length, kb);
-            found.insert({i, j});
+        for (term.index = 0; term.index < bond->getNumBonds(); term.index++) {
+            bond->getBondParameters(term.index, term.particles[0], term.particles[1], length, kb);
+            visit(term);
         }
         return true;
     }
     if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force)) {
+        term.forceClass = "CustomBondForce";
         std::vector<double> parameters;
-        for (int k = 0; k < bond->getNumBonds(); k++) {
-            bond->getBondParameters(k, i, j, parameters);
-            found.insert({i, j});
+        for (term.index = 0; term.index < bond->getNumBonds(); term.index++) {
+            bond->getBondParameters(term.index, term.particles[0], term.particles[1], parameters);
+            visit(term);
         }
         return true;
     }
     return false;
 }
 
-bool addAngleParticles(const OpenMM::Force& force, std::set<int>& found) {
-    int i, j, l;
+bool visitAngles(const OpenMM::Force& force, const TermVisitor& visit) {
+    Term term{"HarmonicAngleForce", "angle", 0, {0, 0, 0}};
+    std::vector<int>& p = term.particles;
     if (auto* angle = dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force)) {
         double theta, ka;
-        for (int k = 0; k < angle->getNumAngles(); k++) {
-            angle->getAngleParameters(k, i, j, l, theta, ka);
-            found.insert({i, j, l});
+        for (term.index = 0; term.index < angle->getNumAngles(); term.index++) {
+            angle->getAngleParameters(term.index, p[0], p[1], p[2], theta, ka);
+            visit(term);
         }
         return true;
     }
     if (auto* angle = dynamic_cast<const OpenMM::CustomAngleForce*>(&force)) {
+        term.forceClass = "CustomAngleForce";
         std::vector<double> parameters;
-        for (int k = 0; k < angle->getNumAngles(); k++) {
-            angle->getAngleParameters(k, i, j, l, parameters);
-            found.insert({i, j, l});
+        for (term.index = 0; term.index < angle->getNumAngles(); term.index++) {
+            angle->getAngleParameters(term.index, p[0], p[1], p[2], parameters);
+            visit(term);
         }
         return true;
     }
     return false;
 }
 
-bool addTorsionParticles(const OpenMM::Force& force, std::set<int>& found) {
-    int i, j, l, m;
+bool visitTorsions(const OpenMM::Force& force, const TermVisitor& visit) {
+    Term term{"PeriodicTorsionForce", "torsion", 0, {0, 0, 0, 0}};
+    std::vector<int>& p = term.particles;
     if (auto* torsion = dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&force)) {
         int periodicity;
         double phase, kt;
-        for (int k = 0; k < torsion->getNumTorsions(); k++) {
-            torsion->getTorsionParameters(k, i, j, l, m, periodicity, phase, kt);
-            found.insert({i, j, l, m});
+        for (term.index = 0; term.index < torsion->getNumTorsions(); term.index++) {
+            torsion->getTorsionParameters(term.index, p[0], p[1], p[2], p[3], periodicity, phase, kt);
+            visit(term);
         }
         return true;
     }
     if (auto* torsion = dynamic_cast<const OpenMM::RBTorsionForce*>(&force)) {
+        term.forceClass = "RBTorsionForce";
         double c0, c1, c2, c3, c4, c5;
-        for (int k = 0; k < torsion->getNumTorsions(); k++) {
-            torsion->getTorsionParameters(k, i, j, l, m, c0, c1, c2, c3, c4, c5);
-            found.insert({i, j, l, m});
+        for (term.index = 0; term.index < torsion->getNumTorsions(); term.index++) {
+            torsion->getTorsionParameters(term.index, p[0], p[1], p[2], p[3], c0, c1, c2, c3, c4, c5);
+            visit(term);
         }
         return true;
     }
     if (auto* torsion = dynamic_cast<const OpenMM::CustomTorsionForce*>(&force)) {
+        term.forceClass = "CustomTorsionForce";
         std::vector<double> parameters;
-        for (int k = 0; k < torsion->getNumTorsions(); k++) {
-            torsion->getTorsionParameters(k, i, j, l, m, parameters);
-            found.insert({i, j, l, m});
+        for (term.index = 0; term.index < torsion->getNumTorsions(); term.index++) {
+            torsion->getTorsionParameters(term.index, p[0], p[1], p[2], p[3], parameters);
+            visit(term);
         }
         return true;
     }
     return false;
 }
 
-bool addCompoundBondParticles(const OpenMM::Force& force, std::set<int>& found) {
+/** CMAP: a pair of torsions, eight particles. */
+bool visitCmapTorsions(const OpenMM::Force& force, const TermVisitor& visit) {
+    auto* cmap = dynamic_cast<const OpenMM::CMAPTorsionForce*>(&force);
+    if (cmap == nullptr)
+        return false;
+    Term term{"CMAPTorsionForce", "torsion pair", 0, std::vector<int>(8)};
+    std::vector<int>& p = term.particles;
+    int map;
+    for (term.index = 0; term.index < cmap->getNumTorsions(); term.index++) {
+        cmap->getTorsionParameters(term.index, map, p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]);
+        visit(term);
+    }
+    return true;
+}
+
+bool visitCompoundBonds(const OpenMM::Force& force, const TermVisitor& visit) {
     auto* compound = dynamic_cast<const OpenMM::CustomCompoundBondForce*>(&force);
     if (compound == nullptr)
         return false;
-    std::vector<int> particles;
+    Term term{"CustomCompoundBondForce", "bond", 0, {}};
     std::vector<double> parameters;
-    for (int k = 0; k < compound->getNumBonds(); k++) {
-        compound->getBondParameters(k, particles, parameters);
-        found.insert(particles.begin(), particles.end());
+    for (term.index = 0; term.index < compound->getNumBonds(); term.index++) {
+        compound->getBondParameters(term.index, term.particles, parameters);
+        visit(term);
     }
     return true;
 }
 
-/** A CustomNonbondedForce acts on its interaction groups; without any, on every particle (an error). */
-bool addInteractionGroupParticles(const OpenMM::Force& force, int index, std::set<int>& found) {
-    auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force);
-    if (nonbonded == nullptr)
+/** A centroid bond acts on every particle of the groups it joins (groups in no bond feel nothing). */
+bool visitCentroidBonds(const OpenMM::Force& force, const TermVisitor& visit) {
+    auto* centroid = dynamic_cast<const OpenMM::CustomCentroidBondForce*>(&force);
+    if (centroid == nullptr)
         return false;
-    require(nonbonded->getNumInteractionGroups() > 0,
-            "StaggeredDPDIntegrator: " + forceName(force, index) + " in a fast force group is a CustomNonbondedForce "
-            "without interaction groups, which acts on every particle; give it interaction groups (polymer with "
-            "polymer), or set the polymer particles explicitly with setPolymerParticles()");
-    for (int g = 0; g < nonbonded->getNumInteractionGroups(); g++) {
-        std::set<int> set1, set2;
-        nonbonded->getInteractionGroupParameters(g, set1, set2);
-        found.insert(set1.begin(), set1.end());
-        found.insert(set2.begin(), set2.end());
+    Term term{"CustomCentroidBondForce", "bond", 0, {}};
+    std::vector<int> groups, particles;
+    std::vector<double> parameters, weights;
+    for (term.index = 0; term.index < centroid->getNumBonds(); term.index++) {
+        centroid->getBondParameters(term.index, groups, parameters);
+        term.particles.clear();
+        for (int g : groups) {
+            centroid->getGroupParameters(g, particles, weights);
+            term.particles.insert(term.particles.end(), particles.begin(), particles.end());
+        }
+        visit(term);
     }
     return true;
 }
 
-/** Adds the particles force `index` of the System acts on to `found`; throws if it cannot tell. */
-void addParticlesOf(const OpenMM::Force& force, int index, std::set<int>& found) {
-    if (addBondParticles(force, found) || addAngleParticles(force, found) || addTorsionParticles(force, found) ||
-        addCompoundBondParticles(force, found) || addInteractionGroupParticles(force, index, found))
-        return;
-    throw OpenMMException("StaggeredDPDIntegrator: cannot tell which particles " + forceName(force, index) +
-                          " in a fast force group acts on; set the polymer particles explicitly with "
-                          "setPolymerParticles()");
+bool visitExternalParticles(const OpenMM::Force& force, const TermVisitor& visit) {
+    auto* external = dynamic_cast<const OpenMM::CustomExternalForce*>(&force);
+    if (external == nullptr)
+        return false;
+    Term term{"CustomExternalForce", "particle entry", 0, {0}};
+    std::vector<double> parameters;
+    for (term.index = 0; term.index < external->getNumParticles(); term.index++) {
+        external->getParticleParameters(term.index, term.particles[0], parameters);
+        visit(term);
+    }
+    return true;
+}
+
+/** Every donor interacts with every acceptor in range; unused slots (-1) are left out. */
+bool visitHbondSites(const OpenMM::Force& force, const TermVisitor& visit) {
+    auto* hbond = dynamic_cast<const OpenMM::CustomHbondForce*>(&force);
+    if (hbond == nullptr)
+        return false;
+    std::vector<double> parameters;
+    int p[3];
+    const auto visitSite = [&](const char* kind, int index) {
+        Term term{"CustomHbondForce", kind, index, {}};
+        std::copy_if(p, p + 3, std::back_inserter(term.particles), [](int i) { return i >= 0; });
+        visit(term);
+    };
+    for (int k = 0; k < hbond->getNumDonors(); k++) {
+        hbond->getDonorParameters(k, p[0], p[1], p[2], parameters);
+        visitSite("donor", k);
+    }
+    for (int k = 0; k < hbond->getNumAcceptors(); k++) {
+        hbond->getAcceptorParameters(k, p[0], p[1], p[2], parameters);
+        visitSite("acceptor", k);
+    }
+    return true;
+}
+
+/** A CustomNonbondedForce lists its particles only through interaction groups; without any it acts on all. */
+bool visitInteractionGroups(const OpenMM::Force& force, const TermVisitor& visit) {
+    auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force);
+    if (nonbonded == nullptr || nonbonded->getNumInteractionGroups() == 0)
+        return false;
+    Term term{"CustomNonbondedForce", "interaction group", 0, {}};
+    for (term.index = 0; term.index < nonbonded->getNumInteractionGroups(); term.index++) {
+        std::set<int> set1, set2;
+        nonbonded->getInteractionGroupParameters(term.index, set1, set2);
+        term.particles.assign(set1.begin(), set1.end());
+        term.particles.insert(term.particles.end(), set2.begin(), set2.end());
+        visit(term);
+    }
+    return true;
+}
+
+/** "HarmonicBondForce (force 2, group 1)", with the force's name when it is not the class name. */
+std::string termForceText(const Term& term, const OpenMM::Force& force, int index) {
+    std::string text = term.forceClass;
+    if (!force.getName().empty() && force.getName() != term.forceClass)
+        text += " \"" + force.getName() + "\"";
+    return text + " (force " + std::to_string(index) + ", group " + std::to_string(force.getForceGroup()) + ")";
+}
+
+/**
+ * Calls `visit` for every term of `force` with the particles it acts on; returns false, having
+ * visited nothing, if the force does not list them (a NonbondedForce, a CustomNonbondedForce
+ * without interaction groups, a CustomManyParticleForce or GB force: all particles, each
+ * switched on or off by its parameters; a force of a kind this does not know).
+ */
+bool forEachTerm(const OpenMM::Force& force, const TermVisitor& visit) {
+    return visitBonds(force, visit) || visitAngles(force, visit) || visitTorsions(force, visit) ||
+           visitCmapTorsions(force, visit) || visitCompoundBonds(force, visit) || visitCentroidBonds(force, visit) ||
+           visitExternalParticles(force, visit) || visitHbondSites(force, visit) || visitInteractionGroups(force, visit);
+}
+
+/** Why the polymer cannot be derived from force `index`, which lists no particles. */
+std::string underivableMessage(const OpenMM::Force& force, int index) {
+    if (dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force) != nullptr)
+        return "StaggeredDPDIntegrator: " + forcePlace(force, index) + " in a fast force group is a CustomNonbondedForce "
+               "without interaction groups, which acts on every particle; give it interaction groups (polymer with "
+               "polymer), or set the polymer particles explicitly with setPolymerParticles()";
+    return "StaggeredDPDIntegrator: cannot tell which particles " + forcePlace(force, index) + " in a fast force group acts "
+           "on; set the polymer particles explicitly with setPolymerParticles()";
+}
+
+/** The particles of the terms of the fast forces; throws if a fast force lists none. */
+std::set<int> deriveFastParticles(const OpenMM::System& system, int fastForceGroups) {
+    std::set<int> found;
+    for (int f = 0; f < system.getNumForces(); f++) {
+        const OpenMM::Force& force = system.getForce(f);
+        if (isFast(force, fastForceGroups) &&
+            !forEachTerm(force, [&](const Term& term) { found.insert(term.particles.begin(), term.particles.end()); }))
+            throw OpenMMException(underivableMessage(force, f));
+    }
+    return found;
+}
+
+/**
+ * Throws, naming the force, the term and the particle, if a term of a fast force acts on a
+ * particle outside `polymer`.  Fast forces that list no particles are left to the platforms'
+ * check of the forces at every evaluation (fastForcesListTheirParticles()).
+ */
+void requireFastTermsInPolymer(const OpenMM::System& system, int fastForceGroups, const std::set<int>& polymer) {
+    for (int f = 0; f < system.getNumForces(); f++) {
+        const OpenMM::Force& force = system.getForce(f);
+        if (!isFast(force, fastForceGroups))
+            continue;
+        forEachTerm(force, [&](const Term& term) {
+            for (int p : term.particles)
+                if (polymer.count(p) == 0)  // (the message is built only then: a System may have 10^6 terms)
+                    throw OpenMMException("StaggeredDPDIntegrator: particle " + std::to_string(p) + " is in " + term.kind +
+                                          " " + std::to_string(term.index) + " of " + termForceText(term, force, f) +
+                                          " but not in the polymer particles; add it with setPolymerParticles(), or move "
+                                          "that force out of the fast force groups");
+        });
+    }
 }
 
 } // namespace
@@ -231,22 +381,26 @@ void StaggeredDPDIntegrator::addPolymerParticle(int particle) {
 
 std::vector<int> StaggeredDPDIntegrator::findPolymerParticles(const OpenMM::System& system) const {
     const int n = system.getNumParticles();
-    std::set<int> found;
-    if (!polymerParticles.empty()) {
-        for (int p : polymerParticles) {
-            require(p < n, "StaggeredDPDIntegrator: polymer particle " + std::to_string(p) + " is not in the System (" +
-                    std::to_string(n) + " particles)");
-            found.insert(p);
-        }
-        return std::vector<int>(found.begin(), found.end());
+    if (polymerParticles.empty()) {
+        const std::set<int> derived = deriveFastParticles(system, fastForceGroups);
+        require(!derived.empty(), "StaggeredDPDIntegrator: the forces in the fast force groups act on no particle, so there is "
+                "no polymer to sub-cycle; put the stiff polymer forces in a fast group, or set the polymer particles explicitly "
+                "with setPolymerParticles()");
+        return std::vector<int>(derived.begin(), derived.end());
     }
+    for (int p : polymerParticles)
+        require(p < n, "StaggeredDPDIntegrator: polymer particle " + std::to_string(p) + " is not in the System (" +
+                std::to_string(n) + " particles)");
+    const std::set<int> polymer(polymerParticles.begin(), polymerParticles.end());
+    requireFastTermsInPolymer(system, fastForceGroups, polymer);
+    return std::vector<int>(polymer.begin(), polymer.end());
+}
+
+bool StaggeredDPDIntegrator::fastForcesListTheirParticles(const OpenMM::System& system) const {
     for (int f = 0; f < system.getNumForces(); f++)
-        if ((fastForceGroups & (1 << system.getForce(f).getForceGroup())) != 0)
-            addParticlesOf(system.getForce(f), f, found);
-    require(!found.empty(), "StaggeredDPDIntegrator: the forces in the fast force groups act on no particle, so there is no "
-            "polymer to sub-cycle; put the stiff polymer forces in a fast group, or set the polymer particles explicitly with "
-            "setPolymerParticles()");
-    return std::vector<int>(found.begin(), found.end());
+        if (isFast(system.getForce(f), fastForceGroups) && !forEachTerm(system.getForce(f), [](const Term&) {}))
+            return false;
+    return true;
 }
 
 void StaggeredDPDIntegrator::validate(const OpenMM::System& system) const {
@@ -256,7 +410,7 @@ void StaggeredDPDIntegrator::validate(const OpenMM::System& system) const {
             "integration force groups (" + std::to_string(getIntegrationForceGroups()) + ")");
     bool anyFast = false;
     for (int f = 0; f < system.getNumForces(); f++)
-        anyFast = anyFast || (fastForceGroups & (1 << system.getForce(f).getForceGroup())) != 0;
+        anyFast = anyFast || isFast(system.getForce(f), fastForceGroups);
     require(anyFast, "StaggeredDPDIntegrator: no force of the System is in a fast force group (fastForceGroups = " +
             std::to_string(fastForceGroups) + "); put the stiff polymer forces in one, e.g. force.setForceGroup(1)");
     for (int p : polymerParticles)

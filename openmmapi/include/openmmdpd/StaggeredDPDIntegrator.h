@@ -48,14 +48,22 @@ namespace DPDPlugin {
  * the force groups in fastForceGroups (a bitmask like the integration force groups; group 1
  * by default).  The polymer particles are the explicit list when one was given
  * (setPolymerParticles, addPolymerParticle); otherwise they are derived from the System
- * when a Context is created: every particle of a bond, angle, torsion or compound bond of a
- * bonded force (HarmonicBond, HarmonicAngle, PeriodicTorsion, RBTorsion, CustomBond,
- * CustomAngle, CustomTorsion, CustomCompoundBond) in a fast group, and every particle of the
- * interaction groups of a CustomNonbondedForce in a fast group.  Any other force in a fast
- * group (including a CustomNonbondedForce without interaction groups, which acts on every
- * particle) makes the derivation fail with an exception asking for the explicit list.  The
- * fast forces must act on polymer particles only; this is checked when the carried forces
- * are computed.
+ * when a Context is created: every particle of a term of a force in a fast group that lists
+ * the particles of its terms -- a bond, angle, torsion or compound bond (HarmonicBond,
+ * HarmonicAngle, PeriodicTorsion, RBTorsion, CMAPTorsion, CustomBond, CustomAngle,
+ * CustomTorsion, CustomCompoundBond), a bond of a CustomCentroidBondForce (every particle
+ * of its groups), a particle of a CustomExternalForce, a donor or acceptor of a
+ * CustomHbondForce, or an interaction group of a CustomNonbondedForce.  Any other force in
+ * a fast group (a NonbondedForce, a CustomNonbondedForce without interaction groups, ...:
+ * forces that act on every particle their parameters switch on) makes the derivation fail
+ * with an exception asking for the explicit list.
+ *
+ * The fast forces must act on polymer particles only.  When a Context is created (and when
+ * the explicit list or the fast groups change), every particle of every term of those
+ * forces must be in an explicit list, else an OpenMMException names the force, the term and
+ * the particle.  A force that lists no particles cannot be checked there; with one in a fast
+ * group, the platforms check at every evaluation of the fast forces that they leave the
+ * other particles alone (fastForcesListTheirParticles()).
  *
  * Cost: for K > 1 the fast forces are evaluated in a second Context holding only the
  * polymer particles and copies of the fast forces (HarmonicBond, CustomBond, and
@@ -131,9 +139,16 @@ public:
     /**
      * The polymer particles a Context for this System sub-cycles, in increasing order: the
      * explicit list, or those derived from the fast forces (see the class description).
-     * Throws an OpenMMException if they cannot be derived.
+     * Throws an OpenMMException if they cannot be derived, or if the explicit list misses a
+     * particle of a term of a fast force.
      */
     std::vector<int> findPolymerParticles(const OpenMM::System& system) const;
+    /**
+     * Whether every force in a fast group lists the particles of its terms, so that
+     * findPolymerParticles() checks all of them.  If not (possible with an explicit list
+     * only), the platforms check the fast forces on the other particles at every evaluation.
+     */
+    bool fastForcesListTheirParticles(const OpenMM::System& system) const;
     const char* className() const override { return "StaggeredDPDIntegrator"; }
     /**
      * Also requires a force in a fast group, fast groups within the integration force

@@ -73,6 +73,18 @@ void DPDPlugin::checkFinite(const std::vector<Vec3>& values, const std::vector<i
             blewUp(name, step, "particle " + std::to_string(particles[k]) + " has a non-finite " + what);
 }
 
+void DPDPlugin::checkOutsidePolymer(const std::vector<Vec3>& forces, const std::vector<int>& polymerIndex, long long step,
+                                    const std::string& name) {
+    for (size_t i = 0; i < forces.size(); i++)
+        if (polymerIndex[i] < 0 && forces[i] != Vec3()) {
+            std::ostringstream message;
+            message << name << ": at step " << step << " the fast forces act on particle " << i << ", which is not a polymer "
+                    << "particle; polymer particles are the only ones sub-cycled, so add it to the polymer particles, or move "
+                    << "that force out of the fast force groups";
+            throw OpenMM::OpenMMException(message.str());
+        }
+}
+
 void DPDPlugin::checkMove(double maxMove2, double cutoff, long long step, const std::string& name) {
     // A particle that crossed several thermostat cutoffs in one step has left the regime in
     // which any of these schemes means anything (and would corrupt the pair search).

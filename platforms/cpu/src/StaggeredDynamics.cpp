@@ -15,7 +15,6 @@
 #include <map>
 #include <ostream>
 #include <set>
-#include <sstream>
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
@@ -23,7 +22,7 @@ using OpenMM::Vec3;
 StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator, ParallelExecutor& executor) :
         // The Lowe base sweeps pairs sequentially, in the colour order LoweAndersenIntegrator uses.
         PairDynamics(system, integrator, executor, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
-        baseScheme(integrator.getBaseScheme()), polymerGroups(0), pairSweep(executor), fastContextTried(false),
+        baseScheme(integrator.getBaseScheme()), polymerGroups(0), checkFastForceOutside(false), pairSweep(executor), fastContextTried(false),
         numSubSteps(integrator.getNumSubSteps()) {
     const int n = system.getNumParticles();
     for (auto* v : {&predicted, &newForce})
@@ -35,6 +34,7 @@ void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const Stagge
     polymer = integrator.findPolymerParticles(system);
     polymerGroups = integrator.getFastForceGroups();
     polymerExplicit = integrator.getPolymerParticles();
+    checkFastForceOutside = !integrator.fastForcesListTheirParticles(system);
     polymerIndex.assign(system.getNumParticles(), -1);
     for (size_t k = 0; k < polymer.size(); k++)
         polymerIndex[polymer[k]] = (int) k;
@@ -274,7 +274,7 @@ void StaggeredDynamics::computeConservative(OpenMM::ContextImpl& context, int fo
 }
 
 void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
-                                         std::vector<Vec3>& fast, bool checkSolvent) {
+                                         std::vector<Vec3>& fast) {
     // K = 1 evaluates them in the full Context, as the base integrators do.
     if (fastContext && integrator.getNumSubSteps() > 1) {
         const std::vector<Vec3>& r = *platformData(context).positions;
@@ -291,15 +291,8 @@ void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const Sta
     for (size_t k = 0; k < polymer.size(); k++)
         fast[k] = f[polymer[k]];
     checkFinite(fast, polymer, false, "fast force", step);
-    if (checkSolvent)
-        for (size_t i = 0; i < f.size(); i++)
-            if (polymerIndex[i] < 0 && f[i] != Vec3()) {
-                std::ostringstream message;
-                message << name << ": the fast forces act on particle " << i << ", which is not a polymer particle; "
-                        << "polymer particles are the only ones sub-cycled, so add it to the polymer particles, or move "
-                        << "that force out of the fast force groups";
-                throw OpenMM::OpenMMException(message.str());
-            }
+    if (checkFastForceOutside)
+        checkOutsidePolymer(f, polymerIndex, step, name);
 }
 
 void StaggeredDynamics::computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
@@ -311,7 +304,7 @@ void StaggeredDynamics::computeInitialForce(OpenMM::ContextImpl& context, const 
         computeConservativeAndPairs(context, slowGroups(integrator), step);
         force = conservative;
     }
-    computeFastForce(context, integrator, step, fastForce, true);
+    computeFastForce(context, integrator, step, fastForce);
     setCarriedForceValid();
 }
 
@@ -433,7 +426,7 @@ void StaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPD
         const int p = polymer[k];
         return v[p] * dt + (drivingForce[k] + fastForce[k]) * (0.5 * dt * dt * invMass[p]);
     });
-    computeFastForce(context, integrator, next, newFastForce, false);
+    computeFastForce(context, integrator, next, newFastForce);
     // The slow force at the ends of the sub-step: linear in time from F to F^ (weighted), or
     // F and F^ (non-weighted).
     const bool weighted = integrator.getWeighted();

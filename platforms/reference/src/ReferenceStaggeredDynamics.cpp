@@ -3,7 +3,6 @@
 #include "openmm/OpenMMException.h"
 #include <istream>
 #include <ostream>
-#include <sstream>
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
@@ -15,7 +14,7 @@ using OpenMM::Vec3;
 ReferenceStaggeredDynamics::ReferenceStaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) :
         // The Lowe base sweeps the pairs in the coloured order of LoweAndersenIntegrator.
         ReferenceDynamics(system, integrator, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
-        baseScheme(integrator.getBaseScheme()), polymerGroups(0) {
+        baseScheme(integrator.getBaseScheme()), polymerGroups(0), checkFastForceOutside(false) {
     updatePolymer(system, integrator);
 }
 
@@ -23,6 +22,7 @@ void ReferenceStaggeredDynamics::updatePolymer(const OpenMM::System& system, con
     polymer = integrator.findPolymerParticles(system);
     polymerGroups = integrator.getFastForceGroups();
     polymerExplicit = integrator.getPolymerParticles();
+    checkFastForceOutside = !integrator.fastForcesListTheirParticles(system);
     polymerIndex.assign(system.getNumParticles(), -1);
     for (size_t k = 0; k < polymer.size(); k++)
         polymerIndex[polymer[k]] = (int) k;
@@ -46,21 +46,15 @@ std::vector<Vec3> ReferenceStaggeredDynamics::slowForce(OpenMM::ContextImpl& con
 }
 
 std::vector<Vec3> ReferenceStaggeredDynamics::fastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
-                                                        long long step, bool checkSolvent) {
+                                                        long long step) {
     context.calcForcesAndEnergy(true, false, integrator.getFastForceGroups());
     const std::vector<Vec3>& f = *data(context).forces;
     std::vector<Vec3> fast(polymer.size());
     for (size_t k = 0; k < polymer.size(); k++)
         fast[k] = f[polymer[k]];
     checkFinite(fast, polymer, "fast force", step, name);
-    for (size_t i = 0; checkSolvent && i < f.size(); i++)
-        if (!isPolymer((int) i) && f[i] != Vec3()) {
-            std::ostringstream message;
-            message << name << ": the fast forces act on particle " << i << ", which is not a polymer particle; "
-                    << "polymer particles are the only ones sub-cycled, so add it to the polymer particles, or move "
-                    << "that force out of the fast force groups";
-            throw OpenMM::OpenMMException(message.str());
-        }
+    if (checkFastForceOutside)
+        checkOutsidePolymer(f, polymerIndex, step, name);
     return fast;
 }
 
@@ -78,7 +72,7 @@ void ReferenceStaggeredDynamics::step(OpenMM::ContextImpl& context, const Stagge
     }
     if (!valid) {
         carried.force = slowForce(context, integrator, v, current);
-        Fp = fastForce(context, integrator, current, true);
+        Fp = fastForce(context, integrator, current);
         carried.setValid();
     }
     const std::vector<Vec3> start = r;
@@ -162,7 +156,7 @@ void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const Sta
     }
     movePositions(r, move, next);
     // Fp* <- Fp(r_p)
-    const std::vector<Vec3> newFp = fastForce(context, integrator, next, false);
+    const std::vector<Vec3> newFp = fastForce(context, integrator, next);
     // The slow force at the two ends of the sub-step, linear in time from F to F^
     // (weighted): Fold = (K-s)/K F + s/K F^, Fnew = (K-s-1)/K F + (s+1)/K F^;
     // or (non-weighted) Fold = F, Fnew = F^.

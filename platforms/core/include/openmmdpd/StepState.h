@@ -49,6 +49,12 @@ void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long
 /** The same for values[k] of particle particles[k]. */
 void checkFinite(const std::vector<OpenMM::Vec3>& values, const std::vector<int>& particles, const char* what, long long step,
                  const std::string& name);
+/**
+ * Staggered schemes: stops a run if the fast forces (`forces`, on every particle) are non-zero
+ * on a particle i outside the polymer (polymerIndex[i] < 0), which would not feel them.
+ */
+void checkOutsidePolymer(const std::vector<OpenMM::Vec3>& forces, const std::vector<int>& polymerIndex, long long step,
+                         const std::string& name);
 /** Stops a run if the largest squared move of a step, maxMove2, exceeds MAX_MOVE_PER_STEP cutoffs. */
 void checkMove(double maxMove2, double cutoff, long long step, const std::string& name);
 

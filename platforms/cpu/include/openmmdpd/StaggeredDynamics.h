@@ -38,9 +38,12 @@ private:
     int slowGroups(const StaggeredDPDIntegrator& integrator) const {
         return integrator.getIntegrationForceGroups() & ~integrator.getFastForceGroups();
     }
-    /** fast[k] <- the fast force on polymer particle k at the current positions. */
+    /**
+     * fast[k] <- the fast force on polymer particle k at the current positions.  With
+     * checkFastForceOutside, the fast forces must leave every other particle alone.
+     */
     void computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
-                          std::vector<OpenMM::Vec3>& fast, bool checkSolvent);
+                          std::vector<OpenMM::Vec3>& fast);
     /**
      * A Context holding only the polymer particles and copies of the fast forces (indices
      * remapped), so that a sub-step costs what the fast forces on the polymer cost and not a
@@ -80,6 +83,9 @@ private:
 
     const StaggeredDPDIntegrator::BaseScheme baseScheme;
     int polymerGroups;
+    // A fast force lists no particles, so the polymer list could not be checked against it
+    // when the Context was made: its forces on the other particles are checked instead.
+    bool checkFastForceOutside;
     std::vector<int> polymerExplicit, polymer;
     std::vector<int> polymerIndex;  // k with polymer[k] = i, or -1, by particle i
     PairSweep pairSweep;

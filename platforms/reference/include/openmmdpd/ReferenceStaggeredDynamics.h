@@ -41,10 +41,9 @@ private:
                                         const std::vector<OpenMM::Vec3>& u, long long step);
     /**
      * Fp on each polymer particle (index k of polymer[k]) at the current positions.  With
-     * checkSolvent, the fast forces must leave every other particle alone.
+     * checkFastForceOutside, the fast forces must leave every other particle alone.
      */
-    std::vector<OpenMM::Vec3> fastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
-                                        bool checkSolvent);
+    std::vector<OpenMM::Vec3> fastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step);
     /** The first lines of Tables 1-2: moves r to (r_s, r^^_p), returns (u^_s, u^^_p) (vV base). */
     std::vector<OpenMM::Vec3> predict(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
     /** u_s <- u_s + Dt/(2m) (F_s + F^_s). */
@@ -60,6 +59,9 @@ private:
 
     const StaggeredDPDIntegrator::BaseScheme baseScheme;
     int polymerGroups;
+    // A fast force lists no particles, so the polymer list could not be checked against it
+    // when the Context was made: its forces on the other particles are checked instead.
+    bool checkFastForceOutside;
     std::vector<int> polymerExplicit, polymer;
     std::vector<int> polymerIndex;  // k with polymer[k] = i, or -1, by particle i
     std::vector<OpenMM::Vec3> Fp;   // the fast force on polymer[k], carried
