@@ -134,7 +134,6 @@ public:
      * Throws an OpenMMException if they cannot be derived.
      */
     std::vector<int> findPolymerParticles(const OpenMM::System& system) const;
-    const char* className() const override { return "StaggeredDPDIntegrator"; }
     /**
      * Also requires a force in a fast group, fast groups within the integration force
      * groups, valid polymer particle indices and, for the Lowe base, Gamma Dt <= 1.
