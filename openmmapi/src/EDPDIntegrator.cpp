@@ -6,7 +6,8 @@
 using namespace DPDPlugin;
 
 EDPDIntegrator::EDPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double alpha, double stepSize) :
-        DPDThermostatIntegrator("EDPDIntegrator", temperature, defaultFriction, defaultCutoff, stepSize), alpha(1), scheme(OneSided) {
+        DPDThermostatIntegrator("EDPDIntegrator", temperature, defaultFriction, defaultCutoff, stepSize), alpha(1),
+        scheme(OneSided) {
     setAlpha(alpha);
 }
 
@@ -16,7 +17,8 @@ void EDPDIntegrator::setAlpha(double a) {
 }
 
 void EDPDIntegrator::setScheme(Scheme s) {
-    require(s == OneSided || s == Symmetric, "EDPDIntegrator: scheme must be OneSided (0) or Symmetric (1), got " + std::to_string((int) s));
+    require(s == OneSided || s == Symmetric,
+            "EDPDIntegrator: scheme must be OneSided (0) or Symmetric (1), got " + std::to_string((int) s));
     scheme = s;
 }
 

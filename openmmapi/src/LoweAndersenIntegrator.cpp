@@ -9,7 +9,8 @@ LoweAndersenIntegrator::LoweAndersenIntegrator(double temperature, double defaul
 }
 
 void LoweAndersenIntegrator::setMethod(Method m) {
-    require(m == Lowe || m == PairOrnsteinUhlenbeck, "LoweAndersenIntegrator: method must be Lowe (0) or PairOrnsteinUhlenbeck (1), got " + std::to_string((int) m));
+    require(m == Lowe || m == PairOrnsteinUhlenbeck,
+            "LoweAndersenIntegrator: method must be Lowe (0) or PairOrnsteinUhlenbeck (1), got " + std::to_string((int) m));
     method = m;
 }
 

@@ -35,8 +35,8 @@ void ParticleTypeTable::checkTypePair(int type1, int type2, double value, double
     for (int i = 0; i < (int) typePairs.size(); i++) {
         const TypePair& p = typePairs[i];
         require(i == replacing || !((p.type1 == type1 && p.type2 == type2) || (p.type1 == type2 && p.type2 == type1)),
-                owner + ": type pair (" + std::to_string(type1) + ", " + std::to_string(type2) + ") must not be added twice; it is already entry " +
-                        std::to_string(i));
+                owner + ": type pair (" + std::to_string(type1) + ", " + std::to_string(type2) +
+                        ") must not be added twice; it is already entry " + std::to_string(i));
     }
 }
 
