@@ -16,7 +16,7 @@ void check(bool ok, const std::string& message) {
 } // namespace
 
 DPDSoftRepulsionForce::DPDSoftRepulsionForce(double defaultA, double defaultCutoff) :
-        defaultA(0), defaultCutoff(1), method(CutoffPeriodic), types("a", "kJ/mol/nm") {
+        defaultA(0), defaultCutoff(1), method(CutoffPeriodic), types("DPDSoftRepulsionForce", "a", "kJ/mol/nm") {
     setDefaultA(defaultA);
     setDefaultCutoff(defaultCutoff);
 }
@@ -32,7 +32,8 @@ void DPDSoftRepulsionForce::setDefaultCutoff(double cutoff) {
 }
 
 void DPDSoftRepulsionForce::setNonbondedMethod(NonbondedMethod m) {
-    check(m == CutoffNonPeriodic || m == CutoffPeriodic, "nonbondedMethod must be CutoffNonPeriodic (1) or CutoffPeriodic (2)");
+    check(m == CutoffNonPeriodic || m == CutoffPeriodic,
+          "nonbondedMethod must be CutoffNonPeriodic (1) or CutoffPeriodic (2), got " + std::to_string((int) m));
     method = m;
 }
 
@@ -46,13 +47,15 @@ void DPDSoftRepulsionForce::getTypePairParameters(int pairIndex, int& type1, int
 
 int DPDSoftRepulsionForce::addExclusion(int particle1, int particle2) {
     check(particle1 >= 0 && particle2 >= 0 && particle1 != particle2,
-            "an exclusion needs two different particle indices >= 0, got " + std::to_string(particle1) + ", " + std::to_string(particle2));
+            "an exclusion's particle1 and particle2 must be two different particle indices >= 0, got " +
+            std::to_string(particle1) + ", " + std::to_string(particle2));
     exclusions.push_back({particle1, particle2});
     return (int) exclusions.size() - 1;
 }
 
 void DPDSoftRepulsionForce::getExclusionParticles(int index, int& particle1, int& particle2) const {
-    check(index >= 0 && index < (int) exclusions.size(), "exclusion index out of range: " + std::to_string(index));
+    check(index >= 0 && index < (int) exclusions.size(),
+          "index must be in [0, " + std::to_string(exclusions.size()) + "), got " + std::to_string(index));
     particle1 = exclusions[index].first;
     particle2 = exclusions[index].second;
 }

@@ -1,32 +1,23 @@
 #include "openmmdpd/internal/DPDSoftRepulsionForceImpl.h"
 #include "openmmdpd/DPDKernels.h"
-#include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
-#include <sstream>
+#include "openmmdpd/internal/ParameterChecks.h"
 
 using namespace DPDPlugin;
-using OpenMM::OpenMMException;
 
 void DPDSoftRepulsionForceImpl::validate(const DPDSoftRepulsionForce& force, const OpenMM::System& system) {
     const int n = system.getNumParticles();
-    force.getTypeTable().validate(system, "DPDSoftRepulsionForce");
+    force.getTypeTable().validate(system);
     for (int k = 0; k < force.getNumExclusions(); k++) {
         int p1, p2;
         force.getExclusionParticles(k, p1, p2);
-        if (p1 >= n || p2 >= n)
-            throw OpenMMException("DPDSoftRepulsionForce: exclusion " + std::to_string(k) + " names a particle beyond the System's " +
-                                  std::to_string(n));
+        require(p1 < n && p2 < n, "DPDSoftRepulsionForce: the particles of exclusion " + std::to_string(k) + " must be < " +
+                std::to_string(n) + " (the System's particle count), got " + std::to_string(p1) + ", " + std::to_string(p2));
     }
     if (force.usesPeriodicBoundaryConditions()) {
-        OpenMM::Vec3 a, b, c;
-        system.getDefaultPeriodicBoxVectors(a, b, c);
-        const double halfWidth = 0.5 * std::min(a[0], std::min(b[1], c[2]));
-        if (force.getMaxCutoff() > halfWidth) {
-            std::ostringstream message;
-            message << "DPDSoftRepulsionForce: the cutoff (" << force.getMaxCutoff()
-                    << " nm) must not exceed half the periodic box width (" << halfWidth << " nm)";
-            throw OpenMMException(message.str());
-        }
+        OpenMM::Vec3 box[3];
+        system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+        requireCutoffFitsBox("DPDSoftRepulsionForce", "the cutoff", force.getMaxCutoff(), box);
     }
 }
 

@@ -10,39 +10,57 @@
 using namespace DPDPlugin;
 using OpenMM::OpenMMException;
 
-DPDThermostatIntegrator::DPDThermostatIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize) :
-        temperature(0), defaultFriction(0), defaultCutoff(1), randomNumberSeed(0), types("friction", "/ps") {
+DPDThermostatIntegrator::DPDThermostatIntegrator(const std::string& className, double temperature, double defaultFriction,
+                                                 double defaultCutoff, double stepSize) :
+        name(className), temperature(0), defaultFriction(0), defaultCutoff(1), randomNumberSeed(0),
+        types(className, "friction", "/ps") {
     // Named checks first: nothing is stored unless every argument is valid.
-    require(std::isfinite(temperature) && temperature >= 0, "temperature must be >= 0 K, got " + numberText(temperature));
-    require(std::isfinite(defaultFriction) && defaultFriction >= 0, "defaultFriction must be >= 0 /ps, got " + numberText(defaultFriction));
-    require(std::isfinite(defaultCutoff) && defaultCutoff > 0, "defaultCutoff must be > 0 nm, got " + numberText(defaultCutoff));
-    require(std::isfinite(stepSize) && stepSize > 0, "stepSize must be > 0 ps, got " + numberText(stepSize));
+    checkTemperature(temperature);
+    checkFriction(defaultFriction);
+    checkCutoff(defaultCutoff);
+    checkStepSize(stepSize);
     this->temperature = temperature;
     this->defaultFriction = defaultFriction;
     this->defaultCutoff = defaultCutoff;
     OpenMM::Integrator::setStepSize(stepSize);
 }
 
+void DPDThermostatIntegrator::checkTemperature(double temp) const {
+    require(std::isfinite(temp) && temp >= 0, name + ": temperature must be >= 0 K, got " + numberText(temp));
+}
+
+void DPDThermostatIntegrator::checkFriction(double friction) const {
+    require(std::isfinite(friction) && friction >= 0, name + ": defaultFriction must be >= 0 /ps, got " + numberText(friction));
+}
+
+void DPDThermostatIntegrator::checkCutoff(double cutoff) const {
+    require(std::isfinite(cutoff) && cutoff > 0, name + ": defaultCutoff must be > 0 nm, got " + numberText(cutoff));
+}
+
+void DPDThermostatIntegrator::checkStepSize(double size) const {
+    require(std::isfinite(size) && size > 0, name + ": stepSize must be > 0 ps, got " + numberText(size));
+}
+
 void DPDThermostatIntegrator::setTemperature(double temp) {
-    require(std::isfinite(temp) && temp >= 0, "temperature must be >= 0 K, got " + numberText(temp));
+    checkTemperature(temp);
     temperature = temp;
     parametersVersion++;
 }
 
 void DPDThermostatIntegrator::setDefaultFriction(double friction) {
-    require(std::isfinite(friction) && friction >= 0, "defaultFriction must be >= 0 /ps, got " + numberText(friction));
+    checkFriction(friction);
     defaultFriction = friction;
     parametersVersion++;
 }
 
 void DPDThermostatIntegrator::setDefaultCutoff(double cutoff) {
-    require(std::isfinite(cutoff) && cutoff > 0, "defaultCutoff must be > 0 nm, got " + numberText(cutoff));
+    checkCutoff(cutoff);
     defaultCutoff = cutoff;
     parametersVersion++;
 }
 
 void DPDThermostatIntegrator::setStepSize(double size) {
-    require(std::isfinite(size) && size > 0, "stepSize must be > 0 ps, got " + numberText(size));
+    checkStepSize(size);
     OpenMM::Integrator::setStepSize(size);
 }
 
@@ -55,22 +73,19 @@ void DPDThermostatIntegrator::getTypePairParameters(int pairIndex, int& type1, i
 }
 
 void DPDThermostatIntegrator::validate(const OpenMM::System& system) const {
-    const std::string name = className();
-    types.validate(system, name);
-    require(system.getNumConstraints() == 0, name + " does not support constraints; the System has " +
+    types.validate(system);
+    require(system.getNumConstraints() == 0, name + ": the System must have no constraints, got " +
             std::to_string(system.getNumConstraints()));
     if (system.usesPeriodicBoundaryConditions()) {
-        OpenMM::Vec3 a, b, c;
-        system.getDefaultPeriodicBoxVectors(a, b, c);
-        double halfWidth = 0.5 * std::min(a[0], std::min(b[1], c[2]));
-        require(getMaxCutoff() <= halfWidth, name + ": the thermostat cutoff (" + numberText(getMaxCutoff()) +
-                " nm) must not exceed half the periodic box width (" + numberText(halfWidth) + " nm)");
+        OpenMM::Vec3 box[3];
+        system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+        requireCutoffFitsBox(name, "the thermostat cutoff", getMaxCutoff(), box);
     }
 }
 
 void DPDThermostatIntegrator::initialize(OpenMM::ContextImpl& contextRef) {
     if (owner != nullptr && &contextRef.getOwner() != owner)
-        throw OpenMMException("This Integrator is already bound to a context");
+        throw OpenMMException(name + ": this integrator is already bound to another Context");
     validate(contextRef.getSystem());
     kernel = contextRef.getPlatform().createKernel(kernelName(), contextRef);
     initializeStepKernel(kernel, contextRef.getSystem());
@@ -98,7 +113,7 @@ double DPDThermostatIntegrator::computeKineticEnergy() {
 
 void DPDThermostatIntegrator::step(int steps) {
     if (context == nullptr)
-        throw OpenMMException("This Integrator is not bound to a context!");
+        throw OpenMMException(name + ": this integrator is not bound to a Context");
     // Parameters may have been changed since the Context was created.
     validate(context->getSystem());
     DPDStepKernel& stepKernel = kernel.getAs<DPDStepKernel>();
@@ -111,7 +126,7 @@ void DPDThermostatIntegrator::step(int steps) {
 
 const OpenMM::Kernel& DPDThermostatIntegrator::getStepKernel() const {
     if (context == nullptr)
-        throw OpenMMException(std::string(className()) + " is not bound to a Context");
+        throw OpenMMException(name + ": this integrator is not bound to a Context");
     return kernel;
 }
 

@@ -6,17 +6,19 @@
 using namespace DPDPlugin;
 
 EDPDIntegrator::EDPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double alpha, double stepSize) :
-        DPDThermostatIntegrator(temperature, defaultFriction, defaultCutoff, stepSize), alpha(1), scheme(OneSided) {
+        DPDThermostatIntegrator("EDPDIntegrator", temperature, defaultFriction, defaultCutoff, stepSize), alpha(1),
+        scheme(OneSided) {
     setAlpha(alpha);
 }
 
 void EDPDIntegrator::setAlpha(double a) {
-    require(std::isfinite(a) && a > 0, "alpha must be > 0 /ps, got " + numberText(a));
+    require(std::isfinite(a) && a > 0, "EDPDIntegrator: alpha must be > 0 /ps, got " + numberText(a));
     alpha = a;
 }
 
 void EDPDIntegrator::setScheme(Scheme s) {
-    require(s == OneSided || s == Symmetric, "scheme must be OneSided (0) or Symmetric (1), got " + std::to_string((int) s));
+    require(s == OneSided || s == Symmetric,
+            "EDPDIntegrator: scheme must be OneSided (0) or Symmetric (1), got " + std::to_string((int) s));
     scheme = s;
 }
 

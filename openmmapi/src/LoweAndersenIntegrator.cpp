@@ -1,29 +1,26 @@
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/DPDKernels.h"
-#include "openmm/OpenMMException.h"
-#include <sstream>
+#include "openmmdpd/internal/ParameterChecks.h"
 
 using namespace DPDPlugin;
 
 LoweAndersenIntegrator::LoweAndersenIntegrator(double temperature, double defaultGamma, double defaultCutoff, double stepSize) :
-        DPDThermostatIntegrator(temperature, defaultGamma, defaultCutoff, stepSize), method(Lowe) {
+        DPDThermostatIntegrator("LoweAndersenIntegrator", temperature, defaultGamma, defaultCutoff, stepSize), method(Lowe) {
 }
 
 void LoweAndersenIntegrator::setMethod(Method m) {
-    if (m != Lowe && m != PairOrnsteinUhlenbeck)
-        throw OpenMM::OpenMMException("method must be Lowe (0) or PairOrnsteinUhlenbeck (1), got " + std::to_string((int) m));
+    require(m == Lowe || m == PairOrnsteinUhlenbeck,
+            "LoweAndersenIntegrator: method must be Lowe (0) or PairOrnsteinUhlenbeck (1), got " + std::to_string((int) m));
     method = m;
 }
 
 void LoweAndersenIntegrator::validate(const OpenMM::System& system) const {
     DPDThermostatIntegrator::validate(system);
     // Gamma dt is a probability.
-    if (method == Lowe && getMaxFriction() * getStepSize() > 1) {
-        std::ostringstream message;
-        message << "LoweAndersenIntegrator: Gamma dt must be <= 1 (it is a collision probability), but the largest Gamma ("
-                << getMaxFriction() << " /ps) times the step size (" << getStepSize() << " ps) is " << getMaxFriction() * getStepSize();
-        throw OpenMM::OpenMMException(message.str());
-    }
+    require(method != Lowe || getMaxFriction() * getStepSize() <= 1,
+            "LoweAndersenIntegrator: Gamma dt must be <= 1 (it is a collision probability), got the largest Gamma (" +
+            numberText(getMaxFriction()) + " /ps) times the step size (" + numberText(getStepSize()) + " ps) = " +
+            numberText(getMaxFriction() * getStepSize()));
 }
 
 std::string LoweAndersenIntegrator::kernelName() const {

@@ -8,14 +8,14 @@ using namespace DPDPlugin;
 using OpenMM::OpenMMException;
 
 int ParticleTypeTable::getParticleType(int index) const {
-    require(index >= 0, "particle index must be >= 0, got " + std::to_string(index));
+    require(index >= 0, owner + ": particle index must be >= 0, got " + std::to_string(index));
     auto it = particleType.find(index);
     return it == particleType.end() ? 0 : it->second;
 }
 
 void ParticleTypeTable::setParticleType(int index, int type) {
-    require(index >= 0, "particle index must be >= 0, got " + std::to_string(index));
-    require(type >= 0, "particle type must be >= 0, got " + std::to_string(type));
+    require(index >= 0, owner + ": particle index must be >= 0, got " + std::to_string(index));
+    require(type >= 0, owner + ": particle type must be >= 0, got " + std::to_string(type));
     if (type == 0)
         particleType.erase(index);
     else
@@ -24,18 +24,19 @@ void ParticleTypeTable::setParticleType(int index, int type) {
 
 void ParticleTypeTable::checkPairIndex(int pairIndex) const {
     require(pairIndex >= 0 && pairIndex < (int) typePairs.size(),
-            "pairIndex must be in [0, " + std::to_string(typePairs.size()) + "), got " + std::to_string(pairIndex));
+            owner + ": pairIndex must be in [0, " + std::to_string(typePairs.size()) + "), got " + std::to_string(pairIndex));
 }
 
 void ParticleTypeTable::checkTypePair(int type1, int type2, double value, double cutoff, int replacing) const {
-    require(type1 >= 0, "type1 must be >= 0, got " + std::to_string(type1));
-    require(type2 >= 0, "type2 must be >= 0, got " + std::to_string(type2));
-    require(std::isfinite(value) && value >= 0, valueName + " must be >= 0 " + valueUnit + ", got " + numberText(value));
-    require(std::isfinite(cutoff) && cutoff > 0, "cutoff must be > 0 nm, got " + numberText(cutoff));
+    require(type1 >= 0, owner + ": type1 must be >= 0, got " + std::to_string(type1));
+    require(type2 >= 0, owner + ": type2 must be >= 0, got " + std::to_string(type2));
+    require(std::isfinite(value) && value >= 0, owner + ": " + valueName + " must be >= 0 " + valueUnit + ", got " + numberText(value));
+    require(std::isfinite(cutoff) && cutoff > 0, owner + ": cutoff must be > 0 nm, got " + numberText(cutoff));
     for (int i = 0; i < (int) typePairs.size(); i++) {
         const TypePair& p = typePairs[i];
         require(i == replacing || !((p.type1 == type1 && p.type2 == type2) || (p.type1 == type2 && p.type2 == type1)),
-                "type pair (" + std::to_string(type1) + ", " + std::to_string(type2) + ") is already entry " + std::to_string(i));
+                owner + ": type pair (" + std::to_string(type1) + ", " + std::to_string(type2) +
+                        ") must not be added twice; it is already entry " + std::to_string(i));
     }
 }
 
@@ -70,7 +71,7 @@ double ParticleTypeTable::getMaxValue(double defaultValue) const {
     return v;
 }
 
-void ParticleTypeTable::validate(const OpenMM::System& system, const std::string& owner) const {
+void ParticleTypeTable::validate(const OpenMM::System& system) const {
     const int n = system.getNumParticles();
     std::set<int> usedTypes = {0};
     for (auto& entry : particleType) {

@@ -1,16 +1,15 @@
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmmdpd/DPDKernels.h"
-#include "openmm/OpenMMException.h"
+#include "openmmdpd/internal/ParameterChecks.h"
 
 using namespace DPDPlugin;
 
 ShardlowIntegrator::ShardlowIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize) :
-        DPDThermostatIntegrator(temperature, defaultFriction, defaultCutoff, stepSize), order(1) {
+        DPDThermostatIntegrator("ShardlowIntegrator", temperature, defaultFriction, defaultCutoff, stepSize), order(1) {
 }
 
 void ShardlowIntegrator::setOrder(int value) {
-    if (value != 1 && value != 2)
-        throw OpenMM::OpenMMException("order must be 1 (S1) or 2 (S2), got " + std::to_string(value));
+    require(value == 1 || value == 2, "ShardlowIntegrator: order must be 1 (S1) or 2 (S2), got " + std::to_string(value));
     order = value;
 }
 

@@ -22,6 +22,7 @@
 #include <iterator>
 #include <set>
 #include <sstream>
+#include <typeinfo>
 
 using namespace DPDPlugin;
 using OpenMM::OpenMMException;
@@ -303,14 +304,14 @@ void requireFastTermsInPolymer(const OpenMM::System& system, int fastForceGroups
 
 StaggeredDPDIntegrator::StaggeredDPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize,
                                                int numSubSteps) :
-        DPDThermostatIntegrator(temperature, defaultFriction, defaultCutoff, stepSize), baseScheme(VelocityVerlet),
-        numSubSteps(1), fastForceGroups(1 << 1), lambda(0.65), mu(0), a(0.6), b(0), weighted(true) {
+        DPDThermostatIntegrator("StaggeredDPDIntegrator", temperature, defaultFriction, defaultCutoff, stepSize),
+        baseScheme(VelocityVerlet), numSubSteps(1), fastForceGroups(1 << 1), lambda(0.65), mu(0), a(0.6), b(0), weighted(true) {
     setNumSubSteps(numSubSteps);
 }
 
 void StaggeredDPDIntegrator::setBaseScheme(BaseScheme scheme) {
     require(scheme == VelocityVerlet || scheme == LoweAndersen,
-            "baseScheme must be VelocityVerlet (0) or LoweAndersen (1), got " + std::to_string((int) scheme));
+            "StaggeredDPDIntegrator: baseScheme must be VelocityVerlet (0) or LoweAndersen (1), got " + std::to_string((int) scheme));
     baseScheme = scheme;
 }
 
@@ -418,11 +419,9 @@ void StaggeredDPDIntegrator::validate(const OpenMM::System& system) const {
                 " is not in the System (" + std::to_string(system.getNumParticles()) + " particles)");
     // Gamma Dt is a probability.
     if (baseScheme == LoweAndersen && getMaxFriction() * getStepSize() > 1) {
-        std::ostringstream message;
-        message << "StaggeredDPDIntegrator: with the LoweAndersen base, Gamma Dt must be <= 1 (it is a collision probability), "
-                << "but the largest Gamma (" << getMaxFriction() << " /ps) times the outer step size (" << getStepSize()
-                << " ps) is " << getMaxFriction() * getStepSize();
-        throw OpenMMException(message.str());
+        throw OpenMMException("StaggeredDPDIntegrator: with the LoweAndersen base, Gamma Dt must be <= 1 (it is a collision "
+                              "probability), got the largest Gamma (" + numberText(getMaxFriction()) + " /ps) times the outer "
+                              "step size (" + numberText(getStepSize()) + " ps) = " + numberText(getMaxFriction() * getStepSize()));
     }
 }
 

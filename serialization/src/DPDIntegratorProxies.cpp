@@ -127,8 +127,10 @@ void DPDIntegratorProxy<Integrator>::serialize(const void* object, Serialization
 
 template <class Integrator>
 void* DPDIntegratorProxy<Integrator>::deserialize(const SerializationNode& node) const {
-    if (node.getIntProperty("version") != 1)
-        throw OpenMM::OpenMMException(std::string("Unsupported version number for ") + proxyName((Integrator*) nullptr));
+    const int version = node.getIntProperty("version");
+    if (version != 1)
+        throw OpenMM::OpenMMException(std::string(proxyName((Integrator*) nullptr)) + ": the XML version must be 1, got " +
+                                      std::to_string(version));
     Integrator* integrator = construct<Integrator>(node);
     try {
         deserializeThermostatParameters(node, *integrator);

@@ -25,8 +25,9 @@ void DPDSoftRepulsionForceProxy::serialize(const void* object, SerializationNode
 }
 
 void* DPDSoftRepulsionForceProxy::deserialize(const SerializationNode& node) const {
-    if (node.getIntProperty("version") != 1)
-        throw OpenMM::OpenMMException("Unsupported version number for DPDSoftRepulsionForce");
+    const int version = node.getIntProperty("version");
+    if (version != 1)
+        throw OpenMM::OpenMMException("DPDSoftRepulsionForce: the XML version must be 1, got " + std::to_string(version));
     DPDSoftRepulsionForce* force = new DPDSoftRepulsionForce(node.getDoubleProperty("defaultA"), node.getDoubleProperty("defaultCutoff"));
     try {
         force->setForceGroup(node.getIntProperty("forceGroup"));

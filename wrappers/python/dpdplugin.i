@@ -40,36 +40,47 @@
 import openmm as _mm
 from openmm import unit as _unit
 from openmmdpd.units import strip_units as _strip
+
+_K, _NM, _PS = _unit.kelvin, _unit.nanometer, _unit.picosecond
+_RATE, _FORCE = _unit.picosecond**-1, _unit.kilojoule_per_mole / _unit.nanometer
+
+
+def _arg(self, method, name, value, target_unit):
+    """value as a float in target_unit (None: a plain number), or a TypeError that names the
+    class, the method (None: the constructor) and the parameter it was given to."""
+    where = type(self).__name__ + ("" if method is None else "." + method)
+    return _strip(value, target_unit, name, where)
 %}
 
-// --- units in: every dimensioned argument accepts a Quantity or a number in OpenMM units ---
+// --- units in: every dimensioned argument accepts a Quantity or a number in OpenMM units.  A bad
+// one raises TypeError "Class.method: name must be ..., got X", name as in the C++ range errors.
 %pythonprepend DPDPlugin::DPDVVIntegrator::DPDVVIntegrator %{
-    temperature = _strip(temperature, _unit.kelvin)
-    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
-    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
-    stepSize = _strip(stepSize, _unit.picosecond)
+    temperature = _arg(self, None, "temperature", temperature, _K)
+    defaultFriction = _arg(self, None, "defaultFriction", defaultFriction, _RATE)
+    defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
+    stepSize = _arg(self, None, "stepSize", stepSize, _PS)
 %}
 %pythonprepend DPDPlugin::ShardlowIntegrator::ShardlowIntegrator %{
-    temperature = _strip(temperature, _unit.kelvin)
-    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
-    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
-    stepSize = _strip(stepSize, _unit.picosecond)
+    temperature = _arg(self, None, "temperature", temperature, _K)
+    defaultFriction = _arg(self, None, "defaultFriction", defaultFriction, _RATE)
+    defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
+    stepSize = _arg(self, None, "stepSize", stepSize, _PS)
 %}
 %pythonprepend DPDPlugin::LoweAndersenIntegrator::LoweAndersenIntegrator %{
-    temperature = _strip(temperature, _unit.kelvin)
-    defaultGamma = _strip(defaultGamma, _unit.picosecond**-1)
-    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
-    stepSize = _strip(stepSize, _unit.picosecond)
+    temperature = _arg(self, None, "temperature", temperature, _K)
+    defaultGamma = _arg(self, None, "defaultGamma", defaultGamma, _RATE)
+    defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
+    stepSize = _arg(self, None, "stepSize", stepSize, _PS)
 %}
 %pythonprepend DPDPlugin::EDPDIntegrator::EDPDIntegrator %{
-    temperature = _strip(temperature, _unit.kelvin)
-    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
-    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
-    alpha = _strip(alpha, _unit.picosecond**-1)
-    stepSize = _strip(stepSize, _unit.picosecond)
+    temperature = _arg(self, None, "temperature", temperature, _K)
+    defaultFriction = _arg(self, None, "defaultFriction", defaultFriction, _RATE)
+    defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
+    alpha = _arg(self, None, "alpha", alpha, _RATE)
+    stepSize = _arg(self, None, "stepSize", stepSize, _PS)
 %}
 %pythonprepend DPDPlugin::EDPDIntegrator::setAlpha %{
-    alpha = _strip(alpha, _unit.picosecond**-1)
+    alpha = _arg(self, "setAlpha", "alpha", alpha, _RATE)
 %}
 %pythonappend DPDPlugin::EDPDIntegrator::getAlpha %{
     val = _unit.Quantity(val, _unit.picosecond**-1)
@@ -78,10 +89,10 @@ from openmmdpd.units import strip_units as _strip
     val = _unit.Quantity(val, _unit.kilojoule_per_mole / _unit.nanometer)
 %}
 %pythonprepend DPDPlugin::StaggeredDPDIntegrator::StaggeredDPDIntegrator %{
-    temperature = _strip(temperature, _unit.kelvin)
-    defaultFriction = _strip(defaultFriction, _unit.picosecond**-1)
-    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
-    stepSize = _strip(stepSize, _unit.picosecond)
+    temperature = _arg(self, None, "temperature", temperature, _K)
+    defaultFriction = _arg(self, None, "defaultFriction", defaultFriction, _RATE)
+    defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
+    stepSize = _arg(self, None, "stepSize", stepSize, _PS)
 %}
 %pythonappend DPDPlugin::StaggeredDPDIntegrator::getSubStepSize %{
     val = _unit.Quantity(val, _unit.picosecond)
@@ -93,22 +104,22 @@ from openmmdpd.units import strip_units as _strip
     val = tuple(val)
 %}
 %pythonprepend DPDPlugin::DPDSoftRepulsionForce::DPDSoftRepulsionForce %{
-    defaultA = _strip(defaultA, _unit.kilojoule_per_mole / _unit.nanometer)
-    defaultCutoff = _strip(defaultCutoff, _unit.nanometer)
+    defaultA = _arg(self, None, "defaultA", defaultA, _FORCE)
+    defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
 %}
 %pythonprepend DPDPlugin::DPDSoftRepulsionForce::setDefaultA %{
-    a = _strip(a, _unit.kilojoule_per_mole / _unit.nanometer)
+    a = _arg(self, "setDefaultA", "defaultA", a, _FORCE)
 %}
 %pythonprepend DPDPlugin::DPDSoftRepulsionForce::setDefaultCutoff %{
-    cutoff = _strip(cutoff, _unit.nanometer)
+    cutoff = _arg(self, "setDefaultCutoff", "defaultCutoff", cutoff, _NM)
 %}
 %pythonprepend DPDPlugin::DPDSoftRepulsionForce::addTypePair %{
-    a = _strip(a, _unit.kilojoule_per_mole / _unit.nanometer)
-    cutoff = _strip(cutoff, _unit.nanometer)
+    a = _arg(self, "addTypePair", "a", a, _FORCE)
+    cutoff = _arg(self, "addTypePair", "cutoff", cutoff, _NM)
 %}
 %pythonprepend DPDPlugin::DPDSoftRepulsionForce::setTypePairParameters %{
-    a = _strip(a, _unit.kilojoule_per_mole / _unit.nanometer)
-    cutoff = _strip(cutoff, _unit.nanometer)
+    a = _arg(self, "setTypePairParameters", "a", a, _FORCE)
+    cutoff = _arg(self, "setTypePairParameters", "cutoff", cutoff, _NM)
 %}
 %pythonappend DPDPlugin::DPDSoftRepulsionForce::getDefaultA %{
     val = _unit.Quantity(val, _unit.kilojoule_per_mole / _unit.nanometer)
@@ -120,24 +131,49 @@ from openmmdpd.units import strip_units as _strip
     val = [val[0], val[1], _unit.Quantity(val[2], _unit.kilojoule_per_mole / _unit.nanometer), _unit.Quantity(val[3], _unit.nanometer)]
 %}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setTemperature %{
-    temp = _strip(temp, _unit.kelvin)
+    temp = _arg(self, "setTemperature", "temperature", temp, _K)
 %}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setDefaultFriction %{
-    friction = _strip(friction, _unit.picosecond**-1)
+    friction = _arg(self, "setDefaultFriction", "defaultFriction", friction, _RATE)
 %}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setDefaultCutoff %{
-    cutoff = _strip(cutoff, _unit.nanometer)
+    cutoff = _arg(self, "setDefaultCutoff", "defaultCutoff", cutoff, _NM)
 %}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setStepSize %{
-    size = _strip(size, _unit.picosecond)
+    size = _arg(self, "setStepSize", "stepSize", size, _PS)
 %}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::addTypePair %{
-    friction = _strip(friction, _unit.picosecond**-1)
-    cutoff = _strip(cutoff, _unit.nanometer)
+    friction = _arg(self, "addTypePair", "friction", friction, _RATE)
+    cutoff = _arg(self, "addTypePair", "cutoff", cutoff, _NM)
 %}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setTypePairParameters %{
-    friction = _strip(friction, _unit.picosecond**-1)
-    cutoff = _strip(cutoff, _unit.nanometer)
+    friction = _arg(self, "setTypePairParameters", "friction", friction, _RATE)
+    cutoff = _arg(self, "setTypePairParameters", "cutoff", cutoff, _NM)
+%}
+
+// Dimensionless arguments: a number, or the same TypeError.
+%pythonprepend DPDPlugin::DPDVVIntegrator::setLambda %{
+    _lambda = _arg(self, "setLambda", "lambda", _lambda, None)
+%}
+%pythonprepend DPDPlugin::DPDVVIntegrator::setTolerance %{
+    tol = _arg(self, "setTolerance", "tolerance", tol, None)
+%}
+%pythonprepend DPDPlugin::StaggeredDPDIntegrator::setLambda %{
+    value = _arg(self, "setLambda", "lambda", value, None)
+%}
+%pythonprepend DPDPlugin::StaggeredDPDIntegrator::setMu %{
+    value = _arg(self, "setMu", "mu", value, None)
+%}
+%pythonprepend DPDPlugin::StaggeredDPDIntegrator::setA %{
+    value = _arg(self, "setA", "a", value, None)
+%}
+%pythonprepend DPDPlugin::StaggeredDPDIntegrator::setB %{
+    value = _arg(self, "setB", "b", value, None)
+%}
+%pythonprepend DPDPlugin::StaggeredDPDIntegrator::setRelaxationParameters %{
+    mu = _arg(self, "setRelaxationParameters", "mu", mu, None)
+    a = _arg(self, "setRelaxationParameters", "a", a, None)
+    b = _arg(self, "setRelaxationParameters", "b", b, None)
 %}
 
 // --- units out: getters return Quantities, like OpenMM's ---

@@ -30,12 +30,14 @@ namespace DPDPlugin {
 class DPDThermostatIntegrator : public OpenMM::Integrator {
 public:
     /**
+     * @param className        the subclass's name, which every error message starts with
      * @param temperature      the temperature of the heat bath (K)
      * @param defaultFriction  the friction rate of pairs without a type-pair entry (1/ps)
      * @param defaultCutoff    the thermostat cutoff of pairs without a type-pair entry (nm)
      * @param stepSize         the step size (ps)
      */
-    DPDThermostatIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize);
+    DPDThermostatIntegrator(const std::string& className, double temperature, double defaultFriction, double defaultCutoff,
+                            double stepSize);
     /** Get the temperature of the heat bath (K). */
     double getTemperature() const { return temperature; }
     /** Set the temperature of the heat bath (K); must be >= 0. */
@@ -100,7 +102,7 @@ public:
     void step(int steps) override;
 
     /** The name used in error messages, e.g. "DPDVVIntegrator". */
-    virtual const char* className() const = 0;
+    const char* className() const { return name.c_str(); }
     /**
      * Throw an OpenMMException unless the parameters are consistent with each other and
      * with the System; called when a Context is created and before every step.
@@ -125,6 +127,11 @@ protected:
     const OpenMM::Kernel& getStepKernel() const;
 
 private:
+    void checkTemperature(double temp) const;
+    void checkFriction(double friction) const;
+    void checkCutoff(double cutoff) const;
+    void checkStepSize(double size) const;
+    std::string name;
     double temperature, defaultFriction, defaultCutoff;
     int randomNumberSeed, parametersVersion = 0;
     ParticleTypeTable types;

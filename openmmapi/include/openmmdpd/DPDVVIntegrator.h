@@ -49,7 +49,6 @@ public:
     double getTolerance() const { return tolerance; }
     /** Set the relative temperature tolerance of the SelfConsistent variant (>= 0). */
     void setTolerance(double tol);
-    const char* className() const override { return "DPDVVIntegrator"; }
 
 protected:
     std::string kernelName() const override;

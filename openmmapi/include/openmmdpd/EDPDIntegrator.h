@@ -68,7 +68,6 @@ public:
     long long getPairVariableStep(int particle1, int particle2) const;
     /** How many pair variables the Context holds now, within range and remembered. */
     long long getNumPairVariables() const;
-    const char* className() const override { return "EDPDIntegrator"; }
 
 protected:
     std::string kernelName() const override;

@@ -35,7 +35,6 @@ public:
     LoweAndersenIntegrator(double temperature, double defaultGamma, double defaultCutoff, double stepSize);
     Method getMethod() const { return method; }
     void setMethod(Method m);
-    const char* className() const override { return "LoweAndersenIntegrator"; }
     /** Also requires Gamma dt <= 1 for every pair with the Lowe method. */
     void validate(const OpenMM::System& system) const override;
 

@@ -21,10 +21,12 @@ public:
         double value, cutoff;
     };
     /**
+     * @param owner      the class name that error messages start with, e.g. "DPDVVIntegrator"
      * @param valueName  the parameter's name in error messages, e.g. "friction"
      * @param valueUnit  its unit in error messages, e.g. "/ps"
      */
-    ParticleTypeTable(const std::string& valueName, const std::string& valueUnit) : valueName(valueName), valueUnit(valueUnit) {}
+    ParticleTypeTable(const std::string& owner, const std::string& valueName, const std::string& valueUnit) :
+            owner(owner), valueName(valueName), valueUnit(valueUnit) {}
     int getParticleType(int index) const;
     void setParticleType(int index, int type);
     /** Every particle type that was set explicitly, by particle index. */
@@ -37,12 +39,12 @@ public:
     double getMaxCutoff(double defaultCutoff) const;
     double getMaxValue(double defaultValue) const;
     /** Throw unless every particle index exists in the System and every type pair names a type in use. */
-    void validate(const OpenMM::System& system, const std::string& owner) const;
+    void validate(const OpenMM::System& system) const;
 
 private:
     void checkTypePair(int type1, int type2, double value, double cutoff, int replacing) const;
     void checkPairIndex(int pairIndex) const;
-    std::string valueName, valueUnit;
+    std::string owner, valueName, valueUnit;
     std::map<int, int> particleType;
     std::vector<TypePair> typePairs;
 };

@@ -31,7 +31,6 @@ public:
     int getOrder() const { return order; }
     /** Set the splitting order: 1 (S1, the default) or 2 (S2). */
     void setOrder(int order);
-    const char* className() const override { return "ShardlowIntegrator"; }
 
 protected:
     std::string kernelName() const override;

@@ -149,7 +149,6 @@ public:
      * only), the platforms check the fast forces on the other particles at every evaluation.
      */
     bool fastForcesListTheirParticles(const OpenMM::System& system) const;
-    const char* className() const override { return "StaggeredDPDIntegrator"; }
     /**
      * Also requires a force in a fast group, fast groups within the integration force
      * groups, valid polymer particle indices and, for the Lowe base, Gamma Dt <= 1.

@@ -2,12 +2,11 @@
 #include "openmmdpd/PairRandomBatch.h"
 #include "openmmdpd/SlotAccumulation.h"
 #include "openmmdpd/SoftRepulsionKernel.h"
-#include "openmm/OpenMMException.h"
+#include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/internal/OSRngSeed.h"
 #include <algorithm>
 #include <array>
 #include <memory>
-#include <sstream>
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
@@ -23,7 +22,7 @@ void zero(std::vector<Vec3>& v, size_t begin, size_t end) {
 
 DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
                                          ParallelExecutor& executor, int cellMultiple) :
-        parameters(system, integrator), executor(executor),
+        name(integrator.className()), parameters(system, integrator), executor(executor),
         search(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
         cellMultiple(cellMultiple), random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
     const int workers = executor.getNumWorkers();
@@ -39,15 +38,8 @@ void DPDThermostatForces::setParameters(const OpenMM::System& system, const DPDT
 }
 
 void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {
-    if (search.isPeriodic()) {
-        const double halfWidth = 0.5 * std::min(box[0][0], std::min(box[1][1], box[2][2]));
-        if (parameters.getMaxCutoff() > halfWidth) {
-            std::ostringstream message;
-            message << "the thermostat cutoff (" << parameters.getMaxCutoff() << " nm) must not exceed half the periodic box width ("
-                    << halfWidth << " nm)";
-            throw OpenMM::OpenMMException(message.str());
-        }
-    }
+    if (search.isPeriodic())
+        requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), box);
 }
 
 void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {

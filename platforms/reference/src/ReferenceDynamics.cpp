@@ -1,6 +1,7 @@
 #include "openmmdpd/ReferenceDynamics.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/OSRngSeed.h"
+#include "openmmdpd/internal/ParameterChecks.h"
 #include <algorithm>
 #include <cmath>
 #include <istream>
@@ -25,9 +26,8 @@ void ReferenceDynamics::updateParameters(const OpenMM::System& system, const DPD
 std::vector<PairGeometry> ReferenceDynamics::findPairs(OpenMM::ContextImpl& context) const {
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    if (context.getSystem().usesPeriodicBoundaryConditions() &&
-        parameters.getMaxCutoff() > 0.5 * std::min(box[0][0], std::min(box[1][1], box[2][2])))
-        throw OpenMM::OpenMMException(name + ": the thermostat cutoff must not exceed half the periodic box width");
+    if (context.getSystem().usesPeriodicBoundaryConditions())
+        requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), box);
     std::vector<PairGeometry> pairs;
     PairGeometry g;
     for (const ReferencePair& p : pairList.find(*data(context).positions, box))

@@ -4,6 +4,7 @@
 #include "openmmdpd/DPDPairCore.h"
 #include "openmmdpd/ParallelExecutor.h"
 #include <array>
+#include <string>
 #include <vector>
 
 namespace DPDPlugin {
@@ -76,6 +77,7 @@ private:
     void copyWorkerPairs(int w);
     /** computeInOnePass' pair pass: worker w's cells' pair forces into its buffer, by sorted slot. */
     void sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft);
+    std::string name;  // the integrator's class, for error messages
     DPDPairParameters parameters;
     ParallelExecutor& executor;
     PairSearch search;
