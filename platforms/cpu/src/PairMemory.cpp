@@ -1,5 +1,6 @@
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/PairMemory.h"
+#include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cmath>
@@ -222,7 +223,7 @@ void PairMemory::readInRange(CheckpointReader& reader, Saved& saved) const {
         p.s = reader.takeFinite("a pair variable");
         p.wR2 = reader.takeFinite("a pair weight");
         if (p.wR2 < 0 || p.wR2 > 1)
-            reader.damaged("a pair weight wR^2 is " + std::to_string(p.wR2) + ", outside [0, 1]");
+            reader.damaged("a pair weight wR^2 is " + numberText(p.wR2) + ", outside [0, 1]");
     }
     for (int i = 0; i < n; i++) {
         const int begin = saved.inRangeStart[i], end = saved.inRangeStart[i + 1];

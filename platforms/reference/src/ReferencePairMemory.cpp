@@ -1,5 +1,6 @@
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ReferencePairMemory.h"
+#include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cstdlib>
@@ -161,7 +162,7 @@ ReferencePairMemory::Saved ReferencePairMemory::read(CheckpointReader& reader) c
         const Key k = takeKey();
         const double s = reader.takeFinite("a pair variable"), wR2 = reader.takeFinite("a pair weight");
         if (wR2 < 0 || wR2 > 1)
-            reader.damaged("a pair weight wR^2 is " + std::to_string(wR2) + ", outside [0, 1]");
+            reader.damaged("a pair weight wR^2 is " + numberText(wR2) + ", outside [0, 1]");
         if (!saved.inRange.emplace(k, InRange{s, wR2}).second)
             reader.damaged("a pair in range is listed twice");
     }
