@@ -2,6 +2,7 @@
 #define OPENMMDPD_DYNAMICSSTEPKERNEL_H_
 
 #include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/PairRandom.h"
 #include <memory>
 
 namespace DPDPlugin {
@@ -9,8 +10,8 @@ namespace DPDPlugin {
 /**
  * A step kernel of the typed interface Interface of Integrator, run by a platform's
  * Dynamics (its update rule): what every platform's kernels share.  Thermostat parameters
- * changed on a live Context reach the Dynamics before the next step.  A platform says how
- * to make its Dynamics.
+ * changed on a live Context, and a new random number seed, reach the Dynamics before the
+ * next step.  A platform says how to make its Dynamics.
  */
 template <class Interface, class Integrator, class Dynamics>
 class DynamicsStepKernel : public Interface {
@@ -19,11 +20,17 @@ public:
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
         dynamics.reset(createDynamics(system, integrator));
         parametersVersion = integrator.getThermostatParametersVersion();
+        seedVersion = integrator.getRandomNumberSeedVersion();
     }
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
         if (integrator.getThermostatParametersVersion() != parametersVersion) {
             dynamics->updateParameters(context.getSystem(), integrator);
             parametersVersion = integrator.getThermostatParametersVersion();
+        }
+        // Only a new setting reseeds: a seed restored from a checkpoint stays otherwise.
+        if (integrator.getRandomNumberSeedVersion() != seedVersion) {
+            dynamics->setSeed(PairRandom::seedFor(integrator.getRandomNumberSeed()));
+            seedVersion = integrator.getRandomNumberSeedVersion();
         }
         dynamics->step(context, integrator);
     }
@@ -35,7 +42,7 @@ public:
 protected:
     virtual Dynamics* createDynamics(const OpenMM::System& system, const Integrator& integrator) = 0;
     std::unique_ptr<Dynamics> dynamics;
-    int parametersVersion = 0;
+    int parametersVersion = 0, seedVersion = 0;
 };
 
 } // namespace DPDPlugin
