@@ -87,8 +87,14 @@ public:
      * time a Context is created; it is then kept in checkpoints.
      */
     int getRandomNumberSeed() const { return randomNumberSeed; }
-    /** Set the random number seed (see getRandomNumberSeed()). */
-    void setRandomNumberSeed(int seed) { randomNumberSeed = seed; }
+    /**
+     * Set the random number seed (see getRandomNumberSeed()).  On a live Context the pair
+     * random numbers come from the new seed from the next step on (0: a new seed is chosen).
+     */
+    void setRandomNumberSeed(int seed) {
+        randomNumberSeed = seed;
+        seedVersion++;
+    }
     /** The largest thermostat cutoff over the defaults and all type pairs (nm). */
     double getMaxCutoff() const { return types.getMaxCutoff(defaultCutoff); }
     /** The largest friction over the defaults and all type pairs (1/ps). */
@@ -98,6 +104,8 @@ public:
      * type pairs): the step kernels take such changes into a live Context at the next step.
      */
     int getThermostatParametersVersion() const { return parametersVersion; }
+    /** Changes whenever setRandomNumberSeed() is called: the step kernels reseed at the next step. */
+    int getRandomNumberSeedVersion() const { return seedVersion; }
     /** Advance the simulation by a number of steps. */
     void step(int steps) override;
 
@@ -133,7 +141,7 @@ private:
     void checkStepSize(double size) const;
     std::string name;
     double temperature, defaultFriction, defaultCutoff;
-    int randomNumberSeed, parametersVersion = 0;
+    int randomNumberSeed, parametersVersion = 0, seedVersion = 0;
     ParticleTypeTable types;
     OpenMM::Kernel kernel;
 };

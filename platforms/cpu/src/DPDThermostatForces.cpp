@@ -3,7 +3,7 @@
 #include "openmmdpd/SlotAccumulation.h"
 #include "openmmdpd/SoftRepulsionKernel.h"
 #include "openmmdpd/internal/ParameterChecks.h"
-#include "openmm/internal/OSRngSeed.h"
+#include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <array>
 #include <memory>
@@ -24,7 +24,7 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
                                          ParallelExecutor& executor, int cellMultiple) :
         name(integrator.className()), parameters(system, integrator), executor(executor),
         search(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
-        cellMultiple(cellMultiple), random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()) {
+        cellMultiple(cellMultiple), random(PairRandom::seedFor(integrator.getRandomNumberSeed())) {
     const int workers = executor.getNumWorkers();
     workerPairs.resize(workers);
     workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));

@@ -1,6 +1,5 @@
 #include "openmmdpd/ReferenceDynamics.h"
 #include "openmm/OpenMMException.h"
-#include "openmm/internal/OSRngSeed.h"
 #include "openmmdpd/internal/ParameterChecks.h"
 #include <algorithm>
 #include <cmath>
@@ -11,7 +10,7 @@ using OpenMM::Vec3;
 
 ReferenceDynamics::ReferenceDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, int cellMultiple) :
         name(integrator.className()), parameters(system, integrator),
-        random(integrator.getRandomNumberSeed() != 0 ? (uint32_t) integrator.getRandomNumberSeed() : (uint32_t) osrngseed()),
+        random(PairRandom::seedFor(integrator.getRandomNumberSeed())),
         carried(system.getNumParticles()),
         pairList(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
         cellMultiple(cellMultiple) {

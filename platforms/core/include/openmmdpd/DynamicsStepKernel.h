@@ -4,6 +4,7 @@
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/CheckpointTags.h"
 #include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/PairRandom.h"
 #include "openmm/internal/ContextImpl.h"
 #include <memory>
 #include <sstream>
@@ -13,8 +14,8 @@ namespace DPDPlugin {
 /**
  * A step kernel of the typed interface Interface of Integrator, run by a platform's
  * Dynamics (its update rule): what every platform's kernels share.  Thermostat parameters
- * changed on a live Context reach the Dynamics before the next step.  A platform says how
- * to make its Dynamics.
+ * changed on a live Context, and a new random number seed, reach the Dynamics before the
+ * next step.  A platform says how to make its Dynamics.
  *
  * Checkpoints carry a header (CheckpointIO.h) tagged with the integrator's class and
  * variant.  OpenMM restores positions, velocities, step count and time before the
@@ -30,11 +31,17 @@ public:
         dynamics.reset(createDynamics(system, integrator));
         owner = &integrator;
         parametersVersion = integrator.getThermostatParametersVersion();
+        seedVersion = integrator.getRandomNumberSeedVersion();
     }
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
         if (integrator.getThermostatParametersVersion() != parametersVersion) {
             dynamics->updateParameters(context.getSystem(), integrator);
             parametersVersion = integrator.getThermostatParametersVersion();
+        }
+        // Only a new setting reseeds: a seed restored from a checkpoint stays otherwise.
+        if (integrator.getRandomNumberSeedVersion() != seedVersion) {
+            dynamics->setSeed(PairRandom::seedFor(integrator.getRandomNumberSeed()));
+            seedVersion = integrator.getRandomNumberSeedVersion();
         }
         dynamics->step(context, integrator);
     }
@@ -61,7 +68,7 @@ protected:
     virtual Dynamics* createDynamics(const OpenMM::System& system, const Integrator& integrator) = 0;
     std::unique_ptr<Dynamics> dynamics;
     const Integrator* owner = nullptr;
-    int parametersVersion = 0;
+    int parametersVersion = 0, seedVersion = 0;
 };
 
 } // namespace DPDPlugin

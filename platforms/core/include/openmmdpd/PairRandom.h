@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_PAIRRANDOM_H_
 #define OPENMMDPD_PAIRRANDOM_H_
 
+#include "openmm/internal/OSRngSeed.h"
 #include <Random123/philox.h>
 #include <cmath>
 #include <cstdint>
@@ -25,6 +26,8 @@ public:
     };
 
     explicit PairRandom(uint32_t seed = 0) : seed(seed) {}
+    /** The seed to use for an integrator's seed setting: itself, or a new one for 0. */
+    static uint32_t seedFor(int setting) { return setting != 0 ? (uint32_t) setting : (uint32_t) osrngseed(); }
     uint32_t getSeed() const { return seed; }
 
     /** Four independent 32-bit words for the pair (i, j) at a step. */

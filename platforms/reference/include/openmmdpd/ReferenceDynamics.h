@@ -31,6 +31,8 @@ public:
     void invalidateForces() { carried.invalidate(); }
     /** The integrator's thermostat parameters changed on a live Context: use them from now on. */
     void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
+    /** The pair random numbers come from this seed from now on. */
+    void setSeed(uint32_t seed) { random = PairRandom(seed); }
     void createCheckpoint(std::ostream& stream) const;
     /** Reads and checks the whole payload, then replaces the carried state with it. */
     void loadCheckpoint(OpenMM::ContextImpl& context, CheckpointReader& reader);
