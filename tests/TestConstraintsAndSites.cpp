@@ -116,7 +116,6 @@ const std::vector<Scheme> SCHEMES = {
     {"SC-VV", maker<DPDVVIntegrator>([](DPDVVIntegrator& i) { i.setVariant(DPDVVIntegrator::SelfConsistent); })},
     {"S1", maker<ShardlowIntegrator>([](ShardlowIntegrator& i) { i.setOrder(1); })},
     {"S2", maker<ShardlowIntegrator>([](ShardlowIntegrator& i) { i.setOrder(2); })},
-    {"Lowe", maker<LoweAndersenIntegrator>([](LoweAndersenIntegrator& i) { i.setMethod(LoweAndersenIntegrator::Lowe); })},
     {"PairOU", maker<LoweAndersenIntegrator>(
                    [](LoweAndersenIntegrator& i) { i.setMethod(LoweAndersenIntegrator::PairOrnsteinUhlenbeck); })},
     {"EDPD", [] {
@@ -248,6 +247,26 @@ INSTANTIATE_TEST_SUITE_P(EveryScheme, ConstraintsAndSites, testing::ValuesIn(SCH
                              name.erase(std::remove(name.begin(), name.end(), '-'), name.end());
                              return name;
                          });
+
+TEST(ConstraintsAndSites, LoweMethodRefusesConstraintsButTakesVirtualSites) {
+    Dimers d = makeDimers(40);
+    addSites(d);
+    for (const std::string& platform : platforms()) {
+        LoweAndersenIntegrator integrator(KT_KELVIN, 4.5, 1.0, DT);
+        expectErrorNaming([&] { Context context(*d.system, integrator, Platform::getPlatformByName(platform)); },
+                          "constraints");
+    }
+    for (int c = d.system->getNumConstraints() - 1; c >= 0; c--)
+        d.system->removeConstraint(c);
+    Scheme lowe{"Lowe", maker<LoweAndersenIntegrator>([](LoweAndersenIntegrator& i) { i.setMethod(LoweAndersenIntegrator::Lowe); })};
+    for (const std::string& platform : platforms()) {
+        Simulation run = start(d, lowe, platform);
+        for (int step = 0; step < 20; step++) {
+            run.integrator->step(1);
+            EXPECT_LT(maxSiteError(*d.system, run.context->getState(State::Positions).getPositions()), 1e-10) << platform;
+        }
+    }
+}
 
 TEST(ConstraintsAndSites, StaggeredRefusesConstraintsAndVirtualSites) {
     for (bool sites : {false, true}) {
