@@ -41,6 +41,13 @@ void DPDThermostatIntegrator::setDefaultCutoff(double cutoff) {
     parametersVersion++;
 }
 
+void DPDThermostatIntegrator::setInstabilityThreshold(double factor) {
+    require(std::isfinite(factor) && factor >= 0,
+            "instabilityThreshold must be >= 0 (a multiple of kT; 0 turns the check off), got " + numberText(factor));
+    instabilityThreshold = factor;
+    parametersVersion++;
+}
+
 void DPDThermostatIntegrator::setStepSize(double size) {
     require(std::isfinite(size) && size > 0, "stepSize must be > 0 ps, got " + numberText(size));
     OpenMM::Integrator::setStepSize(size);
