@@ -103,7 +103,7 @@ public:
      * 40 is the recommended value: in a Maxwell-Boltzmann fluid a particle exceeds x kT with
      * probability 2 sqrt(x/pi) exp(-x) + erfc(sqrt(x)) ~ 3e-17 per step for x = 40, so a false
      * alarm over 10^12 particle-steps has odds ~3e-5 (~0.3 in a fluid running 30 % too hot),
-     * while a blow-up puts particles at hundreds of kT.  The check shares the end-of-step loop
+     * while the polymer scene's transient blow-ups at too large a step put beads at 40-250 kT.  The check shares the end-of-step loop
      * over the velocities with the finiteness check, so it costs next to nothing.  With
      * temperature 0 there is no kT to compare against and the check is off.
      *
