@@ -64,7 +64,10 @@ protected:
     void movePositions(std::vector<OpenMM::Vec3>& r, const std::vector<OpenMM::Vec3>& move, long long step) const;
     /** sum m v^2. */
     double sumMV2(const std::vector<OpenMM::Vec3>& v) const;
-    /** End a step: the velocities must be finite; the Context's step count and time advance. */
+    /**
+     * End a step: the velocities must be finite (and under the instability threshold, see
+     * checkVelocities); the Context's step count and time advance.
+     */
     void finishStep(OpenMM::ContextImpl& context, double dt) const;
 
     const std::string name;
