@@ -2,6 +2,8 @@
 import csv
 import os
 
+import pytest
+
 from openmmdpd import compare
 
 
@@ -29,3 +31,11 @@ def test_compare_smoke_run(tmp_path):
         assert os.path.getsize(os.path.join(out, filename)) > 0
     report = open(os.path.join(out, "report.md")).read()
     assert "| GW | 0.02 | 0.02 |" in report or "| GW | 0.02 |" in report
+
+
+def test_help_describes_the_job_in_whole_sentences(capsys):
+    with pytest.raises(SystemExit):
+        compare.main(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "over a sweep of time steps, measured for accuracy and for cost in the same run, with charts, " \
+           "the CSV behind them and a report." in text
