@@ -16,11 +16,13 @@ def test_version_and_what_it_was_built_against():
     assert openmmdpd._build.openmm_version.split(".") == running
 
 
-def test_scenes_after_a_plain_import():
+def test_scenes_after_a_plain_import(tmp_path):
     path = [os.path.dirname(os.path.dirname(openmmdpd.__file__))] + os.environ.get("PYTHONPATH", "").split(os.pathsep)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in path if p))
     code = "import openmmdpd; print(openmmdpd.scenes.build_scene('ideal', num_particles=100).system.getNumParticles())"
-    result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=60)
+    # From a folder of its own: `python -c` puts the current folder first on sys.path.
+    result = subprocess.run([sys.executable, "-c", code], cwd=str(tmp_path), env=env, capture_output=True, text=True,
+                            timeout=60)
     assert result.returncode == 0, result.stderr
     assert result.stdout.split() == ["100"]
 
