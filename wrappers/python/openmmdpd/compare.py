@@ -246,7 +246,7 @@ def compare(args):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph, whole
     parser.add_argument("--scene", default="soft", choices=SCENES)
     parser.add_argument("--integrators", nargs="+", help="default: all available")
     parser.add_argument("--dts", type=float, nargs="+", default=[0.01, 0.02, 0.04, 0.06, 0.1, 0.15])

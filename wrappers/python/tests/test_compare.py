@@ -2,6 +2,8 @@
 import csv
 import os
 
+import pytest
+
 from openmmdpd import compare
 
 
@@ -45,3 +47,11 @@ def test_compare_records_a_transient_blow_up_as_unstable(tmp_path):
     row = run()
     assert row["status"] == "unstable" and "unstable at step 168: particle 14" in row["note"]
     assert run("--instability-threshold", "0")["status"] == "ok"
+
+
+def test_help_describes_the_job_in_whole_sentences(capsys):
+    with pytest.raises(SystemExit):
+        compare.main(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "over a sweep of time steps, measured for accuracy and for cost in the same run, with charts, " \
+           "the CSV behind them and a report." in text
