@@ -8,8 +8,10 @@ extern "C" void registerDPDCpuKernelFactories();
 
 int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
-    // OpenMM's own plugins (the CPU platform) first, then our kernels on top of them.
-    OpenMM::Platform::loadPluginsFromDirectory(OpenMM::Platform::getDefaultPluginsDirectory());
+    // OpenMM's own plugins (the CPU platform) first, then our kernels on top of them.  From the
+    // OpenMM built against: an upstream OpenMM's default folder is /usr/local/openmm/lib/plugins
+    // unless OPENMM_PLUGIN_DIR is set.
+    OpenMM::Platform::loadPluginsFromDirectory(OPENMMDPD_OPENMM_PLUGIN_DIR);
     registerDPDReferenceKernelFactories();
 #if OPENMMDPD_HAVE_CPU
     registerDPDCpuKernelFactories();

@@ -59,6 +59,13 @@ void DPDThermostatIntegrator::setDefaultCutoff(double cutoff) {
     parametersVersion++;
 }
 
+void DPDThermostatIntegrator::setInstabilityThreshold(double factor) {
+    require(std::isfinite(factor) && factor >= 0,
+            name + ": instabilityThreshold must be >= 0 (a multiple of kT; 0 turns the check off), got " + numberText(factor));
+    instabilityThreshold = factor;
+    parametersVersion++;
+}
+
 void DPDThermostatIntegrator::setStepSize(double size) {
     checkStepSize(size);
     OpenMM::Integrator::setStepSize(size);

@@ -11,11 +11,14 @@ void DPDPlugin::serializeThermostatParameters(const DPDThermostatIntegrator& int
     node.setDoubleProperty("defaultCutoff", integrator.getDefaultCutoff());
     node.setIntProperty("randomSeed", integrator.getRandomNumberSeed());
     node.setIntProperty("integrationForceGroups", integrator.getIntegrationForceGroups());
+    node.setDoubleProperty("instabilityThreshold", integrator.getInstabilityThreshold());
     serializeTypeTable(integrator, node, "friction");
 }
 
 void DPDPlugin::deserializeThermostatParameters(const SerializationNode& node, DPDThermostatIntegrator& integrator) {
     integrator.setRandomNumberSeed(node.getIntProperty("randomSeed"));
     integrator.setIntegrationForceGroups(node.getIntProperty("integrationForceGroups"));
+    // XML written before the sentinel existed has no threshold: off, as it was.
+    integrator.setInstabilityThreshold(node.getDoubleProperty("instabilityThreshold", 0.0));
     deserializeTypeTable(node, integrator, "friction");
 }

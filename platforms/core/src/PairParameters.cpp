@@ -50,7 +50,8 @@ TypePairTable thermostatTable(const OpenMM::System& system, const DPDThermostatI
 } // namespace
 
 DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) :
-        table(thermostatTable(system, integrator)), kT(BOLTZMANN_KJ_PER_MOL_K * integrator.getTemperature()) {
+        table(thermostatTable(system, integrator)), kT(BOLTZMANN_KJ_PER_MOL_K * integrator.getTemperature()),
+        instabilityThreshold(integrator.getInstabilityThreshold()) {
     const int n = system.getNumParticles();
     mass.resize(n);
     invMass.resize(n);

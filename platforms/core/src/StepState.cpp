@@ -1,8 +1,10 @@
 #include "openmmdpd/StepState.h"
 #include "openmmdpd/CheckpointIO.h"
+#include "openmmdpd/PairParameters.h"
 #include "openmm/OpenMMException.h"
 #include <cmath>
 #include <istream>
+#include <limits>
 #include <ostream>
 #include <sstream>
 
@@ -58,7 +60,35 @@ bool isFinite(const Vec3& x) {
     throw OpenMM::OpenMMException(message.str());
 }
 
+[[noreturn]] void unstable(const std::string& name, long long step, int particle, double energy, double threshold) {
+    std::ostringstream message;
+    message << name << ": the simulation is unstable at step " << step << ": particle " << particle << " has kinetic energy "
+            << energy << " kT, above the instability threshold " << threshold
+            << " kT. Reduce the step size, or check the starting configuration and the forces.";
+    throw OpenMM::OpenMMException(message.str());
+}
+
 } // namespace
+
+void DPDPlugin::checkVelocities(const std::vector<Vec3>& v, const DPDPairParameters& parameters, long long step,
+                                const std::string& name) {
+    const std::vector<double>& mass = parameters.getMasses();
+    const double kT = parameters.getKT(), threshold = parameters.getInstabilityThreshold();
+    const bool sentinel = threshold > 0 && kT > 0;
+    // m v^2 <= bound fails for a non-finite velocity as well as for a particle over the
+    // threshold, so the common case costs one comparison per particle.  With the sentinel
+    // off, the bound is the largest double: only non-finite values (or |v| ~ 1e154) fail it.
+    const double bound = sentinel ? 2 * threshold * kT : std::numeric_limits<double>::max();
+    for (size_t i = 0; i < v.size(); i++) {
+        const double mv2 = mass[i] * v[i].dot(v[i]);
+        if (mv2 <= bound)
+            continue;
+        if (!isFinite(v[i]))
+            blewUp(name, step, "particle " + std::to_string(i) + " has a non-finite velocity");
+        if (sentinel && mv2 > bound)
+            unstable(name, step, (int) i, 0.5 * mv2 / kT, threshold);
+    }
+}
 
 void DPDPlugin::checkFinite(const std::vector<Vec3>& values, const char* what, long long step, const std::string& name) {
     for (size_t i = 0; i < values.size(); i++)

@@ -1,6 +1,7 @@
 #include "openmmdpd/CpuDPDKernels.h"
 #include "openmmdpd/SoftRepulsionKernel.h"
 #include "CpuPlatform.h"
+#include "openmmdpd/OpenMMVersionCheck.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
@@ -44,6 +45,8 @@ extern "C" OPENMM_EXPORT void registerDPDCpuKernelFactories() {
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {
+    if (!pluginMatchesRunningOpenMM("openmm-dpd CPU plugin"))
+        return;
     // Without the CPU platform (e.g. no AVX-capable build) there is nothing to add to.
     for (int i = 0; i < Platform::getNumPlatforms(); i++)
         if (Platform::getPlatform(i).getName() == "CPU")

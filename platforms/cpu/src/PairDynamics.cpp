@@ -31,7 +31,7 @@ void PairDynamics::checkFinite(const std::vector<Vec3>& values, const std::vecto
 }
 
 void PairDynamics::finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const {
-    checkFinite(*data.velocities, "velocity", data.stepCount + 1);
+    checkVelocities(*data.velocities, thermostat.getParameters(), data.stepCount + 1, name);
     // The Context's counters are ours to advance (Simulation.currentStep reads them).
     data.stepCount++;
     data.time += dt;

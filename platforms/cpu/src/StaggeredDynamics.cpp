@@ -103,6 +103,15 @@ OpenMM::CustomNonbondedForce* emptyNonbondedLike(const OpenMM::CustomNonbondedFo
     copy->setCutoffDistance(force.getCutoffDistance());
     copy->setUseSwitchingFunction(force.getUseSwitchingFunction());
     copy->setSwitchingDistance(force.getSwitchingDistance());
+#if OPENMMDPD_OPENMM_MAJOR >= 8
+    // Per-particle values computed from the parameters (OpenMM 8): without them the copy's
+    // energy names unknown variables and the polymer Context could not be made.
+    for (int v = 0; v < force.getNumComputedValues(); v++) {
+        std::string name, expression;
+        force.getComputedValueParameters(v, name, expression);
+        copy->addComputedValue(name, expression);
+    }
+#endif
     return copy.release();
 }
 
@@ -171,8 +180,9 @@ OpenMM::Force* copyCustomNonbonded(const OpenMM::CustomNonbondedForce& nonbonded
     return copy.release();
 }
 
-/** A copy of `force` over the polymer particles only (index i becomes index[i]), or null. */
-OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int>& index) {
+} // namespace
+
+OpenMM::Force* DPDPlugin::copyOverPolymer(const OpenMM::Force& force, const std::vector<int>& index) {
     if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force))
         return copyHarmonicBonds(*bond, index);
     if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force))
@@ -181,6 +191,8 @@ OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int
         return copyCustomNonbonded(*nonbonded, index);
     return nullptr;
 }
+
+namespace {
 
 /** The platform properties of a Context (threads, determinism, ...), for Contexts beside it. */
 std::map<std::string, std::string> contextProperties(OpenMM::ContextImpl& context) {

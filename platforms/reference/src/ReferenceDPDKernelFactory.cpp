@@ -1,5 +1,6 @@
 #include "openmmdpd/ReferenceDPDKernels.h"
 #include "openmmdpd/ReferenceSoftRepulsionKernel.h"
+#include "openmmdpd/OpenMMVersionCheck.h"
 #include "openmm/KernelFactory.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
@@ -43,7 +44,8 @@ extern "C" OPENMM_EXPORT void registerDPDReferenceKernelFactories() {
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {
-    registerDPDReferenceKernelFactories();
+    if (pluginMatchesRunningOpenMM("openmm-dpd Reference plugin"))
+        registerDPDReferenceKernelFactories();
 }
 
 // This plugin adds no platform; it exports its own empty registerPlatforms() so that the

@@ -86,7 +86,7 @@ double ReferenceDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) con
 
 void ReferenceDynamics::finishStep(OpenMM::ContextImpl& context, double dt) const {
     OpenMM::ReferencePlatform::PlatformData& state = data(context);
-    checkFinite(*state.velocities, "velocity", state.stepCount + 1, name);
+    checkVelocities(*state.velocities, parameters, state.stepCount + 1, name);
     state.stepCount++;
     state.time += dt;
 }

@@ -7,13 +7,43 @@ import os as _os
 
 import openmm as _openmm  # loads OpenMM's own plugins (the CPU platform) first
 
-from .dpdplugin import (DPDSoftRepulsionForce, DPDThermostatIntegrator, DPDVVIntegrator, EDPDIntegrator,
+from . import _build
+
+
+def _check_openmm_version(built, running):
+    """ImportError unless OpenMM `running` has the major.minor `built` (of the plugins).
+
+    The same rule as the C++ plugins' (platforms/core/OpenMMVersionCheck), checked here before
+    the compiled module is imported: one built against another OpenMM may not even link.
+    """
+    if built.split(".")[:2] != running.split(".")[:2]:
+        raise ImportError(f"openmmdpd was built against OpenMM {built} but the openmm imported ({_openmm.__file__}) "
+                          f"is {running}; OpenMM's internal platform data may be laid out differently. Rebuild "
+                          f"openmm-dpd against this OpenMM (cmake -DOPENMM_DIR=<its prefix>), or import the "
+                          f"OpenMM {built} it was built against.")
+
+
+def _load_openmm_plugins(plugin_dir):
+    """OpenMM's own platforms, if `import openmm` registered none (an upstream OpenMM looks in
+    /usr/local/openmm/lib/plugins unless OPENMM_PLUGIN_DIR is set): from the OpenMM built against."""
+    platform = _openmm.Platform
+    names = {platform.getPlatform(i).getName() for i in range(platform.getNumPlatforms())}
+    if names <= {"Reference"} and _os.path.isdir(plugin_dir):
+        platform.loadPluginsFromDirectory(plugin_dir)
+
+
+_check_openmm_version(_build.openmm_version, _openmm.Platform.getOpenMMVersion())
+_load_openmm_plugins(_build.openmm_plugin_dir)
+
+from .dpdplugin import (DPDSoftRepulsionForce, DPDThermostatIntegrator, DPDVVIntegrator, EDPDIntegrator,  # noqa: E402
                         LoweAndersenIntegrator, ShardlowIntegrator, StaggeredDPDIntegrator)
-from .units import KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units
+from .units import KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units  # noqa: E402
+
+__version__ = _build.version
 
 __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
            "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "KT_TEMPERATURE", "kT_from_temperature",
-           "reduced_temperature", "strip_units", "loaded_plugins"]
+           "reduced_temperature", "strip_units", "loaded_plugins", "scenes", "__version__"]
 
 
 def _load_kernel_plugins():
@@ -28,3 +58,6 @@ def _load_kernel_plugins():
 
 
 loaded_plugins = _load_kernel_plugins()
+
+# After the plugins: `openmmdpd.scenes` works after a plain `import openmmdpd`.
+from . import scenes  # noqa: E402

@@ -11,14 +11,20 @@ beads in 4000 particles): for each M and K, the wall time per unit of simulated 
 same inner step dt (speed-up against K = 1) and the chain and total <kT> error:
 
     /usr/bin/python3 -m openmmdpd.bench --staggered [--chain-lengths 20 100] [--sub-steps 1 2 5 10 20]
+
+--sentinel instead measures what the instability sentinel costs: GW (lambda 0.5) with the
+threshold off and at INSTABILITY_THRESHOLD, alternated --repeats times, medians side by side:
+
+    /usr/bin/python3 -m openmmdpd.bench --sentinel --sizes 32000 --threads 1 --repeats 9
 """
 import argparse
+import statistics
 import sys
 import time
 
 import openmm
 
-from .catalog import integrators
+from .catalog import INSTABILITY_THRESHOLD, integrators
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
 from . import staggered
@@ -159,6 +165,28 @@ def measure_staggered(args):
     return rows
 
 
+def measure_sentinel(n, threads, args):
+    """GW steps/s with the sentinel off and on, alternated: (median off, median on, median of
+    the per-round cost on/off - 1).  Medians, since the two differ by less than the noise."""
+    platform = openmm.Platform.getPlatformByName("CPU")
+    scene = soft_scene(num_particles=n)
+    runs = []
+    for threshold in (0.0, INSTABILITY_THRESHOLD):
+        integrator = integrators()["GW"](args.dt)
+        integrator.setInstabilityThreshold(threshold)
+        context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})
+        context.setPositions(scene.positions)
+        context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+        rate = steps_per_second(integrator, args.warmup)
+        runs.append((context, integrator, args.steps or max(5, round(rate * args.seconds))))
+    off, on = [], []
+    for _ in range(args.repeats):
+        for rates, (_, integrator, steps) in zip((off, on), runs):
+            rates.append(steps_per_second(integrator, steps))
+    cost = statistics.median(a / b - 1 for a, b in zip(off, on))
+    return statistics.median(off), statistics.median(on), cost
+
+
 def print_staggered_table(rows, args):
     print(f"scene fene-chains (4 chains x M beads, 4000 particles), StaggeredDPDIntegrator base {args.base} "
           f"(paper 002 recommended parameters), CPU platform, {args.threads[0]} thread(s), inner dt={args.inner_dt:g}; "
@@ -194,6 +222,8 @@ def main(argv=None):
                         help="interleaved measurements; best kept")
     parser.add_argument("--soft-force", action="store_true",
                         help="also compare DPDSoftRepulsionForce with the same CustomNonbondedForce")
+    parser.add_argument("--sentinel", action="store_true",
+                        help="measure GW with the instability sentinel off and on instead")
     parser.add_argument("--staggered", action="store_true",
                         help="measure StaggeredDPDIntegrator on fene-chains instead (see the module help)")
     parser.add_argument("--chain-lengths", type=int, nargs="+", default=[20, 100], help="--staggered: M")
@@ -208,6 +238,16 @@ def main(argv=None):
 
     if args.staggered:
         print_staggered_table(measure_staggered(args), args)
+        return
+
+    if args.sentinel:
+        print(f"scene soft, GW (lambda 0.5), CPU platform, dt={args.dt:g}; instability threshold 0 (off) and "
+              f"{INSTABILITY_THRESHOLD:g} kT alternated, medians of {args.repeats}")
+        print(f"{'N':>6} {'threads':>7}  {'steps/s off':>11} {'steps/s on':>10}  {'cost of the sentinel':>20}")
+        for n in args.sizes:
+            for threads in args.threads:
+                off, on, cost = measure_sentinel(n, threads, args)
+                print(f"{n:>6} {threads:>7}  {off:>11.2f} {on:>10.2f}  {100 * cost:>+19.2f}%")
         return
 
     catalog = integrators()

@@ -9,6 +9,9 @@ from .units import KT_TEMPERATURE
 
 FRICTION = 4.5  # 1/ps
 CUTOFF = 1.0    # nm, the DPD rc
+# The recommended instability threshold (DPDThermostatIntegrator.setInstabilityThreshold), in kT:
+# a thermal particle passes 40 kT about once in 3e16 particle-steps, a blow-up far sooner.
+INSTABILITY_THRESHOLD = 40.0
 
 
 def _dpdvv(variant, lam=0.5):

@@ -133,6 +133,13 @@ def _fmt(x, digits=4):
     return "" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.{digits}g}"
 
 
+def _unstable_means(threshold):
+    sentinel = (f", or a particle's kinetic energy above {threshold:g} kT (this plugin's integrators: the "
+                f"instability sentinel)" if threshold > 0 else " (the instability sentinel is off)")
+    return (f"A run is unstable if it stops on a non-finite value, a particle jumping several cutoffs in one step, "
+            f"a sampled kT above 10{sentinel}; or if its <kT> is outside [0.5, 1.5].")
+
+
 def write_report(args, rows, r, g_of):
     out, scene = args.out, args.scene
     charts = [("kT_vs_dt.png", "Kinetic temperature against time step", _kT_chart),
@@ -147,7 +154,7 @@ def write_report(args, rows, r, g_of):
              f"N = {args.particles}, {args.steps} sampled steps after {args.equilibrate} of equilibration, "
              f"gamma (or Gamma) = 4.5, rc = 1, kT = 1, platform {args.platform} with {args.threads} thread(s). "
              "Costs are CPU seconds of the integration steps alone, per unit of simulated time, "
-             "measured in this run. Data: `results.csv`.", ""]
+             "measured in this run. Data: `results.csv`. " + _unstable_means(args.instability_threshold), ""]
     lines += ["## Stability", "",
               "| integrator | largest stable dt | largest dt with \\|<kT>-1\\| < 1 % | largest dt with \\|kT_conf-1\\| < 10 % |",
               "|---|---|---|---|"]

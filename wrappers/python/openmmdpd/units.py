@@ -19,8 +19,8 @@ KT_TEMPERATURE = (1.0 / MOLAR_GAS_CONSTANT) * unit.kelvin
 
 
 def reduced_temperature(kT=1.0):
-    """Temperature (Quantity, kelvin) for a reduced kT in kJ/mol."""
-    return kT * KT_TEMPERATURE
+    """Temperature (Quantity, kelvin) for kT: an energy Quantity (per mole), or a float in kJ/mol."""
+    return strip_units(kT, unit.kilojoule_per_mole, "kT", "reduced_temperature") * KT_TEMPERATURE
 
 
 def kT_from_temperature(temperature):
@@ -35,6 +35,7 @@ _KINDS = {
     unit.nanometer: ("a length", "nanometer"),
     unit.picosecond: ("a time", "picosecond"),
     unit.kilojoule_per_mole / unit.nanometer: ("a force", "kilojoule/mole/nanometer"),
+    unit.kilojoule_per_mole: ("an energy", "kilojoule/mole"),
 }
 
 

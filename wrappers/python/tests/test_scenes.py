@@ -48,6 +48,17 @@ def test_kt_one_is_120_kelvin():
     assert units.kT_from_temperature(300.0) == pytest.approx(2.494338785, rel=1e-9)
 
 
+def test_reduced_temperature_takes_kT_as_an_energy():
+    T = units.reduced_temperature(1 * unit.kilojoule_per_mole)
+    assert T.unit == unit.kelvin
+    assert T.value_in_unit(unit.kelvin) == pytest.approx(120.27236, abs=1e-5)
+    assert units.reduced_temperature(4.184 * unit.kilojoule_per_mole).value_in_unit(unit.kelvin) == \
+        pytest.approx(units.reduced_temperature(1 * unit.kilocalorie_per_mole).value_in_unit(unit.kelvin))
+    for wrong in (300 * unit.kelvin, 1 * unit.nanometer, "1"):
+        with pytest.raises(TypeError, match="reduced_temperature: kT must be an energy"):
+            units.reduced_temperature(wrong)
+
+
 def test_strip_units():
     assert units.strip_units(2 * unit.nanometer, unit.angstrom) == pytest.approx(20)
     assert units.strip_units(3, unit.kelvin) == 3.0

@@ -60,7 +60,7 @@ private:
 
 /**
  * The thermostat parameters of a System resolved per particle and per pair: the type-pair
- * friction/cutoff table, masses and kT.  Built once per Context from any
+ * friction/cutoff table, masses, kT and the instability threshold.  Built once per Context from any
  * DPDThermostatIntegrator.
  */
 class DPDPairParameters {
@@ -74,6 +74,8 @@ public:
     const std::vector<double>& getMasses() const { return mass; }
     const std::vector<double>& getInverseMasses() const { return invMass; }
     double getKT() const { return kT; }
+    /** The integrator's instability threshold (a multiple of kT; 0 = off). */
+    double getInstabilityThreshold() const { return instabilityThreshold; }
     /**
      * The geometry of a pair at displacement d = r_i - r_j (nearest image); returns false
      * if the pair is beyond its own type-pair cutoff.
@@ -115,7 +117,7 @@ public:
 
 private:
     TypePairTable table;
-    double kT;
+    double kT, instabilityThreshold;
     std::vector<double> mass, invMass;
     std::vector<bool> active;
     // When every particle has one mass (the usual DPD fluid), gamma and sigma depend on the

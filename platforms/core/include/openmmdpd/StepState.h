@@ -10,6 +10,7 @@
 namespace DPDPlugin {
 
 class CheckpointReader;
+class DPDPairParameters;
 
 /** A step that moves a particle farther than this many thermostat cutoffs has blown up. */
 constexpr double MAX_MOVE_PER_STEP = 5.0;
@@ -55,6 +56,13 @@ void checkFinite(const std::vector<OpenMM::Vec3>& values, const std::vector<int>
  */
 void checkOutsidePolymer(const std::vector<OpenMM::Vec3>& forces, const std::vector<int>& polymerIndex, long long step,
                          const std::string& name);
+/**
+ * Ends a step: stops a run with "... blew up at step N ..." if a velocity is not finite, and,
+ * if the parameters' instability threshold is on (and kT > 0), with "... unstable at step
+ * N ..." if a particle's kinetic energy exceeds that many kT.  One pass does both.
+ */
+void checkVelocities(const std::vector<OpenMM::Vec3>& velocities, const DPDPairParameters& parameters, long long step,
+                     const std::string& name);
 /** Stops a run if the largest squared move of a step, maxMove2, exceeds MAX_MOVE_PER_STEP cutoffs. */
 void checkMove(double maxMove2, double cutoff, long long step, const std::string& name);
 

@@ -126,7 +126,10 @@ protected:
     /** The same check on values[particles[k]] (or values[k] with indexedByParticle false), naming particles[k]. */
     void checkFinite(const std::vector<OpenMM::Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,
                      const char* what, long long step) const;
-    /** End a step: the velocities must be finite; the Context's step count and time advance. */
+    /**
+     * End a step: the velocities must be finite (and under the instability threshold, see
+     * checkVelocities); the Context's step count and time advance.
+     */
     void finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const;
     double sumMV2(const std::vector<OpenMM::Vec3>& velocities) const;
     static OpenMM::ReferencePlatform::PlatformData& platformData(OpenMM::ContextImpl& context) {

@@ -11,6 +11,13 @@
 namespace DPDPlugin {
 
 /**
+ * A copy of `force` over the polymer particles only (particle i becomes index[i], -1 for a
+ * particle outside the polymer), for the Context of the polymer alone; null when the force
+ * touches a particle outside the polymer or cannot be copied faithfully.
+ */
+OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int>& index);
+
+/**
  * The time-staggered schemes (algorithms.md section 6): one slow-force evaluation (and one
  * pair search; the Lowe base a second one, for its thermalisation at the end-of-step
  * positions) per outer step Dt for every particle, K sub-steps of the polymer alone with

@@ -72,7 +72,10 @@ protected:
     void constrainVelocities(OpenMM::ContextImpl& context) { motion.constrainVelocities(context); }
     /** sum m v^2. */
     double sumMV2(const std::vector<OpenMM::Vec3>& v) const;
-    /** End a step: the velocities must be finite; the Context's step count and time advance. */
+    /**
+     * End a step: the velocities must be finite (and under the instability threshold, see
+     * checkVelocities); the Context's step count and time advance.
+     */
     void finishStep(OpenMM::ContextImpl& context, double dt) const;
 
     const std::string name;
