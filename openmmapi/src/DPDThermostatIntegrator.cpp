@@ -81,8 +81,6 @@ void DPDThermostatIntegrator::getTypePairParameters(int pairIndex, int& type1, i
 
 void DPDThermostatIntegrator::validate(const OpenMM::System& system) const {
     types.validate(system);
-    require(system.getNumConstraints() == 0, name + ": the System must have no constraints, got " +
-            std::to_string(system.getNumConstraints()));
     if (system.usesPeriodicBoundaryConditions()) {
         OpenMM::Vec3 box[3];
         system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);

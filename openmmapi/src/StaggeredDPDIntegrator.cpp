@@ -406,6 +406,17 @@ bool StaggeredDPDIntegrator::fastForcesListTheirParticles(const OpenMM::System& 
 
 void StaggeredDPDIntegrator::validate(const OpenMM::System& system) const {
     DPDThermostatIntegrator::validate(system);
+    // The polymer sub-cycle moves the polymer alone, against forces from side Contexts that
+    // know neither constraints nor virtual sites: refused rather than integrated wrongly.
+    require(system.getNumConstraints() == 0, "StaggeredDPDIntegrator: the System must have no constraints (the polymer "
+            "sub-cycle cannot apply them), got " + std::to_string(system.getNumConstraints()) + "; DPDVVIntegrator, "
+            "ShardlowIntegrator, LoweAndersenIntegrator and EDPDIntegrator support constraints");
+    int sites = 0;
+    for (int i = 0; i < system.getNumParticles(); i++)
+        sites += system.isVirtualSite(i) ? 1 : 0;
+    require(sites == 0, "StaggeredDPDIntegrator: the System must have no virtual sites (the polymer sub-cycle cannot "
+            "place them), got " + std::to_string(sites) + "; DPDVVIntegrator, ShardlowIntegrator, LoweAndersenIntegrator "
+            "and EDPDIntegrator support virtual sites");
     require((fastForceGroups & ~getIntegrationForceGroups()) == 0,
             "StaggeredDPDIntegrator: fastForceGroups (" + std::to_string(fastForceGroups) + ") must be a subset of the "
             "integration force groups (" + std::to_string(getIntegrationForceGroups()) + ")");

@@ -32,11 +32,11 @@ void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDVVIntegrator& in
 
     if (integrator.getVariant() == DPDVVIntegrator::GrootWarren) {
         const double lambda = integrator.getLambda();
-        // r += dt v + dt^2/(2m) F ;  v~ = v + lambda dt F/m
-        movePositions(r, next, [&](size_t i) {
+        // r += dt v + dt^2/(2m) F ;  v~ = v + lambda dt F/m (both corrected by the constraints)
+        movePositions(context, next, dt, [&](size_t i) {
             predicted[i] = v[i] + force[i] * (lambda * dt * invMass[i]);
             return v[i] * dt + force[i] * (0.5 * dt * dt * invMass[i]);
-        });
+        }, &predicted);
         // F(t+dt) = FC(r) + FD(r, v~) + FR(r)
         computeForceInOnePass(context, integrator.getIntegrationForceGroups(), predicted, next, dt, newForce);
         // v += dt/(2m) [F + F(t+dt)]
@@ -44,10 +44,11 @@ void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDVVIntegrator& in
             v[i] += (force[i] + newForce[i]) * (0.5 * dt * invMass[i]);
             force[i] = newForce[i];
         });
+        constrainVelocities(context);
     }
     else {
         // (1) v += dt/(2m) (FC + FD + FR) ; (2) r += dt v
-        movePositions(r, next, [&](size_t i) {
+        movePositions(context, next, dt, [&](size_t i) {
             v[i] += force[i] * (0.5 * dt * invMass[i]);
             return v[i] * dt;
         });
@@ -66,6 +67,7 @@ void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDVVIntegrator& in
             forEachParticle(n, [&](size_t i) {
                 v[i] = velocityNoFD[i] + dissipative[i] * (0.5 * dt * invMass[i]);
             });
+            constrainVelocities(context);
             thermostat.compute(DissipativeTerm, v, next, dt, dissipative, random);
             if (iterations > 1) {
                 const double kinetic = sumMV2(v);

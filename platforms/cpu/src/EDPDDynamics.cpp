@@ -36,7 +36,7 @@ void EDPDDynamics::step(OpenMM::ContextImpl& context, const EDPDIntegrator& inte
         setCarriedForceValid();
     }
     // p += dt/2 F ; r += dt p/m
-    movePositions(r, next, [&](size_t i) {
+    movePositions(context, next, dt, [&](size_t i) {
         v[i] += force[i] * (0.5 * dt * invMass[i]);
         return v[i] * dt;
     });
@@ -48,5 +48,6 @@ void EDPDDynamics::step(OpenMM::ContextImpl& context, const EDPDIntegrator& inte
         force[i] = conservative[i] + auxiliary[i];
         v[i] += force[i] * (0.5 * dt * invMass[i]);
     });
+    constrainVelocities(context);
     finishStep(data, dt);
 }

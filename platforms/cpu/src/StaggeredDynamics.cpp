@@ -377,7 +377,7 @@ void StaggeredDynamics::predict(OpenMM::ContextImpl& context, const StaggeredDPD
     // Solvent: r += Dt u + Dt^2/(2m) F.  Polymer: r^ = r + Dt u + Dt^2/(2m) (F + Fp),
     // evaluated at r^^ = mu r + (1 - mu) r^.  Velocity-Verlet base: the predicted velocities
     // u^ = u + lambda Dt F/m (solvent), u^^ = a u + (1 - a) (u + lambda Dt (F + Fp)/m) (polymer).
-    movePositions(*platformData(context).positions, next, [&](size_t i) {
+    movePositions(context, next, Dt, [&](size_t i) {
         const int k = polymerIndex[i];
         Vec3 f = force[i];
         if (k >= 0)

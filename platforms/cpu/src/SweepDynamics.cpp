@@ -34,7 +34,7 @@ void SweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups
     std::vector<Vec3>& v = *data.velocities;
     const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
     const long long next = data.stepCount + 1;
-    movePositions(*data.positions, next, [&](size_t i) {
+    movePositions(context, next, dt, [&](size_t i) {
         v[i] += force[i] * (0.5 * dt * invMass[i]);
         return v[i] * dt;
     });
@@ -45,6 +45,7 @@ void SweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups
         force[i] = conservative[i];
         v[i] += force[i] * (0.5 * dt * invMass[i]);
     });
+    constrainVelocities(context);
 }
 
 SweepDynamics::BatchNormals SweepDynamics::normals(PairRandom::Stream stream, long long step) {
@@ -63,9 +64,12 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
     sweep(*data.velocities, ShardlowPairUpdate<BatchNormals>{normals(PairRandom::RandomForce, current), h, invMass}, false);
+    constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
-    if (secondOrder)
+    if (secondOrder) {
         sweep(*data.velocities, ShardlowPairUpdate<BatchNormals>{normals(PairRandom::SecondSweep, current), h, invMass}, true);
+        constrainVelocities(context);
+    }
     finishStep(data, dt);
 }
 
@@ -83,5 +87,6 @@ void LoweAndersenDynamics::step(OpenMM::ContextImpl& context, const LoweAndersen
     else
         sweep(*data.velocities, PairOrnsteinUhlenbeckUpdate<BatchNormals>{normals(PairRandom::PairThermalisation, current), dt, kT,
                                                                           invMass}, false);
+    constrainVelocities(context);
     finishStep(data, dt);
 }

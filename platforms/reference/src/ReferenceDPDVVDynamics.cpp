@@ -35,18 +35,19 @@ void ReferenceDPDVVDynamics::grootWarrenStep(OpenMM::ContextImpl& context, const
     const double dt = integrator.getStepSize(), lambda = integrator.getLambda();
     const long long next = data(context).stepCount + 1;
     const size_t n = r.size();
-    // r(t+dt) = r + dt v + dt^2/(2m) F ;  v~ = v + lambda dt F/m
+    // r(t+dt) = r + dt v + dt^2/(2m) F ;  v~ = v + lambda dt F/m (both corrected by the constraints)
     std::vector<Vec3> move(n), predicted(n);
     for (size_t i = 0; i < n; i++) {
         move[i] = v[i] * dt + F[i] * (0.5 * dt * dt * invMass[i]);
         predicted[i] = v[i] + F[i] * (lambda * dt * invMass[i]);
     }
-    movePositions(r, move, next);
+    movePositions(context, move, next, dt, &predicted);
     // F(t+dt) = FC(r) + FD(r, v~) + FR(r)
     const std::vector<Vec3> newF = totalForce(context, integrator, predicted, next);
     // v(t+dt) = v + dt/(2m) [F + F(t+dt)]
     for (size_t i = 0; i < n; i++)
         v[i] += (F[i] + newF[i]) * (0.5 * dt * invMass[i]);
+    constrainVelocities(context);
     F = newF;
 }
 
@@ -63,7 +64,7 @@ void ReferenceDPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVV
         v[i] += carried.force[i] * (0.5 * dt * invMass[i]);
         move[i] = v[i] * dt;
     }
-    movePositions(r, move, next);
+    movePositions(context, move, next, dt);
     // (3) FC(r), FD(r, v), FR(r), v the half-step velocity
     const std::vector<Vec3> FC = conservativeForce(context, integrator.getIntegrationForceGroups(), next);
     const std::vector<PairGeometry> pairs = findPairs(context);
@@ -82,6 +83,7 @@ void ReferenceDPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVV
     for (int it = 0; it < iterations; it++) {
         for (size_t i = 0; i < n; i++)
             v[i] = vNoFD[i] + FD[i] * (0.5 * dt * invMass[i]);
+        constrainVelocities(context);
         FD.assign(n, Vec3());
         addDissipative(pairs, v, FD);
         if (!selfConsistent)

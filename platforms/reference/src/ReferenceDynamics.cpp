@@ -13,7 +13,7 @@ ReferenceDynamics::ReferenceDynamics(const OpenMM::System& system, const DPDTher
         random(PairRandom::seedFor(integrator.getRandomNumberSeed())),
         carried(system.getNumParticles()),
         pairList(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
-        cellMultiple(cellMultiple) {
+        cellMultiple(cellMultiple), motion(system) {
 }
 
 void ReferenceDynamics::updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
@@ -59,7 +59,10 @@ void ReferenceDynamics::addRandom(const std::vector<PairGeometry>& pairs, long l
     }
 }
 
-void ReferenceDynamics::movePositions(std::vector<Vec3>& r, const std::vector<Vec3>& move, long long step) const {
+void ReferenceDynamics::movePositions(OpenMM::ContextImpl& context, const std::vector<Vec3>& move, long long step, double dt,
+                                      std::vector<Vec3>* alsoCorrect) {
+    std::vector<Vec3>& r = *data(context).positions;
+    motion.startDrift(r);
     double maxMove2 = 0;
     for (size_t i = 0; i < r.size(); i++) {
         r[i] += move[i];
@@ -67,6 +70,7 @@ void ReferenceDynamics::movePositions(std::vector<Vec3>& r, const std::vector<Ve
     }
     checkFinite(r, "position", step, name);
     checkMove(maxMove2, parameters.getMaxCutoff(), step, name);
+    motion.finishDrift(context, dt, alsoCorrect);
 }
 
 double ReferenceDynamics::sumMV2(const std::vector<Vec3>& v) const {

@@ -50,7 +50,7 @@ void ReferenceEDPDDynamics::step(OpenMM::ContextImpl& context, const EDPDIntegra
     std::vector<Vec3> move(r.size());
     for (size_t i = 0; i < r.size(); i++)
         move[i] = v[i] * dt;
-    movePositions(r, move, next);
+    movePositions(context, move, next, dt);
     // s^{n+1} from s^n and h(r^{n+1}) - h(r^n), over the pairs in range at r^n or r^{n+1}
     const std::vector<Vec3> FC = conservativeForce(context, groups, next);
     const std::vector<PairGeometry> pairs = findPairs(context);
@@ -58,6 +58,7 @@ void ReferenceEDPDDynamics::step(OpenMM::ContextImpl& context, const EDPDIntegra
     // p^{n+1} = p^{n+1/2} + dt/2 F(r^{n+1}, s^{n+1})
     carried.force = totalForce(FC, pairs);
     halfKick(v, carried.force, dt);
+    constrainVelocities(context);
     finishStep(context, dt);
 }
 

@@ -110,7 +110,7 @@ std::vector<Vec3> ReferenceStaggeredDynamics::predict(OpenMM::ContextImpl& conte
         if (k >= 0)
             predicted[i] = u[i] * a + predicted[i] * (1 - a);
     }
-    movePositions(r, move, data(context).stepCount + 1);
+    movePositions(context, move, data(context).stepCount + 1, Dt);
     return predicted;
 }
 
@@ -154,7 +154,7 @@ void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const Sta
         const int p = polymer[k];
         move[p] = u[p] * dt + (driving[p] + Fp[k]) * (0.5 * dt * dt * invMass[p]);
     }
-    movePositions(r, move, next);
+    movePositions(context, move, next, dt);
     // Fp* <- Fp(r_p)
     const std::vector<Vec3> newFp = fastForce(context, integrator, next);
     // The slow force at the two ends of the sub-step, linear in time from F to F^

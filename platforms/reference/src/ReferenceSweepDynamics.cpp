@@ -45,12 +45,13 @@ void ReferenceSweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int fo
         v[i] += F[i] * (0.5 * dt * invMass[i]);
         move[i] = v[i] * dt;
     }
-    movePositions(r, move, next);
+    movePositions(context, move, next, dt);
     // F <- FC(r) at the new positions (carried into the next step)
     F = conservativeForce(context, forceGroups, next);
     // v += dt/2m F
     for (size_t i = 0; i < n; i++)
         v[i] += F[i] * (0.5 * dt * invMass[i]);
+    constrainVelocities(context);
 }
 
 void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator) {
@@ -66,9 +67,12 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
     // the pairs at the new positions and with numbers of their own.
     sweep(findPairs(context), ShardlowPairUpdate<>{{random, PairRandom::RandomForce, current}, h, invMass}, v);
+    constrainVelocities(context);
     velocityVerlet(context, forceGroups, dt);
-    if (secondOrder)
+    if (secondOrder) {
         sweepInReverse(findPairs(context), ShardlowPairUpdate<>{{random, PairRandom::SecondSweep, current}, h, invMass}, v);
+        constrainVelocities(context);
+    }
     finishStep(context, dt);
 }
 
@@ -86,5 +90,6 @@ void ReferenceLoweAndersenDynamics::step(OpenMM::ContextImpl& context, const Low
         sweep(pairs, LowePairUpdate{random, current, dt, kT, invMass}, v);
     else
         sweep(pairs, PairOrnsteinUhlenbeckUpdate<>{{random, PairRandom::PairThermalisation, current}, dt, kT, invMass}, v);
+    constrainVelocities(context);
     finishStep(context, dt);
 }

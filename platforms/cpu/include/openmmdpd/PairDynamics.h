@@ -2,6 +2,7 @@
 #define OPENMMDPD_PAIRDYNAMICS_H_
 
 #include "openmmdpd/CheckpointIO.h"
+#include "openmmdpd/ConstrainedMotion.h"
 #include "openmmdpd/DPDThermostatForces.h"
 #include "openmmdpd/StepState.h"
 #include "openmm/internal/ContextImpl.h"
@@ -83,11 +84,16 @@ protected:
      */
     virtual void computeConservative(OpenMM::ContextImpl& context, int forceGroups);
     /**
-     * r[i] += displacement(i) for every particle, in parallel, then the blow-up checks
-     * (non-finite, or a jump of more than MAX_MOVE_PER_STEP cutoffs).
+     * The drift of a step of length dt ending at `step`: r[i] += displacement(i) for every
+     * particle, in parallel, the blow-up checks (non-finite, or a jump of more than
+     * MAX_MOVE_PER_STEP cutoffs), then the constraints and virtual sites
+     * (ConstrainedMotion::finishDrift, which also corrects the velocities and `alsoCorrect`).
      */
     template <class Displacement>
-    void movePositions(std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement);
+    void movePositions(OpenMM::ContextImpl& context, long long step, double dt, Displacement displacement,
+                       std::vector<OpenMM::Vec3>* alsoCorrect = nullptr);
+    /** After a velocity change: remove the velocity components along the constraints. */
+    void constrainVelocities(OpenMM::ContextImpl& context) { motion.constrainVelocities(context); }
     /**
      * Element-wise loops over fewer items than this run in the calling thread: waking the
      * thread pool (tens of microseconds on a virtual machine) costs more than the loop.
@@ -137,6 +143,7 @@ protected:
     std::vector<OpenMM::Vec3>& force;  // carried.force
     std::vector<OpenMM::Vec3> conservative;
     mutable std::vector<double> workerSums;
+    ConstrainedMotion motion;
 
     /**
      * The DPDSoftRepulsionForce of these groups that the thermostat pairs can carry (one
@@ -162,7 +169,10 @@ private:
 };
 
 template <class Displacement>
-void PairDynamics::movePositions(std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement) {
+void PairDynamics::movePositions(OpenMM::ContextImpl& context, long long step, double dt, Displacement displacement,
+                                 std::vector<OpenMM::Vec3>* alsoCorrect) {
+    std::vector<OpenMM::Vec3>& r = *platformData(context).positions;
+    motion.startDrift(r);
     auto move = [&](size_t begin, size_t end) {
         double maxMove2 = 0;
         for (size_t i = begin; i < end; i++) {
@@ -184,6 +194,7 @@ void PairDynamics::movePositions(std::vector<OpenMM::Vec3>& r, long long step, D
         });
     checkFinite(r, "position", step);
     checkMoves(step);
+    motion.finishDrift(context, dt, alsoCorrect);
 }
 
 template <class Displacement>

@@ -2,6 +2,7 @@
 #define OPENMMDPD_REFERENCEDYNAMICS_H_
 
 #include "openmmdpd/CheckpointIO.h"
+#include "openmmdpd/ConstrainedMotion.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
@@ -60,8 +61,15 @@ protected:
     void addDissipative(const std::vector<PairGeometry>& pairs, const std::vector<OpenMM::Vec3>& v,
                         std::vector<OpenMM::Vec3>& out) const;
     void addRandom(const std::vector<PairGeometry>& pairs, long long step, double dt, std::vector<OpenMM::Vec3>& out) const;
-    /** r += move[i] for every particle, then the blow-up checks of a step ending at `step`. */
-    void movePositions(std::vector<OpenMM::Vec3>& r, const std::vector<OpenMM::Vec3>& move, long long step) const;
+    /**
+     * The drift of a step of length dt ending at `step`: r += move[i] for every particle,
+     * the blow-up checks, then the constraints and virtual sites (ConstrainedMotion::finishDrift,
+     * which also corrects the velocities and `alsoCorrect`).
+     */
+    void movePositions(OpenMM::ContextImpl& context, const std::vector<OpenMM::Vec3>& move, long long step, double dt,
+                       std::vector<OpenMM::Vec3>* alsoCorrect = nullptr);
+    /** After a velocity change: remove the velocity components along the constraints. */
+    void constrainVelocities(OpenMM::ContextImpl& context) { motion.constrainVelocities(context); }
     /** sum m v^2. */
     double sumMV2(const std::vector<OpenMM::Vec3>& v) const;
     /**
@@ -78,6 +86,7 @@ protected:
 private:
     ReferencePairList pairList;
     int cellMultiple;
+    ConstrainedMotion motion;
 };
 
 } // namespace DPDPlugin
