@@ -216,16 +216,6 @@ TEST_P(ConstraintsAndSites, ConstraintsHoldMomentumIsConservedSitesArePlaced) {
 }
 
 #if OPENMMDPD_HAVE_CPU
-/** max |a - b| / max |a| over the particles. */
-double relativeDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    double difference = 0, scale = 0;
-    for (size_t i = 0; i < a.size(); i++) {
-        const Vec3 d = a[i] - b[i];
-        difference = std::max(difference, std::sqrt(d.dot(d)));
-        scale = std::max(scale, std::sqrt(a[i].dot(a[i])));
-    }
-    return difference / scale;
-}
 
 TEST_P(ConstraintsAndSites, CpuFollowsTheReferenceTrajectory) {
     const Scheme& scheme = GetParam();

@@ -11,6 +11,7 @@
 #include "openmm/State.h"
 #include "openmm/System.h"
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -82,6 +83,17 @@ inline Vec3 totalMomentum(Context& context) {
     for (const Vec3& v : state.getVelocities())
         p += v;
     return p;
+}
+
+/** max |a - b| / max |a| over the particles (0 if a is all zero). */
+inline double relativeDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double difference = 0, scale = 0;
+    for (size_t i = 0; i < a.size(); i++) {
+        const Vec3 d = a[i] - b[i];
+        difference = std::max(difference, std::sqrt(d.dot(d)));
+        scale = std::max(scale, std::sqrt(a[i].dot(a[i])));
+    }
+    return scale > 0 ? difference / scale : difference;
 }
 
 void expectErrorNaming(const std::function<void()>& action, const std::string& name) {

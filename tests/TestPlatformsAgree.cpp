@@ -114,16 +114,6 @@ const std::vector<Scheme> SCHEMES = {
     {"EDPD-Symmetric", [] { return edpd(EDPDIntegrator::Symmetric); }},
 };
 
-/** max |a - b| / max |a| over the particles (0 if a is all zero). */
-double relativeDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    double difference = 0, scale = 0;
-    for (size_t i = 0; i < a.size(); i++) {
-        const Vec3 d = a[i] - b[i];
-        difference = std::max(difference, std::sqrt(d.dot(d)));
-        scale = std::max(scale, std::sqrt(a[i].dot(a[i])));
-    }
-    return scale > 0 ? difference / scale : difference;
-}
 
 struct Simulation {
     std::unique_ptr<DPDThermostatIntegrator> integrator;

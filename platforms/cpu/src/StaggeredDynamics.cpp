@@ -22,7 +22,7 @@ using OpenMM::Vec3;
 StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator, ParallelExecutor& executor) :
         // The Lowe base sweeps pairs sequentially, in the colour order LoweAndersenIntegrator uses.
         PairDynamics(system, integrator, executor, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
-        baseScheme(integrator.getBaseScheme()), polymerGroups(0), checkFastForceOutside(false), pairSweep(executor), fastContextTried(false),
+        baseScheme(integrator.getBaseScheme()), pairSweep(executor), fastContextTried(false),
         numSubSteps(integrator.getNumSubSteps()) {
     const int n = system.getNumParticles();
     for (auto* v : {&predicted, &newForce})
@@ -31,15 +31,9 @@ StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const Stagger
 }
 
 void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) {
-    polymer = integrator.findPolymerParticles(system);
-    polymerGroups = integrator.getFastForceGroups();
-    polymerExplicit = integrator.getPolymerParticles();
-    checkFastForceOutside = !integrator.fastForcesListTheirParticles(system);
-    polymerIndex.assign(system.getNumParticles(), -1);
-    for (size_t k = 0; k < polymer.size(); k++)
-        polymerIndex[polymer[k]] = (int) k;
+    polymer.select(system, integrator);
     for (auto* v : {&fastForce, &newFastForce, &startPositions, &drivingForce, &fastPositions})
-        v->assign(polymer.size(), Vec3());
+        v->assign(polymer.particles.size(), Vec3());
     fastContext.reset();
     fastIntegrator.reset();
     fastSystem.reset();
@@ -209,7 +203,7 @@ void StaggeredDynamics::makeFastContext(OpenMM::ContextImpl& context, const Stag
     fastContextTried = true;
     const OpenMM::System& system = context.getSystem();
     std::unique_ptr<OpenMM::System> reduced(new OpenMM::System());
-    for (int p : polymer)
+    for (int p : polymer.particles)
         reduced->addParticle(system.getParticleMass(p));
     Vec3 box[3];
     system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
@@ -218,7 +212,7 @@ void StaggeredDynamics::makeFastContext(OpenMM::ContextImpl& context, const Stag
         const OpenMM::Force& force = system.getForce(f);
         if ((integrator.getFastForceGroups() & (1 << force.getForceGroup())) == 0)
             continue;
-        OpenMM::Force* copy = copyOverPolymer(force, polymerIndex);
+        OpenMM::Force* copy = copyOverPolymer(force, polymer.index);
         if (copy == nullptr)
             return;  // the full Context evaluates the fast groups
         reduced->addForce(copy);
@@ -290,21 +284,21 @@ void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const Sta
     // K = 1 evaluates them in the full Context, as the base integrators do.
     if (fastContext && integrator.getNumSubSteps() > 1) {
         const std::vector<Vec3>& r = *platformData(context).positions;
-        for (size_t k = 0; k < polymer.size(); k++)
-            fastPositions[k] = r[polymer[k]];
+        for (size_t k = 0; k < polymer.particles.size(); k++)
+            fastPositions[k] = r[polymer.particles[k]];
         syncContext(context, *fastContext, fastBox);
         fastContext->setPositions(fastPositions);
         fast = fastContext->getState(OpenMM::State::Forces).getForces();
-        checkFinite(fast, polymer, false, "fast force", step);
+        checkFinite(fast, polymer.particles, false, "fast force", step);
         return;
     }
     context.calcForcesAndEnergy(true, false, integrator.getFastForceGroups());
     const std::vector<Vec3>& f = *platformData(context).forces;
-    for (size_t k = 0; k < polymer.size(); k++)
-        fast[k] = f[polymer[k]];
-    checkFinite(fast, polymer, false, "fast force", step);
-    if (checkFastForceOutside)
-        checkOutsidePolymer(f, polymerIndex, step, name);
+    for (size_t k = 0; k < polymer.particles.size(); k++)
+        fast[k] = f[polymer.particles[k]];
+    checkFinite(fast, polymer.particles, false, "fast force", step);
+    if (polymer.checkFastForceOutside)
+        checkOutsidePolymer(f, polymer.index, step, name);
 }
 
 void StaggeredDynamics::computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
@@ -327,8 +321,8 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDInt
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     const long long current = data.stepCount, next = current + 1;
     prepareStep(context, integrator);
-    for (size_t k = 0; k < polymer.size(); k++)
-        startPositions[k] = (*data.positions)[polymer[k]];
+    for (size_t k = 0; k < polymer.particles.size(); k++)
+        startPositions[k] = (*data.positions)[polymer.particles[k]];
     predict(context, integrator, next);
     evaluatePredictedForce(context, integrator, next);
     kickSolvent(context, integrator);
@@ -346,7 +340,7 @@ void StaggeredDynamics::prepareStep(OpenMM::ContextImpl& context, const Staggere
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     numSubSteps = integrator.getNumSubSteps();
     bool valid = carriedForceValid(*data.positions, *data.velocities);
-    if (integrator.getFastForceGroups() != polymerGroups || integrator.getPolymerParticles() != polymerExplicit) {
+    if (polymer.changed(integrator)) {
         updatePolymer(context.getSystem(), integrator);
         valid = false;
     }
@@ -378,7 +372,7 @@ void StaggeredDynamics::predict(OpenMM::ContextImpl& context, const StaggeredDPD
     // evaluated at r^^ = mu r + (1 - mu) r^.  Velocity-Verlet base: the predicted velocities
     // u^ = u + lambda Dt F/m (solvent), u^^ = a u + (1 - a) (u + lambda Dt (F + Fp)/m) (polymer).
     movePositions(context, next, Dt, [&](size_t i) {
-        const int k = polymerIndex[i];
+        const int k = polymer.index[i];
         Vec3 f = force[i];
         if (k >= 0)
             f += fastForce[k];
@@ -409,7 +403,7 @@ void StaggeredDynamics::kickSolvent(OpenMM::ContextImpl& context, const Staggere
     const double Dt = integrator.getStepSize();
     // Solvent: u += Dt/(2m) (F + F^).
     forEachParticle(v.size(), [&](size_t i) {
-        if (polymerIndex[i] < 0)
+        if (polymer.index[i] < 0)
             v[i] += (force[i] + newForce[i]) * (0.5 * Dt * invMass[i]);
     });
 }
@@ -419,8 +413,8 @@ void StaggeredDynamics::subCycle(OpenMM::ContextImpl& context, const StaggeredDP
     const double b = integrator.getB();
     // Polymer: K sub-steps from the start of the outer step, driven by F^^ = b F + (1 - b) F^
     // and the fast force, which alone is re-evaluated.
-    for (size_t k = 0; k < polymer.size(); k++) {
-        const int p = polymer[k];
+    for (size_t k = 0; k < polymer.particles.size(); k++) {
+        const int p = polymer.particles[k];
         r[p] = startPositions[k];
         drivingForce[k] = force[p] * b + newForce[p] * (1 - b);
     }
@@ -434,8 +428,8 @@ void StaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPD
     const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
     const int K = integrator.getNumSubSteps();
     const double dt = integrator.getStepSize() / K;
-    moveParticles(polymer, *data.positions, next, [&](size_t k) {
-        const int p = polymer[k];
+    moveParticles(polymer.particles, *data.positions, next, [&](size_t k) {
+        const int p = polymer.particles[k];
         return v[p] * dt + (drivingForce[k] + fastForce[k]) * (0.5 * dt * dt * invMass[p]);
     });
     computeFastForce(context, integrator, next, newFastForce);
@@ -444,8 +438,8 @@ void StaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPD
     const bool weighted = integrator.getWeighted();
     const double oldF = (weighted ? (double) (K - s) / K : 1.0), oldNew = (weighted ? (double) s / K : 0.0);
     const double newF = (weighted ? (double) (K - s - 1) / K : 0.0), newNew = (weighted ? (double) (s + 1) / K : 1.0);
-    for (size_t k = 0; k < polymer.size(); k++) {
-        const int p = polymer[k];
+    for (size_t k = 0; k < polymer.particles.size(); k++) {
+        const int p = polymer.particles[k];
         const Vec3 slowOld = force[p] * oldF + newForce[p] * oldNew;
         const Vec3 slowNew = force[p] * newF + newForce[p] * newNew;
         v[p] += ((slowOld + fastForce[k]) + (slowNew + newFastForce[k])) * (0.5 * dt * invMass[p]);

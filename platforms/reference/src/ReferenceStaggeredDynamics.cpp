@@ -14,23 +14,13 @@ using OpenMM::Vec3;
 ReferenceStaggeredDynamics::ReferenceStaggeredDynamics(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) :
         // The Lowe base sweeps the pairs in the coloured order of LoweAndersenIntegrator.
         ReferenceDynamics(system, integrator, integrator.getBaseScheme() == StaggeredDPDIntegrator::LoweAndersen ? 3 : 1),
-        baseScheme(integrator.getBaseScheme()), polymerGroups(0), checkFastForceOutside(false) {
+        baseScheme(integrator.getBaseScheme()) {
     updatePolymer(system, integrator);
 }
 
 void ReferenceStaggeredDynamics::updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) {
-    polymer = integrator.findPolymerParticles(system);
-    polymerGroups = integrator.getFastForceGroups();
-    polymerExplicit = integrator.getPolymerParticles();
-    checkFastForceOutside = !integrator.fastForcesListTheirParticles(system);
-    polymerIndex.assign(system.getNumParticles(), -1);
-    for (size_t k = 0; k < polymer.size(); k++)
-        polymerIndex[polymer[k]] = (int) k;
-    Fp.assign(polymer.size(), Vec3());
-}
-
-bool ReferenceStaggeredDynamics::polymerChanged(const StaggeredDPDIntegrator& integrator) const {
-    return integrator.getFastForceGroups() != polymerGroups || integrator.getPolymerParticles() != polymerExplicit;
+    polymer.select(system, integrator);
+    Fp.assign(polymer.particles.size(), Vec3());
 }
 
 std::vector<Vec3> ReferenceStaggeredDynamics::slowForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
@@ -49,12 +39,12 @@ std::vector<Vec3> ReferenceStaggeredDynamics::fastForce(OpenMM::ContextImpl& con
                                                         long long step) {
     context.calcForcesAndEnergy(true, false, integrator.getFastForceGroups());
     const std::vector<Vec3>& f = *data(context).forces;
-    std::vector<Vec3> fast(polymer.size());
-    for (size_t k = 0; k < polymer.size(); k++)
-        fast[k] = f[polymer[k]];
-    checkFinite(fast, polymer, "fast force", step, name);
-    if (checkFastForceOutside)
-        checkOutsidePolymer(f, polymerIndex, step, name);
+    std::vector<Vec3> fast(polymer.particles.size());
+    for (size_t k = 0; k < polymer.particles.size(); k++)
+        fast[k] = f[polymer.particles[k]];
+    checkFinite(fast, polymer.particles, "fast force", step, name);
+    if (polymer.checkFastForceOutside)
+        checkOutsidePolymer(f, polymer.index, step, name);
     return fast;
 }
 
@@ -66,7 +56,7 @@ void ReferenceStaggeredDynamics::step(OpenMM::ContextImpl& context, const Stagge
     std::vector<Vec3>& v = *data(context).velocities;
     const long long current = data(context).stepCount;
     bool valid = carried.isValid(r, v);
-    if (polymerChanged(integrator)) {
+    if (polymer.changed(integrator)) {
         updatePolymer(context.getSystem(), integrator);
         valid = false;
     }
@@ -96,7 +86,7 @@ std::vector<Vec3> ReferenceStaggeredDynamics::predict(OpenMM::ContextImpl& conte
     const size_t n = r.size();
     std::vector<Vec3> move(n), predicted(n);
     for (size_t i = 0; i < n; i++) {
-        const int k = polymerIndex[i];
+        const int k = polymer.index[i];
         // The force the particle feels: F_s, or F_p + Fp_p.
         const Vec3 f = (k >= 0 ? F[i] + Fp[k] : F[i]);
         // r_s <- r_s + Dt u_s + Dt^2/(2m) F_s
@@ -131,7 +121,7 @@ void ReferenceStaggeredDynamics::subCycle(OpenMM::ContextImpl& context, const St
     const double b = integrator.getB();
     // The polymer starts again from r_p, driven by F^^_p = b F_p + (1 - b) F^_p.
     std::vector<Vec3> driving(r.size());
-    for (int p : polymer) {
+    for (int p : polymer.particles) {
         r[p] = start[p];
         driving[p] = carried.force[p] * b + newF[p] * (1 - b);
     }
@@ -150,8 +140,8 @@ void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const Sta
     const long long next = data(context).stepCount + 1;
     // r_p <- r_p + dt u_p + dt^2/(2m) (F^^_p + Fp_p)
     std::vector<Vec3> move(r.size());
-    for (size_t k = 0; k < polymer.size(); k++) {
-        const int p = polymer[k];
+    for (size_t k = 0; k < polymer.particles.size(); k++) {
+        const int p = polymer.particles[k];
         move[p] = u[p] * dt + (driving[p] + Fp[k]) * (0.5 * dt * dt * invMass[p]);
     }
     movePositions(context, move, next, dt);
@@ -164,8 +154,8 @@ void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const Sta
     const double oldOfF = (weighted ? (double) (K - s) / K : 1.0), oldOfNewF = (weighted ? (double) s / K : 0.0);
     const double newOfF = (weighted ? (double) (K - s - 1) / K : 0.0), newOfNewF = (weighted ? (double) (s + 1) / K : 1.0);
     // u_p <- u_p + dt/(2m) [(Fold + Fp_p) + (Fnew + Fp*)] ;  Fp_p <- Fp*
-    for (size_t k = 0; k < polymer.size(); k++) {
-        const int p = polymer[k];
+    for (size_t k = 0; k < polymer.particles.size(); k++) {
+        const int p = polymer.particles[k];
         const Vec3 Fold = F[p] * oldOfF + newF[p] * oldOfNewF;
         const Vec3 Fnew = F[p] * newOfF + newF[p] * newOfNewF;
         u[p] += ((Fold + Fp[k]) + (Fnew + newFp[k])) * (0.5 * dt * invMass[p]);

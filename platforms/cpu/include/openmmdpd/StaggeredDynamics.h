@@ -3,6 +3,7 @@
 
 #include "openmmdpd/PairDynamics.h"
 #include "openmmdpd/PairSweep.h"
+#include "openmmdpd/PolymerSelection.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/Context.h"
 #include "openmm/VerletIntegrator.h"
@@ -89,12 +90,7 @@ private:
     void thermalise(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long current);
 
     const StaggeredDPDIntegrator::BaseScheme baseScheme;
-    int polymerGroups;
-    // A fast force lists no particles, so the polymer list could not be checked against it
-    // when the Context was made: its forces on the other particles are checked instead.
-    bool checkFastForceOutside;
-    std::vector<int> polymerExplicit, polymer;
-    std::vector<int> polymerIndex;  // k with polymer[k] = i, or -1, by particle i
+    PolymerSelection polymer;
     PairSweep pairSweep;
     std::vector<OpenMM::Vec3> predicted, newForce;
     // Per polymer particle (index k of polymer[k]): the fast force, the one at the new

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_REFERENCESTAGGEREDDYNAMICS_H_
 #define OPENMMDPD_REFERENCESTAGGEREDDYNAMICS_H_
 
+#include "openmmdpd/PolymerSelection.h"
 #include "openmmdpd/ReferenceDynamics.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 
@@ -31,8 +32,7 @@ protected:
 private:
     /** The polymer particles for the integrator's current fast groups and explicit list. */
     void updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator);
-    bool polymerChanged(const StaggeredDPDIntegrator& integrator) const;
-    bool isPolymer(int i) const { return polymerIndex[i] >= 0; }
+    bool isPolymer(int i) const { return polymer.index[i] >= 0; }
     /**
      * The slow force at the current positions: FC slow + FD(u) + FR (random numbers keyed by
      * `step`, over the outer step Dt) for the velocity-Verlet base, FC slow for the Lowe base.
@@ -58,12 +58,7 @@ private:
     void thermalise(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step);
 
     const StaggeredDPDIntegrator::BaseScheme baseScheme;
-    int polymerGroups;
-    // A fast force lists no particles, so the polymer list could not be checked against it
-    // when the Context was made: its forces on the other particles are checked instead.
-    bool checkFastForceOutside;
-    std::vector<int> polymerExplicit, polymer;
-    std::vector<int> polymerIndex;  // k with polymer[k] = i, or -1, by particle i
+    PolymerSelection polymer;
     std::vector<OpenMM::Vec3> Fp;   // the fast force on polymer[k], carried
     std::vector<OpenMM::Vec3> loadedFp;  // Fp read from a checkpoint, until all of it is read
 };
