@@ -16,13 +16,6 @@ void LoweAndersenIntegrator::setMethod(Method m) {
 
 void LoweAndersenIntegrator::validate(const OpenMM::System& system) const {
     DPDThermostatIntegrator::validate(system);
-    // A Lowe collision redraws the pair's relative velocity from N(0, kT/mu) of two free
-    // particles; in a constrained System the pair's effective mass differs and the projection
-    // that follows cools the system (measured <kT> = 0.88 on a fluid of rigid dimers).
-    require(method != Lowe || system.getNumConstraints() == 0,
-            "LoweAndersenIntegrator: the Lowe method does not support constraints (the System has " +
-            std::to_string(system.getNumConstraints()) + "); use the PairOrnsteinUhlenbeck method, ShardlowIntegrator or "
-            "DPDVVIntegrator");
     // Gamma dt is a probability.
     require(method != Lowe || getMaxFriction() * getStepSize() <= 1,
             "LoweAndersenIntegrator: Gamma dt must be <= 1 (it is a collision probability), got the largest Gamma (" +

@@ -465,8 +465,8 @@ void StaggeredDynamics::thermalise(OpenMM::ContextImpl& context, const Staggered
     thermostat.updatePairs(*data.positions, box);
     pairSweep.prepare(thermostat);
     pairSweep.run(thermostat, *data.velocities,
-                  LowePairUpdate{thermostat.getRandom(), current, integrator.getStepSize(), parameters.getKT(),
-                                 parameters.getInverseMasses()},
+                  LowePairUpdate<>{thermostat.getRandom(), current, integrator.getStepSize(), parameters.getKT(),
+                                   {parameters.getInverseMasses()}},
                   false);
 }
 

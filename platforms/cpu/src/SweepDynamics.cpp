@@ -5,7 +5,8 @@ using namespace DPDPlugin;
 using OpenMM::Vec3;
 
 SweepDynamics::SweepDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor) :
-        PairDynamics(system, integrator, executor, 3), pairSweep(executor), pairsStep(-1) {
+        PairDynamics(system, integrator, executor, 3), constrainedImpulse(system),
+        pairSweep(executor, constrainedImpulse.hasConstraints()), pairsStep(-1) {
 }
 
 void SweepDynamics::updatePairs(OpenMM::ContextImpl& context) {
@@ -57,17 +58,21 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     const double dt = integrator.getStepSize();
     const long long current = data.stepCount;
-    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
-    const PairRandom& random = thermostat.getRandom();
     startStep(context, integrator.getIntegrationForceGroups());
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order.
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
-    sweep(*data.velocities, ShardlowPairUpdate<BatchNormals>{normals(PairRandom::RandomForce, current), h, invMass}, false);
+    withPairImpulse(context, [&](const auto& impulse) {
+        sweep(*data.velocities, ShardlowPairUpdate<BatchNormals, decltype(impulse)>{normals(PairRandom::RandomForce, current), h, impulse},
+              false);
+    });
     constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder) {
-        sweep(*data.velocities, ShardlowPairUpdate<BatchNormals>{normals(PairRandom::SecondSweep, current), h, invMass}, true);
+        withPairImpulse(context, [&](const auto& impulse) {
+            sweep(*data.velocities, ShardlowPairUpdate<BatchNormals, decltype(impulse)>{normals(PairRandom::SecondSweep, current), h, impulse},
+                  true);
+        });
         constrainVelocities(context);
     }
     finishStep(data, dt);
@@ -77,16 +82,19 @@ void LoweAndersenDynamics::step(OpenMM::ContextImpl& context, const LoweAndersen
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     const double dt = integrator.getStepSize(), kT = thermostat.getParameters().getKT();
     const long long current = data.stepCount;
-    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
     const PairRandom& random = thermostat.getRandom();
     startStep(context, integrator.getIntegrationForceGroups());
     // VV ; the pair thermostat over the pairs at the new positions.
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
-    if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
-        sweep(*data.velocities, LowePairUpdate{random, current, dt, kT, invMass}, false);
-    else
-        sweep(*data.velocities, PairOrnsteinUhlenbeckUpdate<BatchNormals>{normals(PairRandom::PairThermalisation, current), dt, kT,
-                                                                          invMass}, false);
+    withPairImpulse(context, [&](const auto& impulse) {
+        using Impulse = decltype(impulse);
+        if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
+            sweep(*data.velocities, LowePairUpdate<Impulse>{random, current, dt, kT, impulse}, false);
+        else
+            sweep(*data.velocities,
+                  PairOrnsteinUhlenbeckUpdate<BatchNormals, Impulse>{normals(PairRandom::PairThermalisation, current), dt, kT, impulse},
+                  false);
+    });
     constrainVelocities(context);
     finishStep(data, dt);
 }

@@ -173,7 +173,7 @@ void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const Sta
 // end-of-step positions r_s, r_p -- found here, where they are used.
 void ReferenceStaggeredDynamics::thermalise(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step) {
     std::vector<Vec3>& u = *data(context).velocities;
-    const LowePairUpdate collide{random, step, integrator.getStepSize(), parameters.getKT(), parameters.getInverseMasses()};
+    const LowePairUpdate<> collide{random, step, integrator.getStepSize(), parameters.getKT(), {parameters.getInverseMasses()}};
     for (const PairGeometry& pair : findPairs(context))
         collide(pair, u);
 }

@@ -56,7 +56,6 @@ void ReferenceSweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int fo
 
 void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator) {
     std::vector<Vec3>& v = *data(context).velocities;
-    const std::vector<double>& invMass = parameters.getInverseMasses();
     const double dt = integrator.getStepSize();
     const int forceGroups = integrator.getIntegrationForceGroups();
     // Every random number of the step is keyed by the step it starts from.
@@ -66,11 +65,16 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
     const double h = secondOrder ? 0.5 * dt : dt;
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
     // the pairs at the new positions and with numbers of their own.
-    sweep(findPairs(context), ShardlowPairUpdate<>{{random, PairRandom::RandomForce, current}, h, invMass}, v);
+    withPairImpulse(context, [&](const auto& impulse) {
+        sweep(findPairs(context), ShardlowPairUpdate<DrawnNormals, decltype(impulse)>{{random, PairRandom::RandomForce, current}, h, impulse}, v);
+    });
     constrainVelocities(context);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder) {
-        sweepInReverse(findPairs(context), ShardlowPairUpdate<>{{random, PairRandom::SecondSweep, current}, h, invMass}, v);
+        withPairImpulse(context, [&](const auto& impulse) {
+            sweepInReverse(findPairs(context),
+                           ShardlowPairUpdate<DrawnNormals, decltype(impulse)>{{random, PairRandom::SecondSweep, current}, h, impulse}, v);
+        });
         constrainVelocities(context);
     }
     finishStep(context, dt);
@@ -78,7 +82,6 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
 
 void ReferenceLoweAndersenDynamics::step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator) {
     std::vector<Vec3>& v = *data(context).velocities;
-    const std::vector<double>& invMass = parameters.getInverseMasses();
     const double dt = integrator.getStepSize(), kT = parameters.getKT();
     const int forceGroups = integrator.getIntegrationForceGroups();
     const long long current = data(context).stepCount;
@@ -86,10 +89,14 @@ void ReferenceLoweAndersenDynamics::step(OpenMM::ContextImpl& context, const Low
     // VV ; the pair thermostat over dt, over the pairs at the new positions.
     velocityVerlet(context, forceGroups, dt);
     const std::vector<PairGeometry> pairs = findPairs(context);
-    if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
-        sweep(pairs, LowePairUpdate{random, current, dt, kT, invMass}, v);
-    else
-        sweep(pairs, PairOrnsteinUhlenbeckUpdate<>{{random, PairRandom::PairThermalisation, current}, dt, kT, invMass}, v);
+    withPairImpulse(context, [&](const auto& impulse) {
+        using Impulse = decltype(impulse);
+        if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
+            sweep(pairs, LowePairUpdate<Impulse>{random, current, dt, kT, impulse}, v);
+        else
+            sweep(pairs, PairOrnsteinUhlenbeckUpdate<DrawnNormals, Impulse>{{random, PairRandom::PairThermalisation, current}, dt, kT, impulse},
+                  v);
+    });
     constrainVelocities(context);
     finishStep(context, dt);
 }

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_PAIREVALUATORS_H_
 #define OPENMMDPD_PAIREVALUATORS_H_
 
+#include "openmmdpd/ConstrainedPairImpulse.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
 #include <cmath>
@@ -83,20 +84,14 @@ struct AuxiliaryRecurrence {
     long long forgetSteps;
 };
 
-/**
+/*
  * Pairwise-sequential velocity updates (algorithms.md sections 2 and 3): each acts on one
- * pair in place, with an impulse J along e (v_i += J/m_i e, v_j -= J/m_j e), so momentum is
- * conserved pair by pair.  A sweep applies one of them to every pair in a fixed order.
+ * pair in place, with an impulse J along e, so momentum is conserved pair by pair.  A sweep
+ * applies one of them to every pair in a fixed order.  The Impulse is FreePairImpulse
+ * (v_i += J/m_i e, v_j -= J/m_j e, reduced mass m_i m_j/(m_i + m_j)) or, in a System with
+ * constraints, ConstrainedPairImpulse (the effective reduced mass and the constraint
+ * forces the impulse calls up); a pair the constraints hold rigid along e is left alone.
  */
-struct PairImpulse {
-    static void apply(const PairGeometry& p, double impulse, const std::vector<double>& invMass, std::vector<OpenMM::Vec3>& v) {
-        v[p.i] += p.e * (impulse * invMass[p.i]);
-        v[p.j] -= p.e * (impulse * invMass[p.j]);
-    }
-    static double reducedMass(const PairGeometry& p, const std::vector<double>& invMass) {
-        return 1 / (invMass[p.i] + invMass[p.j]);
-    }
-};
 
 /**
  * A pair's normal number for a sweep, drawn from PairRandom (the definition).  A platform
@@ -110,41 +105,48 @@ struct DrawnNormals {
 };
 
 /** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
-template <class Normals = DrawnNormals>
+template <class Normals = DrawnNormals, class Impulse = FreePairImpulse>
 struct ShardlowPairUpdate {
     Normals normal;
     double h;
-    const std::vector<double>& invMass;
+    Impulse impulse;
 
     void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
+        const double inverseMu = impulse.inverseReducedMass(p);
+        if (inverseMu == 0)
+            return;
         const double noise = p.sigmaWR * normal(p) * std::sqrt(h);
         const double friction = p.gammaWD * h;
         // explicit half
         double u = p.e.dot(v[p.i] - v[p.j]);
-        PairImpulse::apply(p, 0.5 * (noise - friction * u), invMass, v);
+        impulse.apply(p, 0.5 * (noise - friction * u), v);
         // implicit half, with u after the explicit one
         u = p.e.dot(v[p.i] - v[p.j]);
-        const double mu = PairImpulse::reducedMass(p, invMass);
-        PairImpulse::apply(p, 0.5 * (noise - friction * u) / (1 + friction / (2 * mu)), invMass, v);
+        const double mu = 1 / inverseMu;
+        impulse.apply(p, 0.5 * (noise - friction * u) / (1 + friction / (2 * mu)), v);
     }
 };
 
 /** Lowe-Andersen: with probability Gamma h, the pair's relative normal velocity is drawn anew. */
+template <class Impulse = FreePairImpulse>
 struct LowePairUpdate {
     const PairRandom& random;
     long long step;
     double h, kT;
-    const std::vector<double>& invMass;
+    Impulse impulse;
 
     void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
         // One draw gives both numbers; the Gaussian is only made for the pairs that collide.
         const r123::Philox4x32::ctr_type bits = random.bits(PairRandom::PairThermalisation, step, p.i, p.j);
         if (PairRandom::toUniform(bits[2]) >= p.rate * h)
             return;
+        const double inverseMu = impulse.inverseReducedMass(p);
+        if (inverseMu == 0)
+            return;
         const double xi = PairRandom::boxMuller(bits);
-        const double mu = PairImpulse::reducedMass(p, invMass);
+        const double mu = 1 / inverseMu;
         const double u = p.e.dot(v[p.i] - v[p.j]);
-        PairImpulse::apply(p, mu * (xi * std::sqrt(kT / mu) - u), invMass, v);
+        impulse.apply(p, mu * (xi * std::sqrt(kT / mu) - u), v);
     }
 };
 
@@ -152,18 +154,21 @@ struct LowePairUpdate {
  * The exact solution over h of the pair's Ornstein-Uhlenbeck equation for its relative
  * normal velocity, du = -(gamma wD/mu) u dt + noise: exact for the ideal gas at any h.
  */
-template <class Normals = DrawnNormals>
+template <class Normals = DrawnNormals, class Impulse = FreePairImpulse>
 struct PairOrnsteinUhlenbeckUpdate {
     Normals normal;  // of stream PairThermalisation
     double h, kT;
-    const std::vector<double>& invMass;
+    Impulse impulse;
 
     void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
-        const double mu = PairImpulse::reducedMass(p, invMass);
+        const double inverseMu = impulse.inverseReducedMass(p);
+        if (inverseMu == 0)
+            return;
+        const double mu = 1 / inverseMu;
         const double decay = std::exp(-p.gammaWD * h / mu);
         const double u = p.e.dot(v[p.i] - v[p.j]);
         const double target = u * decay + std::sqrt(kT / mu * (1 - decay * decay)) * normal(p);
-        PairImpulse::apply(p, mu * (target - u), invMass, v);
+        impulse.apply(p, mu * (target - u), v);
     }
 };
 

@@ -14,11 +14,13 @@ namespace DPDPlugin {
  * colour by colour (27 colours of cells, see PairSearch::isColourable), cell by cell,
  * pair by pair.  Cells of one colour share no particle, so a colour's cells are split
  * over the workers, and the result is bit for bit the same for any number of workers.
- * Without a colouring (a box fewer than 3 cells wide) the sweep runs in one thread.
+ * Without a colouring (a box fewer than 3 cells wide), or where a pair's impulse reaches
+ * beyond the pair (oneThread: constraint forces), the sweep runs in one thread, in the same
+ * order.
  */
 class PairSweep {
 public:
-    explicit PairSweep(ParallelExecutor& executor) : executor(executor) {}
+    PairSweep(ParallelExecutor& executor, bool oneThread = false) : executor(executor), oneThread(oneThread) {}
     /** Group the current pair list's cells by colour (call after every pair update). */
     void prepare(const DPDThermostatForces& pairs);
     /** Run the rule over all pairs; `reverse` runs exactly the opposite order. */
@@ -32,6 +34,7 @@ private:
     /** The cells [begin, end) of a colour that worker w sweeps: equal shares of its pairs. */
     void workerCells(int colour, int w, size_t& begin, size_t& end) const;
     ParallelExecutor& executor;
+    const bool oneThread;
     bool parallel = false;
     std::vector<std::vector<int>> colourCells;
     std::vector<std::vector<int>> colourPairsBefore;  // pairs in the colour's cells before each
@@ -39,7 +42,7 @@ private:
 
 inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
     const PairSearch& search = pairs.getSearch();
-    parallel = search.isColourable() && executor.getNumWorkers() > 1;
+    parallel = !oneThread && search.isColourable() && executor.getNumWorkers() > 1;
     const int colours = search.isColourable() ? 27 : 1;
     colourCells.assign(colours, std::vector<int>());
     const std::vector<int>& start = pairs.getCellPairStart();

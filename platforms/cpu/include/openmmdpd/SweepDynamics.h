@@ -36,10 +36,24 @@ protected:
     void sweep(std::vector<OpenMM::Vec3>& v, const Rule& rule, bool reverse) {
         pairSweep.run(thermostat, v, rule, reverse);
     }
+    /**
+     * body(impulse) with the pair impulse of a sweep at the current positions: FreePairImpulse,
+     * or ConstrainedPairImpulse where the System has constraints (the sweep then runs in one thread).
+     */
+    template <class Body>
+    void withPairImpulse(OpenMM::ContextImpl& context, Body body) {
+        if (!constrainedImpulse.hasConstraints())
+            body(FreePairImpulse{thermostat.getParameters().getInverseMasses()});
+        else {
+            constrainedImpulse.prepare(*platformData(context).positions);
+            body(static_cast<const ConstrainedPairImpulse&>(constrainedImpulse));
+        }
+    }
 
 private:
     /** The pair list (and the sweep's colouring) at the current positions. */
     void updatePairs(OpenMM::ContextImpl& context);
+    ConstrainedPairImpulse constrainedImpulse;
     PairSweep pairSweep;
     long long pairsStep;
     std::vector<double> pairNormals;

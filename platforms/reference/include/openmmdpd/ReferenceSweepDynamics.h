@@ -16,11 +16,27 @@ namespace DPDPlugin {
 class ReferenceSweepDynamics : public ReferenceDynamics {
 protected:
     ReferenceSweepDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) :
-            ReferenceDynamics(system, integrator, 3) {}
+            ReferenceDynamics(system, integrator, 3), constrainedImpulse(system) {}
     /** At the start of a step: make sure the carried force is FC at the current positions. */
     void ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r) ; v += dt/2m F. */
     void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
+    /**
+     * body(impulse) with the pair impulse of a sweep at the current positions: FreePairImpulse,
+     * or ConstrainedPairImpulse where the System has constraints.
+     */
+    template <class Body>
+    void withPairImpulse(OpenMM::ContextImpl& context, Body body) {
+        if (!constrainedImpulse.hasConstraints())
+            body(FreePairImpulse{parameters.getInverseMasses()});
+        else {
+            constrainedImpulse.prepare(*data(context).positions);
+            body(static_cast<const ConstrainedPairImpulse&>(constrainedImpulse));
+        }
+    }
+
+private:
+    ConstrainedPairImpulse constrainedImpulse;
 };
 
 /** Shardlow's S1 and S2 (ShardlowIntegrator, algorithms.md section 2). */

@@ -1,0 +1,72 @@
+#ifndef OPENMMDPD_CONSTRAINEDPAIRIMPULSE_H_
+#define OPENMMDPD_CONSTRAINEDPAIRIMPULSE_H_
+
+#include "openmmdpd/PairParameters.h"
+#include "openmm/System.h"
+#include "openmm/Vec3.h"
+#include <utility>
+#include <vector>
+
+namespace DPDPlugin {
+
+/**
+ * A pair impulse in a System with constraints: J along e at i and -J at j, with the
+ * constraint forces it calls up, so that the velocities stay on the constraints.  In mass
+ * metric the velocity change is J d with d = M^-1 (g - C^T lambda), g the impulse's
+ * direction (e at i, -e at j), C the constraint directions at the current positions and
+ * lambda solving (C M^-1 C^T) lambda = C M^-1 g; the pair's relative normal velocity then
+ * changes by J / mu_eff with 1/mu_eff = g.M^-1 g - (C M^-1 g).lambda.  A pair rule that
+ * draws that velocity from N(0, kT/mu_eff) (Lowe) resamples one coordinate of the
+ * constrained Maxwell distribution exactly, where a free-particle redraw followed by a
+ * projection cools it.  Only the constraint clusters (connected by constraints) of i and j
+ * take part; each cluster's matrix is factored once per sweep.  The cost is cubic in a
+ * cluster's constraint count (small rigid groups: dimers, water, X-H bonds).
+ */
+class ConstrainedPairImpulse {
+public:
+    explicit ConstrainedPairImpulse(const OpenMM::System& system);
+    bool hasConstraints() const { return !clusters.empty(); }
+    /** Factor every cluster's constraint matrix at these positions (before each sweep). */
+    void prepare(const std::vector<OpenMM::Vec3>& positions);
+    /**
+     * 1/mu_eff of the pair at the prepared positions, 0 where the constraints leave the pair
+     * no relative motion along e; keeps the impulse's spread for the next apply() to this pair.
+     */
+    double inverseReducedMass(const PairGeometry& p) const;
+    /** Apply J along the pair (after inverseReducedMass for the same pair). */
+    void apply(const PairGeometry& p, double impulse, std::vector<OpenMM::Vec3>& v) const;
+
+private:
+    struct Constraint {
+        int a, b;
+        OpenMM::Vec3 direction;  // unit, from b to a, at the prepared positions
+    };
+    struct Cluster {
+        std::vector<Constraint> constraints;
+        std::vector<double> lower, pivot;  // K = L D L^T, L unit lower triangular (row major)
+    };
+    void factor(Cluster& cluster) const;
+    /** lambda = K^+ b by the factors (a pivot of 0 marks a redundant constraint). */
+    void solve(const Cluster& cluster, std::vector<double>& x) const;
+    /** Adds the cluster's constraint response to the impulse (e at i, -e at j); returns b.lambda. */
+    double addClusterResponse(const Cluster& cluster, const PairGeometry& p) const;
+    std::vector<double> inverseMasses;
+    std::vector<int> clusterOf;  // -1 for a particle without constraints
+    std::vector<Cluster> clusters;
+    mutable std::vector<std::pair<int, OpenMM::Vec3>> spread;  // particle, velocity change per unit J
+    mutable std::vector<double> rhs, work;  // b and lambda of one cluster
+};
+
+/** The impulse on two free particles: J/m_i e at i, -J/m_j e at j. */
+struct FreePairImpulse {
+    const std::vector<double>& invMass;
+    double inverseReducedMass(const PairGeometry& p) const { return invMass[p.i] + invMass[p.j]; }
+    void apply(const PairGeometry& p, double impulse, std::vector<OpenMM::Vec3>& v) const {
+        v[p.i] += p.e * (impulse * invMass[p.i]);
+        v[p.j] -= p.e * (impulse * invMass[p.j]);
+    }
+};
+
+} // namespace DPDPlugin
+
+#endif

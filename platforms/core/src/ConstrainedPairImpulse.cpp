@@ -1,0 +1,135 @@
+#include "openmmdpd/ConstrainedPairImpulse.h"
+#include <cmath>
+#include <numeric>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+namespace {
+
+int findRoot(std::vector<int>& parent, int i) {
+    while (parent[i] != i)
+        i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+} // namespace
+
+ConstrainedPairImpulse::ConstrainedPairImpulse(const OpenMM::System& system) :
+        inverseMasses(system.getNumParticles()), clusterOf(system.getNumParticles(), -1) {
+    const int n = system.getNumParticles();
+    for (int i = 0; i < n; i++) {
+        const double mass = system.getParticleMass(i);
+        inverseMasses[i] = (mass > 0 ? 1 / mass : 0);
+    }
+    // The clusters are the connected components of the constraint graph.
+    std::vector<int> parent(n);
+    std::iota(parent.begin(), parent.end(), 0);
+    for (int k = 0; k < system.getNumConstraints(); k++) {
+        int a, b;
+        double distance;
+        system.getConstraintParameters(k, a, b, distance);
+        parent[findRoot(parent, a)] = findRoot(parent, b);
+    }
+    std::vector<int> clusterOfRoot(n, -1);
+    for (int k = 0; k < system.getNumConstraints(); k++) {
+        int a, b;
+        double distance;
+        system.getConstraintParameters(k, a, b, distance);
+        int& cluster = clusterOfRoot[findRoot(parent, a)];
+        if (cluster < 0) {
+            cluster = (int) clusters.size();
+            clusters.emplace_back();
+        }
+        clusters[cluster].constraints.push_back(Constraint{a, b, Vec3()});
+        clusterOf[a] = clusterOf[b] = cluster;
+    }
+}
+
+void ConstrainedPairImpulse::prepare(const std::vector<Vec3>& positions) {
+    for (Cluster& cluster : clusters) {
+        for (Constraint& c : cluster.constraints) {
+            const Vec3 d = positions[c.a] - positions[c.b];
+            c.direction = d / std::sqrt(d.dot(d));
+        }
+        factor(cluster);
+    }
+}
+
+void ConstrainedPairImpulse::factor(Cluster& cluster) const {
+    // K = C M^-1 C^T, C's row k being +c_k at a_k and -c_k at b_k.
+    const std::vector<Constraint>& c = cluster.constraints;
+    const size_t n = c.size();
+    std::vector<double>& L = cluster.lower;
+    std::vector<double>& D = cluster.pivot;
+    L.assign(n * n, 0.0);
+    D.assign(n, 0.0);
+    for (size_t k = 0; k < n; k++)
+        for (size_t l = 0; l <= k; l++) {
+            const double shared = (c[k].a == c[l].a ? inverseMasses[c[k].a] : 0) + (c[k].b == c[l].b ? inverseMasses[c[k].b] : 0) -
+                                  (c[k].a == c[l].b ? inverseMasses[c[k].a] : 0) - (c[k].b == c[l].a ? inverseMasses[c[k].b] : 0);
+            L[k * n + l] = shared * c[k].direction.dot(c[l].direction);
+        }
+    // In place L D L^T; a pivot that vanishes against its diagonal is a redundant constraint.
+    for (size_t k = 0; k < n; k++) {
+        const double diagonal = L[k * n + k];
+        double d = diagonal;
+        for (size_t m = 0; m < k; m++)
+            d -= L[k * n + m] * L[k * n + m] * D[m];
+        D[k] = (d > 1e-12 * diagonal ? d : 0.0);
+        L[k * n + k] = 1;
+        for (size_t l = k + 1; l < n; l++) {
+            double s = L[l * n + k];
+            for (size_t m = 0; m < k; m++)
+                s -= L[l * n + m] * L[k * n + m] * D[m];
+            L[l * n + k] = (D[k] > 0 ? s / D[k] : 0.0);
+        }
+    }
+}
+
+void ConstrainedPairImpulse::solve(const Cluster& cluster, std::vector<double>& x) const {
+    const size_t n = x.size();
+    const std::vector<double>& L = cluster.lower;
+    for (size_t k = 0; k < n; k++)
+        for (size_t m = 0; m < k; m++)
+            x[k] -= L[k * n + m] * x[m];
+    for (size_t k = 0; k < n; k++)
+        x[k] = (cluster.pivot[k] > 0 ? x[k] / cluster.pivot[k] : 0.0);
+    for (size_t k = n; k-- > 0;)
+        for (size_t l = k + 1; l < n; l++)
+            x[k] -= L[l * n + k] * x[l];
+}
+
+double ConstrainedPairImpulse::addClusterResponse(const Cluster& cluster, const PairGeometry& p) const {
+    auto impulseAt = [&](int particle) { return particle == p.i ? p.e : particle == p.j ? -p.e : Vec3(); };
+    const std::vector<Constraint>& c = cluster.constraints;
+    rhs.resize(c.size());
+    for (size_t k = 0; k < c.size(); k++)
+        rhs[k] = c[k].direction.dot(impulseAt(c[k].a) * inverseMasses[c[k].a] - impulseAt(c[k].b) * inverseMasses[c[k].b]);
+    work = rhs;
+    solve(cluster, work);
+    double bLambda = 0;
+    for (size_t k = 0; k < c.size(); k++) {
+        bLambda += rhs[k] * work[k];
+        spread.emplace_back(c[k].a, c[k].direction * (-work[k] * inverseMasses[c[k].a]));
+        spread.emplace_back(c[k].b, c[k].direction * (work[k] * inverseMasses[c[k].b]));
+    }
+    return bLambda;
+}
+
+double ConstrainedPairImpulse::inverseReducedMass(const PairGeometry& p) const {
+    const double free = inverseMasses[p.i] + inverseMasses[p.j];
+    spread.assign({{p.i, p.e * inverseMasses[p.i]}, {p.j, -p.e * inverseMasses[p.j]}});
+    double inverse = free;
+    const int ci = clusterOf[p.i], cj = clusterOf[p.j];
+    if (ci >= 0)
+        inverse -= addClusterResponse(clusters[ci], p);
+    if (cj >= 0 && cj != ci)
+        inverse -= addClusterResponse(clusters[cj], p);
+    return (inverse > 1e-9 * free ? inverse : 0.0);
+}
+
+void ConstrainedPairImpulse::apply(const PairGeometry& p, double impulse, std::vector<Vec3>& v) const {
+    for (const std::pair<int, Vec3>& s : spread)
+        v[s.first] += s.second * impulse;
+}
