@@ -255,7 +255,7 @@ def test_temperature(name):
 def test_temperature_long(name):
     """100000 sampled steps (~25 s each): sigma 0.2-0.6 %.  Measured <kT>/kT0: GW 1.0068, DPD-VV
     0.9967, SC-VV 0.9876 (-2.3 sigma), S1 1.0035, S2 1.0037, Lowe 0.9979, pair OU 1.0034, EDPD
-    (alpha dt = 1) 1.0042, staggered 1.0063."""
+    1.0042 (measured at alpha dt = 1), staggered 1.0063."""
     assert_temperature(name, 1000, 100000)
 
 
@@ -303,7 +303,7 @@ def measure_diffusion(name, grid=10, dt=0.04):
 @pytest.mark.parametrize("name", [n for n in INTEGRATORS if n != "Lowe"])
 def test_diffusion(name):
     """OpenMM's run (1000 particles, 40 ps after 4): sigma ~ 0.013, so OpenMM's 0.05 is ~4 sigma;
-    asserted within 3 sigma of LAMMPS' value.  Measured (Reference = CPU seeds aside): GW 0.503,
+    asserted within 3 sigma of LAMMPS' value.  Measured (CPU platform, seed 1): GW 0.503,
     DPD-VV 0.523, SC-VV 0.512, S1 0.502, S2 0.515, pair OU 0.534, staggered 0.522.
 
     EDPD runs at dt = 0.01 (4000 steps): at OpenMM's dt = 0.04 it gives D = 0.565 +- 0.015, +3
