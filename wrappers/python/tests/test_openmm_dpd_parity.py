@@ -47,8 +47,7 @@ NM_PS = unit.nanometer / unit.picosecond
 PLATFORMS = ["Reference", "CPU"]
 
 INTEGRATORS = ["GW", "DPDVV", "SCVV", "S1", "S2", "Lowe", "PairOU", "EDPD", "Staggered"]
-CONSTRAINED = ["GW", "DPDVV", "SCVV", "S1", "S2", "PairOU", "EDPD",
-               pytest.param("Lowe", marks=pytest.mark.skip(reason="Lowe constraints: being added by the lead"))]
+CONSTRAINED = ["GW", "DPDVV", "SCVV", "S1", "S2", "Lowe", "PairOU", "EDPD"]
 STAGGERED_POLYMER = [0, 1]
 EDPD_ALPHA_DT = 5.0
 
