@@ -77,9 +77,10 @@ Integrator* shardlow(int order) {
     return integrator;
 }
 
-Integrator* lowe(LoweAndersenIntegrator::Method method) {
+Integrator* lowe(LoweAndersenIntegrator::Method method, LoweAndersenIntegrator::Splitting splitting = LoweAndersenIntegrator::AfterVerlet) {
     LoweAndersenIntegrator* integrator = seeded(new LoweAndersenIntegrator(KT_KELVIN, 4.5, 1.0, DT));
     integrator->setMethod(method);
+    integrator->setSplitting(splitting);
     return integrator;
 }
 
@@ -103,6 +104,7 @@ const std::vector<Scheme> SCHEMES = {
     {"S2", [] { return shardlow(2); }},
     {"Lowe", [] { return lowe(LoweAndersenIntegrator::Lowe); }},
     {"PairOU", [] { return lowe(LoweAndersenIntegrator::PairOrnsteinUhlenbeck); }},
+    {"PairOU-mid", [] { return lowe(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle); }},
     {"EDPD-OneSided", [] { return edpd(EDPDIntegrator::OneSided); }},
     {"EDPD-Symmetric", [] { return edpd(EDPDIntegrator::Symmetric); }},
     {"Staggered-VV", [] { return staggered(StaggeredDPDIntegrator::VelocityVerlet); }},

@@ -80,9 +80,11 @@ DPDThermostatIntegrator* shardlow(int order) {
     return integrator;
 }
 
-DPDThermostatIntegrator* lowe(LoweAndersenIntegrator::Method method) {
+DPDThermostatIntegrator* lowe(LoweAndersenIntegrator::Method method,
+                              LoweAndersenIntegrator::Splitting splitting = LoweAndersenIntegrator::AfterVerlet) {
     LoweAndersenIntegrator* integrator = new LoweAndersenIntegrator(KT_KELVIN, 4.5, 1.0, DT);
     integrator->setMethod(method);
+    integrator->setSplitting(splitting);
     return integrator;
 }
 
@@ -110,6 +112,8 @@ const std::vector<Scheme> SCHEMES = {
     {"S2", [] { return shardlow(2); }},
     {"Lowe", [] { return lowe(LoweAndersenIntegrator::Lowe); }},
     {"PairOU", [] { return lowe(LoweAndersenIntegrator::PairOrnsteinUhlenbeck); }},
+    {"Lowe-mid", [] { return lowe(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle); }},
+    {"PairOU-mid", [] { return lowe(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle); }},
     {"EDPD-OneSided", [] { return edpd(EDPDIntegrator::OneSided); }},
     {"EDPD-Symmetric", [] { return edpd(EDPDIntegrator::Symmetric); }},
 };
@@ -229,6 +233,8 @@ const std::vector<LiveSetter> LIVE_SETTERS = {
                               [](auto& i) { return i.getVariant() == DPDVVIntegrator::SelfConsistent; }),
     setterOf<ShardlowIntegrator>("setOrder", [](auto& i) { i.setOrder(3 - i.getOrder()); }),
     setterOf<LoweAndersenIntegrator>("setMethod", [](auto& i) { i.setMethod(LoweAndersenIntegrator::Method(1 - i.getMethod())); }),
+    setterOf<LoweAndersenIntegrator>("setSplitting",
+                                     [](auto& i) { i.setSplitting(LoweAndersenIntegrator::Splitting(1 - i.getSplitting())); }),
     setterOf<EDPDIntegrator>("setAlpha", [](auto& i) { i.setAlpha(3.0); }),
     setterOf<EDPDIntegrator>("setScheme", [](auto& i) { i.setScheme(EDPDIntegrator::Scheme(1 - i.getScheme())); }),
     setterOf<Staggered>("setNumSubSteps", [](auto& i) { i.setNumSubSteps(3); }),

@@ -9,8 +9,9 @@ using namespace DPDPlugin;
 
 namespace {
 
-// The four pairwise-sequential schemes: Shardlow S1, S2, Lowe-Andersen, pair OU.
-const char* SCHEMES[] = {"S1", "S2", "Lowe", "PairOU"};
+// The pairwise-sequential schemes: Shardlow S1, S2, Lowe-Andersen, pair OU (after the
+// velocity-Verlet step, and in its middle).
+const char* SCHEMES[] = {"S1", "S2", "Lowe", "PairOU", "Lowe-mid", "PairOU-mid"};
 
 std::unique_ptr<DPDThermostatIntegrator> makeScheme(const std::string& scheme, double dt, int seed = 42) {
     std::unique_ptr<DPDThermostatIntegrator> integrator;
@@ -21,7 +22,9 @@ std::unique_ptr<DPDThermostatIntegrator> makeScheme(const std::string& scheme, d
     }
     else {
         LoweAndersenIntegrator* lowe = new LoweAndersenIntegrator(KT_KELVIN, 4.5, 1.0, dt);
-        lowe->setMethod(scheme == "Lowe" ? LoweAndersenIntegrator::Lowe : LoweAndersenIntegrator::PairOrnsteinUhlenbeck);
+        lowe->setMethod(scheme.compare(0, 4, "Lowe") == 0 ? LoweAndersenIntegrator::Lowe : LoweAndersenIntegrator::PairOrnsteinUhlenbeck);
+        if (scheme.size() > 4 && scheme.compare(scheme.size() - 4, 4, "-mid") == 0)
+            lowe->setSplitting(LoweAndersenIntegrator::Middle);
         integrator.reset(lowe);
     }
     integrator->setRandomNumberSeed(seed);
@@ -44,6 +47,8 @@ TEST(SweepIntegrators, InvalidParametersNameThemselves) {
     EXPECT_EQ(shardlow.getOrder(), 1);
     LoweAndersenIntegrator lowe(KT_KELVIN, 4.5, 1.0, 0.01);
     expectErrorNaming([&] { lowe.setMethod((LoweAndersenIntegrator::Method) 7); }, "method");
+    expectErrorNaming([&] { lowe.setSplitting((LoweAndersenIntegrator::Splitting) 2); }, "splitting");
+    EXPECT_EQ(lowe.getSplitting(), LoweAndersenIntegrator::AfterVerlet);
     expectErrorNaming([] { LoweAndersenIntegrator(KT_KELVIN, -1, 1.0, 0.01); }, "defaultFriction");
 
     std::vector<Vec3> positions;
@@ -190,12 +195,29 @@ TEST(SweepIntegrators, XmlRoundTrip) {
     EXPECT_EQ(c->getNumTypePairs(), 1);
 }
 
+TEST(SweepIntegrators, LoweSplittingSurvivesXmlAndOldFilesReadAfterVerlet) {
+    LoweAndersenIntegrator lowe(KT_KELVIN, 4.5, 1.0, 0.01);
+    lowe.setSplitting(LoweAndersenIntegrator::Middle);
+    std::stringstream buffer;
+    XmlSerializer::serialize<Integrator>(&lowe, "Integrator", buffer);
+    std::unique_ptr<Integrator> copy(XmlSerializer::deserialize<Integrator>(buffer));
+    EXPECT_EQ(dynamic_cast<LoweAndersenIntegrator&>(*copy).getSplitting(), LoweAndersenIntegrator::Middle);
+    // A file written before the splitting existed has no such attribute.
+    std::string xml = buffer.str();
+    const size_t at = xml.find(" splitting=\"1\"");
+    ASSERT_NE(at, std::string::npos);
+    xml.erase(at, std::string(" splitting=\"1\"").size());
+    std::stringstream old(xml);
+    std::unique_ptr<Integrator> read(XmlSerializer::deserialize<Integrator>(old));
+    EXPECT_EQ(dynamic_cast<LoweAndersenIntegrator&>(*read).getSplitting(), LoweAndersenIntegrator::AfterVerlet);
+}
+
 TEST(SweepIntegrators, BlowUpStopsWithTheStep) {
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeFluid(500, 25, positions));
     for (const char* scheme : SCHEMES) {
         auto integrator = makeScheme(scheme, 2.0);
-        if (std::string(scheme) == "Lowe")
+        if (std::string(scheme).compare(0, 4, "Lowe") == 0)
             integrator->setDefaultFriction(0.4);  // keep Gamma dt <= 1
         auto context = makeContext(*system, *integrator, "Reference", positions);
         try {

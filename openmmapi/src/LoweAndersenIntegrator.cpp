@@ -5,13 +5,19 @@
 using namespace DPDPlugin;
 
 LoweAndersenIntegrator::LoweAndersenIntegrator(double temperature, double defaultGamma, double defaultCutoff, double stepSize) :
-        DPDThermostatIntegrator("LoweAndersenIntegrator", temperature, defaultGamma, defaultCutoff, stepSize), method(Lowe) {
+        DPDThermostatIntegrator("LoweAndersenIntegrator", temperature, defaultGamma, defaultCutoff, stepSize), method(Lowe), splitting(AfterVerlet) {
 }
 
 void LoweAndersenIntegrator::setMethod(Method m) {
     require(m == Lowe || m == PairOrnsteinUhlenbeck,
             "LoweAndersenIntegrator: method must be Lowe (0) or PairOrnsteinUhlenbeck (1), got " + std::to_string((int) m));
     method = m;
+}
+
+void LoweAndersenIntegrator::setSplitting(Splitting s) {
+    require(s == AfterVerlet || s == Middle,
+            "LoweAndersenIntegrator: splitting must be AfterVerlet (0) or Middle (1), got " + std::to_string((int) s));
+    splitting = s;
 }
 
 void LoweAndersenIntegrator::validate(const OpenMM::System& system) const {

@@ -45,9 +45,12 @@ template <>
 struct Traits<LoweAndersenIntegrator> {
     static void write(const LoweAndersenIntegrator& integrator, SerializationNode& node) {
         node.setIntProperty("method", integrator.getMethod());
+        node.setIntProperty("splitting", integrator.getSplitting());
     }
     static void read(const SerializationNode& node, LoweAndersenIntegrator& integrator) {
         integrator.setMethod((LoweAndersenIntegrator::Method) node.getIntProperty("method"));
+        // Files written before the splitting existed hold the AfterVerlet scheme.
+        integrator.setSplitting((LoweAndersenIntegrator::Splitting) node.getIntProperty("splitting", LoweAndersenIntegrator::AfterVerlet));
     }
 };
 

@@ -9,12 +9,12 @@ SweepDynamics::SweepDynamics(const OpenMM::System& system, const DPDThermostatIn
         pairSweep(executor, constrainedImpulse.hasConstraints()), pairsStep(-1) {
 }
 
-void SweepDynamics::updatePairs(OpenMM::ContextImpl& context) {
+void SweepDynamics::updatePairs(OpenMM::ContextImpl& context, long long step) {
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     thermostat.updatePairs(*platformData(context).positions, box);
     pairSweep.prepare(thermostat);
-    pairsStep = platformData(context).stepCount;
+    pairsStep = step;
 }
 
 void SweepDynamics::startStep(OpenMM::ContextImpl& context, int forceGroups) {
@@ -27,7 +27,7 @@ void SweepDynamics::startStep(OpenMM::ContextImpl& context, int forceGroups) {
         setCarriedForceValid();
     }
     else if (pairsStep != data.stepCount)
-        updatePairs(context);
+        updatePairs(context, data.stepCount);
 }
 
 void SweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt) {
@@ -39,14 +39,16 @@ void SweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups
         v[i] += force[i] * (0.5 * dt * invMass[i]);
         return v[i] * dt;
     });
-    computeConservativeAndPairs(context, forceGroups, next);
-    pairSweep.prepare(thermostat);
-    pairsStep = next;
-    forEachParticle(v.size(), [&](size_t i) {
-        force[i] = conservative[i];
-        v[i] += force[i] * (0.5 * dt * invMass[i]);
-    });
+    carryForce(context, forceGroups, next);
+    forEachParticle(v.size(), [&](size_t i) { v[i] += force[i] * (0.5 * dt * invMass[i]); });
     constrainVelocities(context);
+}
+
+void SweepDynamics::carryForce(OpenMM::ContextImpl& context, int forceGroups, long long step) {
+    computeConservativeAndPairs(context, forceGroups, step);
+    pairSweep.prepare(thermostat);
+    pairsStep = step;
+    forEachParticle(force.size(), [&](size_t i) { force[i] = conservative[i]; });
 }
 
 SweepDynamics::BatchNormals SweepDynamics::normals(PairRandom::Stream stream, long long step) {
@@ -80,21 +82,49 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
 
 void LoweAndersenDynamics::step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
-    const double dt = integrator.getStepSize(), kT = thermostat.getParameters().getKT();
+    const double dt = integrator.getStepSize();
     const long long current = data.stepCount;
-    const PairRandom& random = thermostat.getRandom();
     startStep(context, integrator.getIntegrationForceGroups());
-    // VV ; the pair thermostat over the pairs at the new positions.
-    velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
+    if (integrator.getSplitting() == LoweAndersenIntegrator::Middle)
+        middleStep(context, integrator);
+    else {
+        // VV ; the pair thermostat over the pairs at the new positions.
+        velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
+        applyThermostat(context, integrator, current);
+    }
+    finishStep(data, dt);
+}
+
+void LoweAndersenDynamics::middleStep(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    std::vector<Vec3>& v = *data.velocities;
+    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+    const double dt = integrator.getStepSize();
+    const long long current = data.stepCount, next = current + 1;
+    // B B (the last step's closing half kick and this step's opening one) A
+    movePositions(context, next, 0.5 * dt, [&](size_t i) {
+        v[i] += force[i] * (dt * invMass[i]);
+        return v[i] * (0.5 * dt);
+    });
+    // O over the pairs where it acts (positions of no step)
+    updatePairs(context, -1);
+    applyThermostat(context, integrator, current);
+    // A ; F <- FC(r)
+    movePositions(context, next, 0.5 * dt, [&](size_t i) { return v[i] * (0.5 * dt); });
+    carryForce(context, integrator.getIntegrationForceGroups(), next);
+}
+
+void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator, long long step) {
+    std::vector<Vec3>& v = *platformData(context).velocities;
+    const double dt = integrator.getStepSize(), kT = thermostat.getParameters().getKT();
+    const PairRandom& random = thermostat.getRandom();
     withPairImpulse(context, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
-            sweep(*data.velocities, LowePairUpdate<Impulse>{random, current, dt, kT, impulse}, false);
+            sweep(v, LowePairUpdate<Impulse>{random, step, dt, kT, impulse}, false);
         else
-            sweep(*data.velocities,
-                  PairOrnsteinUhlenbeckUpdate<BatchNormals, Impulse>{normals(PairRandom::PairThermalisation, current), dt, kT, impulse},
+            sweep(v, PairOrnsteinUhlenbeckUpdate<BatchNormals, Impulse>{normals(PairRandom::PairThermalisation, step), dt, kT, impulse},
                   false);
     });
     constrainVelocities(context);
-    finishStep(data, dt);
 }

@@ -81,22 +81,55 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
 }
 
 void ReferenceLoweAndersenDynamics::step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator) {
+    const double dt = integrator.getStepSize();
+    const int forceGroups = integrator.getIntegrationForceGroups();
+    ensureCarriedForce(context, forceGroups);
+    if (integrator.getSplitting() == LoweAndersenIntegrator::Middle)
+        middleStep(context, integrator);
+    else {
+        // B A A B O: VV ; the pair thermostat over dt, over the pairs at the new positions.
+        const long long current = data(context).stepCount;
+        velocityVerlet(context, forceGroups, dt);
+        applyThermostat(context, integrator, current);
+    }
+    finishStep(context, dt);
+}
+
+void ReferenceLoweAndersenDynamics::middleStep(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator) {
+    std::vector<Vec3>& r = *data(context).positions;
+    std::vector<Vec3>& v = *data(context).velocities;
+    std::vector<Vec3>& F = carried.force;
+    const std::vector<double>& invMass = parameters.getInverseMasses();
+    const double dt = integrator.getStepSize();
+    const long long current = data(context).stepCount, next = current + 1;
+    const size_t n = r.size();
+    // B B (the last step's closing half kick and this step's opening one) A: v += dt/m F ; r += dt/2 v
+    std::vector<Vec3> move(n);
+    for (size_t i = 0; i < n; i++) {
+        v[i] += F[i] * (dt * invMass[i]);
+        move[i] = v[i] * (0.5 * dt);
+    }
+    movePositions(context, move, next, 0.5 * dt);
+    // O over dt, over the pairs at the mid-step positions
+    applyThermostat(context, integrator, current);
+    // A: r += dt/2 v ; F <- FC(r)
+    for (size_t i = 0; i < n; i++)
+        move[i] = v[i] * (0.5 * dt);
+    movePositions(context, move, next, 0.5 * dt);
+    F = conservativeForce(context, integrator.getIntegrationForceGroups(), next);
+}
+
+void ReferenceLoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator, long long step) {
     std::vector<Vec3>& v = *data(context).velocities;
     const double dt = integrator.getStepSize(), kT = parameters.getKT();
-    const int forceGroups = integrator.getIntegrationForceGroups();
-    const long long current = data(context).stepCount;
-    ensureCarriedForce(context, forceGroups);
-    // VV ; the pair thermostat over dt, over the pairs at the new positions.
-    velocityVerlet(context, forceGroups, dt);
     const std::vector<PairGeometry> pairs = findPairs(context);
     withPairImpulse(context, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
-            sweep(pairs, LowePairUpdate<Impulse>{random, current, dt, kT, impulse}, v);
+            sweep(pairs, LowePairUpdate<Impulse>{random, step, dt, kT, impulse}, v);
         else
-            sweep(pairs, PairOrnsteinUhlenbeckUpdate<DrawnNormals, Impulse>{{random, PairRandom::PairThermalisation, current}, dt, kT, impulse},
+            sweep(pairs, PairOrnsteinUhlenbeckUpdate<DrawnNormals, Impulse>{{random, PairRandom::PairThermalisation, step}, dt, kT, impulse},
                   v);
     });
     constrainVelocities(context);
-    finishStep(context, dt);
 }

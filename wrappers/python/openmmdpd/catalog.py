@@ -31,10 +31,11 @@ def _shardlow(order):
     return make
 
 
-def _lowe(method):
+def _lowe(method, splitting=LoweAndersenIntegrator.AfterVerlet):
     def make(dt):
         integrator = LoweAndersenIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, dt)
         integrator.setMethod(method)
+        integrator.setSplitting(splitting)
         return integrator
     return make
 
@@ -51,6 +52,8 @@ def integrators():
         "S2": _shardlow(2),
         "Lowe": _lowe(LoweAndersenIntegrator.Lowe),
         "PairOU": _lowe(LoweAndersenIntegrator.PairOrnsteinUhlenbeck),
+        "Lowe-mid": _lowe(LoweAndersenIntegrator.Lowe, LoweAndersenIntegrator.Middle),
+        "PairOU-mid": _lowe(LoweAndersenIntegrator.PairOrnsteinUhlenbeck, LoweAndersenIntegrator.Middle),
     }
     if hasattr(openmm, "DPDIntegrator"):
         factories["OpenMM-DPD"] = lambda dt: openmm.DPDIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, dt)

@@ -16,7 +16,8 @@ Where the targets come from
    N^2 = 2 kT gamma wD h, and Var u' = [(1-c)^2 kT/mu + 2 kT c/mu]/(1+c)^2 = kT/mu.  So each
    pair map, and a sweep of them in any order, keeps MB at fixed positions; with no force the
    drift r += dt v keeps uniform positions uniform and independent of v.  Uniform x MB is
-   therefore stationary.
+   therefore stationary.  The same holds with the pair rule between two half drifts
+   (LoweAndersenIntegrator's Middle splitting, "-mid"), its pairs found where it acts.
 2. Velocity-Verlet family, ideal gas.  The thermostat forces are linear in v:
    F = -Gamma(r) v + B xi/sqrt(dt), B B^T = 2 kT Gamma.  With Gamma frozen a scheme splits
    into Gamma's eigenmodes; a mode of rate l is a 1-d recurrence in x = l dt (w = dt F,
@@ -128,7 +129,7 @@ def lammps_case(dt, slow=False):
 
 CASES = [
     # ideal gas: the pair rules at a long step, the VV family where their systematic is small
-    *(exact_case(name, "ideal", 0.05) for name in ("Lowe", "PairOU", "S1", "S2")),
+    *(exact_case(name, "ideal", 0.05) for name in ("Lowe", "PairOU", "S1", "S2", "Lowe-mid", "PairOU-mid")),
     velocity_verlet_case("SC-VV", "ideal", 0.01),
     velocity_verlet_case("GW", "ideal", 0.0015, slow=True),
     velocity_verlet_case("GW0.65", "ideal", 0.002, slow=True),
@@ -138,7 +139,7 @@ CASES = [
     exact_case("EDPD-Symmetric", "ideal", 0.001, slow=True),
     # model B: smaller friction spread, so the VV family can take longer steps here
     *(lammps_case(dt) for dt in sorted(LAMMPS_GW_SOFT)),
-    *(exact_case(name, "soft", 0.01) for name in ("Lowe", "PairOU", "S1")),
+    *(exact_case(name, "soft", 0.01) for name in ("Lowe", "PairOU", "S1", "Lowe-mid", "PairOU-mid")),
     exact_case("S2", "soft", 0.01, slow=True),
     velocity_verlet_case("GW0.65", "soft", 0.0045),
     velocity_verlet_case("DPD-VV", "soft", 0.005),

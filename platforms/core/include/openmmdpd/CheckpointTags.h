@@ -26,8 +26,8 @@ inline std::string checkpointTag(const ShardlowIntegrator& integrator) {
 }
 
 inline std::string checkpointTag(const LoweAndersenIntegrator& integrator) {
-    return integrator.getMethod() == LoweAndersenIntegrator::Lowe ? "LoweAndersenIntegrator (Lowe)"
-                                                                  : "LoweAndersenIntegrator (PairOrnsteinUhlenbeck)";
+    const std::string method = (integrator.getMethod() == LoweAndersenIntegrator::Lowe ? "Lowe" : "PairOrnsteinUhlenbeck");
+    return "LoweAndersenIntegrator (" + method + (integrator.getSplitting() == LoweAndersenIntegrator::Middle ? ", Middle)" : ")");
 }
 
 inline std::string checkpointTag(const EDPDIntegrator& integrator) {

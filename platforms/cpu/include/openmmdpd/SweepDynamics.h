@@ -23,6 +23,10 @@ protected:
     void startStep(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r), pairs at r ; v += dt/2m F. */
     void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
+    /** F <- FC(r), the pairs at r (the positions of `step`). */
+    void carryForce(OpenMM::ContextImpl& context, int forceGroups, long long step);
+    /** The pair list (and the sweep's colouring) at the current positions, those of `step` (-1: of no step). */
+    void updatePairs(OpenMM::ContextImpl& context, long long step);
     /** The normal numbers of the current pair list, drawn ahead in batches (the same numbers as DrawnNormals). */
     struct BatchNormals {
         const std::vector<double>& xi;
@@ -51,8 +55,6 @@ protected:
     }
 
 private:
-    /** The pair list (and the sweep's colouring) at the current positions. */
-    void updatePairs(OpenMM::ContextImpl& context);
     ConstrainedPairImpulse constrainedImpulse;
     PairSweep pairSweep;
     long long pairsStep;
@@ -67,12 +69,24 @@ public:
     void step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator);
 };
 
-/** Lowe-Andersen and the exact pair Ornstein-Uhlenbeck update (LoweAndersenIntegrator). */
+/**
+ * Lowe-Andersen and the exact pair Ornstein-Uhlenbeck update (LoweAndersenIntegrator), after
+ * the velocity-Verlet step or between its half drifts.
+ */
 class LoweAndersenDynamics : public SweepDynamics {
 public:
     LoweAndersenDynamics(const OpenMM::System& system, const LoweAndersenIntegrator& integrator, ParallelExecutor& executor) :
             SweepDynamics(system, integrator, executor) {}
     void step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator);
+
+private:
+    /**
+     * B A O A B with the velocities kept at O, as LangevinMiddleIntegrator keeps them: one
+     * full kick, a half drift, O over the pairs found there, a half drift, F <- FC(r).
+     */
+    void middleStep(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator);
+    /** O: the pair thermostat over dt, over the current pair list, its numbers keyed by step. */
+    void applyThermostat(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator, long long step);
 };
 
 } // namespace DPDPlugin

@@ -47,12 +47,24 @@ public:
     void step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator);
 };
 
-/** Lowe-Andersen and the exact pair Ornstein-Uhlenbeck update (LoweAndersenIntegrator, section 3). */
+/**
+ * Lowe-Andersen and the exact pair Ornstein-Uhlenbeck update (LoweAndersenIntegrator,
+ * section 3), after the velocity-Verlet step or between its half drifts (section 11).
+ */
 class ReferenceLoweAndersenDynamics : public ReferenceSweepDynamics {
 public:
     ReferenceLoweAndersenDynamics(const OpenMM::System& system, const LoweAndersenIntegrator& integrator) :
             ReferenceSweepDynamics(system, integrator) {}
     void step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator);
+
+private:
+    /**
+     * B A O A B with the velocities kept at O, as LangevinMiddleIntegrator keeps them:
+     * v += dt/m F ; r += dt/2 v ; O ; r += dt/2 v ; F <- FC(r).
+     */
+    void middleStep(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator);
+    /** O: the pair thermostat over dt, over the pairs at the current positions, its numbers keyed by step. */
+    void applyThermostat(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator, long long step);
 };
 
 } // namespace DPDPlugin
