@@ -129,7 +129,10 @@ def lammps_case(dt, slow=False):
 
 CASES = [
     # ideal gas: the pair rules at a long step, the VV family where their systematic is small
-    *(exact_case(name, "ideal", 0.05) for name in ("Lowe", "PairOU", "S1", "S2", "Lowe-mid", "PairOU-mid")),
+    *(exact_case(name, "ideal", 0.05) for name in ("Lowe", "PairOU", "S1", "S2")),
+    # pairs found where O acts: OpenMM's DPDIntegrator, which finds them before the half
+    # drift, runs 0.8 % hot here
+    *(exact_case(name, "ideal", 0.1) for name in ("Lowe-mid", "PairOU-mid")),
     velocity_verlet_case("SC-VV", "ideal", 0.01),
     velocity_verlet_case("GW", "ideal", 0.0015, slow=True),
     velocity_verlet_case("GW0.65", "ideal", 0.002, slow=True),
