@@ -6,6 +6,7 @@
 #include "TestHelpers.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -96,6 +97,14 @@ Integrator* staggered(StaggeredDPDIntegrator::BaseScheme base) {
     return integrator;
 }
 
+Integrator* denOtterClarke() {
+    DenOtterClarkeIntegrator* integrator = seeded(new DenOtterClarkeIntegrator(KT_KELVIN, 4.5, 1.0, DT));
+    integrator->setAverageFDDotV(-4.985245);  // model B (paper 000 Table III)
+    integrator->setAverageFDDotFD(14.507340);
+    integrator->setAverageFRDotFR(9.976453);
+    return integrator;
+}
+
 const std::vector<Scheme> SCHEMES = {
     {"GW", [] { return dpdvv(DPDVVIntegrator::GrootWarren); }},
     {"DPD-VV", [] { return dpdvv(DPDVVIntegrator::DPDVV); }},
@@ -109,6 +118,7 @@ const std::vector<Scheme> SCHEMES = {
     {"EDPD-Symmetric", [] { return edpd(EDPDIntegrator::Symmetric); }},
     {"Staggered-VV", [] { return staggered(StaggeredDPDIntegrator::VelocityVerlet); }},
     {"Staggered-Lowe", [] { return staggered(StaggeredDPDIntegrator::LoweAndersen); }},
+    {"OC", denOtterClarke},
 };
 
 /** A System, one of our integrators and a Context on one platform, a few steps into a run. */

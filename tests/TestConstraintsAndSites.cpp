@@ -9,6 +9,7 @@
 #include "openmm/VirtualSite.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -121,6 +122,11 @@ const std::vector<Scheme> SCHEMES = {
     {"Lowe", maker<LoweAndersenIntegrator>([](LoweAndersenIntegrator& i) { i.setMethod(LoweAndersenIntegrator::Lowe); })},
     {"PairOU", maker<LoweAndersenIntegrator>(
                    [](LoweAndersenIntegrator& i) { i.setMethod(LoweAndersenIntegrator::PairOrnsteinUhlenbeck); })},
+    {"OC", maker<DenOtterClarkeIntegrator>([](DenOtterClarkeIntegrator& i) {
+         i.setAverageFDDotV(-4.985245);  // model B (paper 000 Table III)
+         i.setAverageFDDotFD(14.507340);
+         i.setAverageFRDotFR(9.976453);
+     })},
     {"EDPD", [] {
          EDPDIntegrator* integrator = new EDPDIntegrator(KT_KELVIN, 4.5, 1.0, 10.0, DT);
          integrator->setRandomNumberSeed(17);

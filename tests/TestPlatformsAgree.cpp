@@ -7,6 +7,7 @@
 #include "TestHelpers.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -24,12 +25,15 @@ constexpr double DT = 0.02;
 // about 10^2 over 20 steps here, from ~1e-16.
 constexpr double TOLERANCE = 1e-10;
 
-/** Particle i: type i % 2, mass 2 for every third particle (so types and masses mix). */
+/**
+ * Particle i: type i % 2, mass 2 for every third particle (so types and masses mix), or 1
+ * for integrators that take one mass only.
+ */
 int typeOf(int i) { return i % 2; }
-double massOf(int i) { return i % 3 == 0 ? 2.0 : 1.0; }
+double massOf(int i, bool uniformMasses) { return i % 3 == 0 && !uniformMasses ? 2.0 : 1.0; }
 
 /** A triclinic periodic box at density ~3.8; with soft repulsion (its own type pairs) or none. */
-System* makeSystem(bool soft, std::vector<Vec3>& positions, std::vector<Vec3>& velocities) {
+System* makeSystem(bool soft, std::vector<Vec3>& positions, std::vector<Vec3>& velocities, bool uniformMasses = false) {
     const Vec3 a(5.2, 0, 0), b(1.1, 5.0, 0), c(-0.9, 1.3, 5.1);
     System* system = new System();
     system->setDefaultPeriodicBoxVectors(a, b, c);
@@ -37,9 +41,9 @@ System* makeSystem(bool soft, std::vector<Vec3>& positions, std::vector<Vec3>& v
     std::uniform_real_distribution<double> uniform(0, 1);
     std::normal_distribution<double> normal(0, 1);
     for (int i = 0; i < NUM_PARTICLES; i++) {
-        system->addParticle(massOf(i));
+        system->addParticle(massOf(i, uniformMasses));
         positions.push_back(a * uniform(rng) + b * uniform(rng) + c * uniform(rng));
-        const double scale = std::sqrt(1.0 / massOf(i));  // kT = 1 kJ/mol
+        const double scale = std::sqrt(1.0 / massOf(i, uniformMasses));  // kT = 1 kJ/mol
         velocities.push_back(Vec3(normal(rng), normal(rng), normal(rng)) * scale);
     }
     if (soft) {
@@ -94,9 +98,19 @@ DPDThermostatIntegrator* edpd(EDPDIntegrator::Scheme scheme) {
     return integrator;
 }
 
+DPDThermostatIntegrator* denOtterClarke() {
+    // Model B's averages (paper 000 Table III)
+    DenOtterClarkeIntegrator* integrator = new DenOtterClarkeIntegrator(KT_KELVIN, 4.5, 1.0, DT);
+    integrator->setAverageFDDotV(-4.985245);
+    integrator->setAverageFDDotFD(14.507340);
+    integrator->setAverageFRDotFR(9.976453);
+    return integrator;
+}
+
 struct Scheme {
     std::string name;
     std::function<DPDThermostatIntegrator*()> make;
+    bool uniformMasses = false;  // the integrator takes one mass only
 };
 
 void PrintTo(const Scheme& scheme, std::ostream* out) {
@@ -116,6 +130,7 @@ const std::vector<Scheme> SCHEMES = {
     {"PairOU-mid", [] { return lowe(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle); }},
     {"EDPD-OneSided", [] { return edpd(EDPDIntegrator::OneSided); }},
     {"EDPD-Symmetric", [] { return edpd(EDPDIntegrator::Symmetric); }},
+    {"OC", denOtterClarke, true},
 };
 
 
@@ -143,7 +158,7 @@ TEST_P(PlatformsAgree, CpuOnOneAndTwoThreadsFollowsTheReferenceTrajectory) {
     const Scheme& scheme = std::get<0>(GetParam());
     const bool soft = std::get<1>(GetParam());
     std::vector<Vec3> positions, velocities;
-    std::unique_ptr<System> system(makeSystem(soft, positions, velocities));
+    std::unique_ptr<System> system(makeSystem(soft, positions, velocities, scheme.uniformMasses));
     Simulation reference = start(*system, scheme, "Reference", 1, positions, velocities);
     std::vector<Simulation> cpu;
     for (int threads : {1, 2})
@@ -237,6 +252,9 @@ const std::vector<LiveSetter> LIVE_SETTERS = {
                                      [](auto& i) { i.setSplitting(LoweAndersenIntegrator::Splitting(1 - i.getSplitting())); }),
     setterOf<EDPDIntegrator>("setAlpha", [](auto& i) { i.setAlpha(3.0); }),
     setterOf<EDPDIntegrator>("setScheme", [](auto& i) { i.setScheme(EDPDIntegrator::Scheme(1 - i.getScheme())); }),
+    setterOf<DenOtterClarkeIntegrator>("setAverageFDDotV", [](auto& i) { i.setAverageFDDotV(-6.0); }),
+    setterOf<DenOtterClarkeIntegrator>("setAverageFDDotFD", [](auto& i) { i.setAverageFDDotFD(20.0); }),
+    setterOf<DenOtterClarkeIntegrator>("setAverageFRDotFR", [](auto& i) { i.setAverageFRDotFR(12.0); }),
     setterOf<Staggered>("setNumSubSteps", [](auto& i) { i.setNumSubSteps(3); }),
     setterOf<Staggered>("setLambda", [](auto& i) { i.setLambda(0.3); }, vvBase),
     setterOf<Staggered>("setMu", [](auto& i) { i.setMu(0.5); }),
@@ -277,8 +295,8 @@ std::vector<Scheme> liveSchemes() {
 }
 
 /** makeSystem(soft) with harmonic bonds in force groups 1 (0-1, 2-3, ...; 6-7) and 2 (20-21, 22-23). */
-System* makeBondedSystem(std::vector<Vec3>& positions, std::vector<Vec3>& velocities) {
-    System* system = makeSystem(true, positions, velocities);
+System* makeBondedSystem(std::vector<Vec3>& positions, std::vector<Vec3>& velocities, bool uniformMasses) {
+    System* system = makeSystem(true, positions, velocities, uniformMasses);
     for (int group : {1, 2}) {
         CustomBondForce* bonds = new CustomBondForce("2*(r-0.5)^2");
         bonds->setUsesPeriodicBoundaryConditions(true);
@@ -317,7 +335,7 @@ TEST_P(LiveSetters, TakeEffectAtTheNextStepAlike) {
     // what the getter returns), the same way on both platforms.
     const LiveCase& c = GetParam();
     std::vector<Vec3> positions, velocities;
-    std::unique_ptr<System> system(makeBondedSystem(positions, velocities));
+    std::unique_ptr<System> system(makeBondedSystem(positions, velocities, c.scheme.uniformMasses));
     Simulation reference = start(*system, c.scheme, "Reference", 1, positions, velocities);
     Simulation cpu = start(*system, c.scheme, "CPU", 2, positions, velocities);
     Simulation unchanged = start(*system, c.scheme, "CPU", 2, positions, velocities);
@@ -349,7 +367,7 @@ TEST(LiveSetters, StaggeredBaseSchemeRaisesUntilReinitialize) {
     // The base scheme decides what the Context's dynamics holds (the pair order, what the
     // slow force is): it cannot change under a live Context, and the next step says so.
     std::vector<Vec3> positions, velocities;
-    std::unique_ptr<System> system(makeBondedSystem(positions, velocities));
+    std::unique_ptr<System> system(makeBondedSystem(positions, velocities, false));
     const Scheme scheme{"Staggered-VV", [] { return staggered(Staggered::VelocityVerlet); }};
     for (const std::string platform : {"Reference", "CPU"}) {
         Simulation s = start(*system, scheme, platform, 1, positions, velocities);

@@ -1,5 +1,6 @@
 #include "openmmdpd/DPDSerializationHelpers.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -65,6 +66,26 @@ struct Traits<EDPDIntegrator> {
     }
 };
 
+template <>
+struct Traits<DenOtterClarkeIntegrator> {
+    static void write(const DenOtterClarkeIntegrator& integrator, SerializationNode& node) {
+        node.setDoubleProperty("averageFDDotV", integrator.getAverageFDDotV());
+        node.setDoubleProperty("averageFDDotFD", integrator.getAverageFDDotFD());
+        node.setDoubleProperty("averageFRDotFR", integrator.getAverageFRDotFR());
+    }
+    static void read(const SerializationNode& node, DenOtterClarkeIntegrator& integrator) {
+        // 0 is "not set", which the setters do not take.
+        const double fdDotV = node.getDoubleProperty("averageFDDotV"), fdDotFD = node.getDoubleProperty("averageFDDotFD"),
+                     frDotFR = node.getDoubleProperty("averageFRDotFR");
+        if (fdDotV != 0)
+            integrator.setAverageFDDotV(fdDotV);
+        if (fdDotFD != 0)
+            integrator.setAverageFDDotFD(fdDotFD);
+        if (frDotFR != 0)
+            integrator.setAverageFRDotFR(frDotFR);
+    }
+};
+
 // The constructor's arguments, as the XML has them.
 template <class Integrator>
 Integrator* construct(const SerializationNode& node) {
@@ -109,6 +130,7 @@ struct Traits<StaggeredDPDIntegrator> {
 };
 
 const char* proxyName(const DPDVVIntegrator*) { return "DPDVVIntegrator"; }
+const char* proxyName(const DenOtterClarkeIntegrator*) { return "DenOtterClarkeIntegrator"; }
 const char* proxyName(const EDPDIntegrator*) { return "EDPDIntegrator"; }
 const char* proxyName(const ShardlowIntegrator*) { return "ShardlowIntegrator"; }
 const char* proxyName(const LoweAndersenIntegrator*) { return "LoweAndersenIntegrator"; }
@@ -151,3 +173,4 @@ template class DPDPlugin::DPDIntegratorProxy<ShardlowIntegrator>;
 template class DPDPlugin::DPDIntegratorProxy<LoweAndersenIntegrator>;
 template class DPDPlugin::DPDIntegratorProxy<EDPDIntegrator>;
 template class DPDPlugin::DPDIntegratorProxy<StaggeredDPDIntegrator>;
+template class DPDPlugin::DPDIntegratorProxy<DenOtterClarkeIntegrator>;

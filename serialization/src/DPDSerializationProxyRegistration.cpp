@@ -1,6 +1,7 @@
 #include "openmmdpd/DPDSerializationHelpers.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -16,5 +17,6 @@ extern "C" void __attribute__((constructor)) registerDPDSerializationProxies() {
     OpenMM::SerializationProxy::registerProxy(typeid(LoweAndersenIntegrator), new DPDIntegratorProxy<LoweAndersenIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(EDPDIntegrator), new DPDIntegratorProxy<EDPDIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(StaggeredDPDIntegrator), new DPDIntegratorProxy<StaggeredDPDIntegrator>());
+    OpenMM::SerializationProxy::registerProxy(typeid(DenOtterClarkeIntegrator), new DPDIntegratorProxy<DenOtterClarkeIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(DPDSoftRepulsionForce), new DPDSoftRepulsionForceProxy());
 }

@@ -6,6 +6,7 @@
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -43,6 +44,8 @@ from openmmdpd.units import strip_units as _strip
 
 _K, _NM, _PS = _unit.kelvin, _unit.nanometer, _unit.picosecond
 _RATE, _FORCE = _unit.picosecond**-1, _unit.kilojoule_per_mole / _unit.nanometer
+# den Otter-Clarke's averages: <FD.v> (a power), <FD.FD>, <FR.FR> (FR without 1/sqrt(dt))
+_POWER, _FORCE2, _FORCE2_TIME = _unit.kilojoule_per_mole / _unit.picosecond, _FORCE**2, _FORCE**2 * _unit.picosecond
 
 
 def _arg(self, method, name, value, target_unit):
@@ -71,6 +74,39 @@ def _arg(self, method, name, value, target_unit):
     defaultGamma = _arg(self, None, "defaultGamma", defaultGamma, _RATE)
     defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
     stepSize = _arg(self, None, "stepSize", stepSize, _PS)
+%}
+%pythonprepend DPDPlugin::DenOtterClarkeIntegrator::DenOtterClarkeIntegrator %{
+    temperature = _arg(self, None, "temperature", temperature, _K)
+    defaultFriction = _arg(self, None, "defaultFriction", defaultFriction, _RATE)
+    defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
+    stepSize = _arg(self, None, "stepSize", stepSize, _PS)
+%}
+%pythonprepend DPDPlugin::DenOtterClarkeIntegrator::setAverageFDDotV %{
+    value = _arg(self, "setAverageFDDotV", "averageFDDotV", value, _POWER)
+%}
+%pythonprepend DPDPlugin::DenOtterClarkeIntegrator::setAverageFDDotFD %{
+    value = _arg(self, "setAverageFDDotFD", "averageFDDotFD", value, _FORCE2)
+%}
+%pythonprepend DPDPlugin::DenOtterClarkeIntegrator::setAverageFRDotFR %{
+    value = _arg(self, "setAverageFRDotFR", "averageFRDotFR", value, _FORCE2_TIME)
+%}
+%pythonprepend DPDPlugin::DenOtterClarkeIntegrator::getPrefactors %{
+    mass = _arg(self, "getPrefactors", "mass", mass, _unit.dalton)
+%}
+%pythonappend DPDPlugin::DenOtterClarkeIntegrator::getAverageFDDotV %{
+    val = _unit.Quantity(val, _POWER)
+%}
+%pythonappend DPDPlugin::DenOtterClarkeIntegrator::getAverageFDDotFD %{
+    val = _unit.Quantity(val, _FORCE2)
+%}
+%pythonappend DPDPlugin::DenOtterClarkeIntegrator::getAverageFRDotFR %{
+    val = _unit.Quantity(val, _FORCE2_TIME)
+%}
+%pythonappend DPDPlugin::DenOtterClarkeIntegrator::getPrefactors %{
+    val = tuple(val)
+%}
+%pythonappend DPDPlugin::DenOtterClarkeIntegrator::getMeasuredSums %{
+    val = (_unit.Quantity(val[0], _POWER), _unit.Quantity(val[1], _FORCE2), _unit.Quantity(val[2], _FORCE2_TIME), val[3])
 %}
 %pythonprepend DPDPlugin::EDPDIntegrator::EDPDIntegrator %{
     temperature = _arg(self, None, "temperature", temperature, _K)
@@ -195,10 +231,14 @@ def _arg(self, method, name, value, target_unit):
 
 %apply int& OUTPUT { int& type1, int& type2, int& particle1, int& particle2 };
 %apply double& OUTPUT { double& friction, double& cutoff, double& a };
+%apply double& OUTPUT { double& alpha, double& beta, double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR };
+%apply long long& OUTPUT { long long& count };
 
 // Only the public interface: the protected Integrator hooks are for OpenMM.
 %ignore DPDPlugin::DPDThermostatIntegrator::validate;
 %ignore DPDPlugin::LoweAndersenIntegrator::validate;
+%ignore DPDPlugin::DenOtterClarkeIntegrator::validate;
+%ignore DPDPlugin::BOLTZMANN_KJ_PER_MOL_K;
 %ignore DPDPlugin::StaggeredDPDIntegrator::validate;
 %ignore DPDPlugin::DPDSoftRepulsionForce::getTypeTable;
 
@@ -207,11 +247,14 @@ def _arg(self, method, name, value, target_unit):
 %include "openmmdpd/ShardlowIntegrator.h"
 %include "openmmdpd/LoweAndersenIntegrator.h"
 %include "openmmdpd/EDPDIntegrator.h"
+%include "openmmdpd/DenOtterClarkeIntegrator.h"
 %include "openmmdpd/StaggeredDPDIntegrator.h"
 %include "openmmdpd/DPDSoftRepulsionForce.h"
 
 %clear int& type1, int& type2, int& particle1, int& particle2;
 %clear double& friction, double& cutoff, double& a;
+%clear double& alpha, double& beta, double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR;
+%clear long long& count;
 
 // Every integrator class (and the force) gets cast() (from a base Integrator proxy, e.g. what
 // XmlSerializer.deserialize returns), pickling and copying that keep its own class.
@@ -256,5 +299,6 @@ DPD_EXTRAS(DPDVVIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(ShardlowIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(LoweAndersenIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(EDPDIntegrator, OpenMM::Integrator)
+DPD_EXTRAS(DenOtterClarkeIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(StaggeredDPDIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(DPDSoftRepulsionForce, OpenMM::Force)

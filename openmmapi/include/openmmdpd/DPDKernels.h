@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -68,6 +69,15 @@ class IntegrateStaggeredDPDStepKernel : public TypedDPDStepKernel<StaggeredDPDIn
 public:
     static std::string Name() { return "IntegrateStaggeredDPDStep"; }
     IntegrateStaggeredDPDStepKernel(std::string name, const OpenMM::Platform& platform) : TypedDPDStepKernel(name, platform) {}
+};
+
+/** Takes steps of DenOtterClarkeIntegrator, and answers for what they measured. */
+class IntegrateDenOtterClarkeStepKernel : public TypedDPDStepKernel<DenOtterClarkeIntegrator> {
+public:
+    static std::string Name() { return "IntegrateDenOtterClarkeStep"; }
+    IntegrateDenOtterClarkeStepKernel(std::string name, const OpenMM::Platform& platform) : TypedDPDStepKernel(name, platform) {}
+    /** See DenOtterClarkeIntegrator::getMeasuredSums. */
+    virtual void getMeasuredSums(double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR, long long& count) const = 0;
 };
 
 /** Takes steps of EDPDIntegrator, and answers for its pair variables. */

@@ -9,6 +9,9 @@
 
 namespace DPDPlugin {
 
+/** Boltzmann's constant in kJ/mol/K (OpenMM's value). */
+constexpr double BOLTZMANN_KJ_PER_MOL_K = 0.00831446261815324;
+
 /**
  * The parameters every DPD-style pair thermostat shares: temperature, the per-type-pair
  * friction and cutoff table, particle types and the random number seed.  Concrete

@@ -13,7 +13,8 @@ namespace {
 
 const std::vector<std::string> kernelNames = {
     IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(), IntegrateLoweAndersenStepKernel::Name(),
-    IntegrateEDPDStepKernel::Name(), IntegrateStaggeredDPDStepKernel::Name(), CalcDPDSoftRepulsionForceKernel::Name()};
+    IntegrateEDPDStepKernel::Name(), IntegrateStaggeredDPDStepKernel::Name(), IntegrateDenOtterClarkeStepKernel::Name(),
+    CalcDPDSoftRepulsionForceKernel::Name()};
 
 class CpuDPDKernelFactory : public KernelFactory {
 public:
@@ -29,6 +30,8 @@ public:
             return new CpuIntegrateEDPDStepKernel(name, platform, threads);
         if (name == IntegrateStaggeredDPDStepKernel::Name())
             return new CpuIntegrateStaggeredDPDStepKernel(name, platform, threads);
+        if (name == IntegrateDenOtterClarkeStepKernel::Name())
+            return new CpuIntegrateDenOtterClarkeStepKernel(name, platform, threads);
         if (name == CalcDPDSoftRepulsionForceKernel::Name())
             return new SoftRepulsionKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(threads)));
         throw OpenMMException("openmm-dpd CPU plugin: unknown kernel '" + name + "'");

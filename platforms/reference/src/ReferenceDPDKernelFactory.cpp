@@ -13,7 +13,8 @@ namespace {
 
 const std::vector<std::string> kernelNames = {
     IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(), IntegrateLoweAndersenStepKernel::Name(),
-    IntegrateEDPDStepKernel::Name(), IntegrateStaggeredDPDStepKernel::Name(), CalcDPDSoftRepulsionForceKernel::Name()};
+    IntegrateEDPDStepKernel::Name(), IntegrateStaggeredDPDStepKernel::Name(), IntegrateDenOtterClarkeStepKernel::Name(),
+    CalcDPDSoftRepulsionForceKernel::Name()};
 
 class ReferenceDPDKernelFactory : public KernelFactory {
 public:
@@ -28,6 +29,8 @@ public:
             return new ReferenceIntegrateEDPDStepKernel(name, platform);
         if (name == IntegrateStaggeredDPDStepKernel::Name())
             return new ReferenceIntegrateStaggeredDPDStepKernel(name, platform);
+        if (name == IntegrateDenOtterClarkeStepKernel::Name())
+            return new ReferenceIntegrateDenOtterClarkeStepKernel(name, platform);
         if (name == CalcDPDSoftRepulsionForceKernel::Name())
             return new ReferenceSoftRepulsionKernel(name, platform);
         throw OpenMMException("openmm-dpd Reference plugin: unknown kernel '" + name + "'");

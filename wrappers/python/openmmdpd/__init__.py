@@ -35,14 +35,16 @@ def _load_openmm_plugins(plugin_dir):
 _check_openmm_version(_build.openmm_version, _openmm.Platform.getOpenMMVersion())
 _load_openmm_plugins(_build.openmm_plugin_dir)
 
-from .dpdplugin import (DPDSoftRepulsionForce, DPDThermostatIntegrator, DPDVVIntegrator, EDPDIntegrator,  # noqa: E402
-                        LoweAndersenIntegrator, ShardlowIntegrator, StaggeredDPDIntegrator)
+from .dpdplugin import (DenOtterClarkeIntegrator, DPDSoftRepulsionForce, DPDThermostatIntegrator,  # noqa: E402
+                        DPDVVIntegrator, EDPDIntegrator, LoweAndersenIntegrator, ShardlowIntegrator,
+                        StaggeredDPDIntegrator)
 from .units import KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units  # noqa: E402
 
 __version__ = _build.version
 
 __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
-           "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "KT_TEMPERATURE", "kT_from_temperature",
+           "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "DenOtterClarkeIntegrator",
+           "calibrate_den_otter_clarke", "KT_TEMPERATURE", "kT_from_temperature",
            "reduced_temperature", "strip_units", "loaded_plugins", "scenes", "__version__"]
 
 
@@ -61,3 +63,4 @@ loaded_plugins = _load_kernel_plugins()
 
 # After the plugins: `openmmdpd.scenes` works after a plain `import openmmdpd`.
 from . import scenes  # noqa: E402
+from .calibration import calibrate_den_otter_clarke  # noqa: E402

@@ -36,6 +36,11 @@ _KINDS = {
     unit.picosecond: ("a time", "picosecond"),
     unit.kilojoule_per_mole / unit.nanometer: ("a force", "kilojoule/mole/nanometer"),
     unit.kilojoule_per_mole: ("an energy", "kilojoule/mole"),
+    unit.kilojoule_per_mole / unit.picosecond: ("a power", "kilojoule/mole/picosecond"),
+    (unit.kilojoule_per_mole / unit.nanometer)**2: ("a squared force", "(kilojoule/mole/nanometer)**2"),
+    (unit.kilojoule_per_mole / unit.nanometer)**2 * unit.picosecond:
+        ("a squared force times a time", "(kilojoule/mole/nanometer)**2*picosecond"),
+    unit.dalton: ("a mass", "dalton"),
 }
 
 

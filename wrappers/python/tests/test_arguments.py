@@ -9,7 +9,7 @@ import openmmdpd
 PS, NM, K = unit.picosecond, unit.nanometer, unit.kelvin
 FORCE = unit.kilojoule_per_mole / unit.nanometer
 INTEGRATORS = [openmmdpd.DPDVVIntegrator, openmmdpd.ShardlowIntegrator, openmmdpd.LoweAndersenIntegrator,
-               openmmdpd.EDPDIntegrator, openmmdpd.StaggeredDPDIntegrator]
+               openmmdpd.EDPDIntegrator, openmmdpd.StaggeredDPDIntegrator, openmmdpd.DenOtterClarkeIntegrator]
 
 # Every constructor's arguments, by name, with good values.
 THERMOSTAT = {"temperature": 300 * K, "defaultFriction": 4.5 / PS, "defaultCutoff": 1 * NM, "stepSize": 0.01 * PS}
@@ -21,6 +21,7 @@ CONSTRUCTORS = {
     openmmdpd.EDPDIntegrator: {"temperature": 300 * K, "defaultFriction": 4.5 / PS, "defaultCutoff": 1 * NM,
                                "alpha": 1 / PS, "stepSize": 0.01 * PS},
     openmmdpd.StaggeredDPDIntegrator: THERMOSTAT,
+    openmmdpd.DenOtterClarkeIntegrator: THERMOSTAT,
     openmmdpd.DPDSoftRepulsionForce: {"defaultA": 25 * FORCE, "defaultCutoff": 1 * NM},
 }
 
@@ -45,6 +46,12 @@ SETTERS[openmmdpd.StaggeredDPDIntegrator] = THERMOSTAT_SETTERS + [
     ("setA", [0.6], {0: "a"}),
     ("setB", [0.0], {0: "b"}),
     ("setRelaxationParameters", [0.0, 0.6, 0.0], {0: "mu", 1: "a", 2: "b"}),
+]
+POWER = unit.kilojoule_per_mole / PS
+SETTERS[openmmdpd.DenOtterClarkeIntegrator] = THERMOSTAT_SETTERS + [
+    ("setAverageFDDotV", [-4.985245 * POWER], {0: "averageFDDotV"}),
+    ("setAverageFDDotFD", [14.507340 * FORCE**2], {0: "averageFDDotFD"}),
+    ("setAverageFRDotFR", [9.976453 * FORCE**2 * PS], {0: "averageFRDotFR"}),
 ]
 SETTERS[openmmdpd.DPDSoftRepulsionForce] = [
     ("setDefaultA", [25 * FORCE], {0: "defaultA"}),
@@ -106,6 +113,9 @@ def test_setter_argument_of_wrong_unit_or_type_is_named(cls, method, args, posit
     (openmmdpd.DPDVVIntegrator, lambda i: i.setLambda(1.2), "lambda must be in [0, 1], got 1.2"),
     (openmmdpd.DPDVVIntegrator, lambda i: i.setTolerance(-1e-6), "tolerance must be >= 0, got -1e-06"),
     (openmmdpd.StaggeredDPDIntegrator, lambda i: i.setA(1.0000001), "a must be in [-1, 1], got 1.0000001"),
+    (openmmdpd.DenOtterClarkeIntegrator, lambda i: i.setAverageFDDotV(0.25),
+     "averageFDDotV must be < 0 kJ/mol/ps (friction takes energy out), got 0.25"),
+    (openmmdpd.DenOtterClarkeIntegrator, lambda i: i.setAverageFRDotFR(-1e-3), "averageFRDotFR must be > 0 (kJ/mol/nm)^2 ps, got -0.001"),
     (openmmdpd.StaggeredDPDIntegrator, lambda i: i.addTypePair(0, 1, 2.5, -0.75),
      "cutoff must be > 0 nm, got -0.75"),
 ])

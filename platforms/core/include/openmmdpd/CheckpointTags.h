@@ -2,6 +2,7 @@
 #define OPENMMDPD_CHECKPOINTTAGS_H_
 
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -19,6 +20,10 @@ namespace DPDPlugin {
 inline std::string checkpointTag(const DPDVVIntegrator& integrator) {
     const char* variants[] = {"GrootWarren", "DPDVV", "SelfConsistent"};
     return std::string("DPDVVIntegrator (") + variants[integrator.getVariant()] + ")";
+}
+
+inline std::string checkpointTag(const DenOtterClarkeIntegrator&) {
+    return "DenOtterClarkeIntegrator";
 }
 
 inline std::string checkpointTag(const ShardlowIntegrator& integrator) {

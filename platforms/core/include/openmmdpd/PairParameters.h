@@ -10,9 +10,6 @@
 
 namespace DPDPlugin {
 
-/** Boltzmann's constant in kJ/mol/K (OpenMM's value). */
-constexpr double BOLTZMANN_KJ_PER_MOL_K = 0.00831446261815324;
-
 /**
  * One pair within its thermostat cutoff, with everything the pair rules need at the
  * current positions: the unit vector e = r_ij / r (minimum image), the weight

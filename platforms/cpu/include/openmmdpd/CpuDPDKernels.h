@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DynamicsStepKernel.h"
 #include "openmmdpd/DPDVVDynamics.h"
+#include "openmmdpd/DenOtterClarkeDynamics.h"
 #include "openmmdpd/EDPDDynamics.h"
 #include "openmmdpd/StaggeredDynamics.h"
 #include "openmmdpd/SweepDynamics.h"
@@ -29,6 +30,15 @@ using CpuIntegrateShardlowStepKernel = CpuStepKernel<IntegrateShardlowStepKernel
 using CpuIntegrateLoweAndersenStepKernel = CpuStepKernel<IntegrateLoweAndersenStepKernel, LoweAndersenIntegrator, LoweAndersenDynamics>;
 using CpuIntegrateStaggeredDPDStepKernel =
         CpuStepKernel<IntegrateStaggeredDPDStepKernel, StaggeredDPDIntegrator, StaggeredDynamics>;
+
+class CpuIntegrateDenOtterClarkeStepKernel
+        : public CpuStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, DenOtterClarkeDynamics> {
+public:
+    using CpuStepKernel::CpuStepKernel;
+    void getMeasuredSums(double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR, long long& count) const override {
+        this->dynamics->getSums().get(sumFDDotV, sumFDDotFD, sumFRDotFR, count);
+    }
+};
 
 class CpuIntegrateEDPDStepKernel : public CpuStepKernel<IntegrateEDPDStepKernel, EDPDIntegrator, EDPDDynamics> {
 public:

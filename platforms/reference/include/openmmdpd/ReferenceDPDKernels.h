@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DynamicsStepKernel.h"
 #include "openmmdpd/ReferenceDPDVVDynamics.h"
+#include "openmmdpd/ReferenceDenOtterClarkeDynamics.h"
 #include "openmmdpd/ReferenceEDPDDynamics.h"
 #include "openmmdpd/ReferenceStaggeredDynamics.h"
 #include "openmmdpd/ReferenceSweepDynamics.h"
@@ -28,6 +29,15 @@ using ReferenceIntegrateLoweAndersenStepKernel =
         ReferenceStepKernel<IntegrateLoweAndersenStepKernel, LoweAndersenIntegrator, ReferenceLoweAndersenDynamics>;
 using ReferenceIntegrateStaggeredDPDStepKernel =
         ReferenceStepKernel<IntegrateStaggeredDPDStepKernel, StaggeredDPDIntegrator, ReferenceStaggeredDynamics>;
+
+class ReferenceIntegrateDenOtterClarkeStepKernel
+        : public ReferenceStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, ReferenceDenOtterClarkeDynamics> {
+public:
+    using ReferenceStepKernel::ReferenceStepKernel;
+    void getMeasuredSums(double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR, long long& count) const override {
+        this->dynamics->getSums().get(sumFDDotV, sumFDDotFD, sumFRDotFR, count);
+    }
+};
 
 class ReferenceIntegrateEDPDStepKernel : public ReferenceStepKernel<IntegrateEDPDStepKernel, EDPDIntegrator, ReferenceEDPDDynamics> {
 public:
