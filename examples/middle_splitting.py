@@ -1,0 +1,77 @@
+"""Kinetic and configurational kT on model B (scene `soft`: rho 4, a 25, gamma 4.5) against the
+time step, for the middle splitting (LoweAndersenIntegrator.setSplitting(Middle): the pair
+thermostat between the half drifts) next to GW-1/2, S1, Lowe and pair OU, all in one run.
+
+    PYTHONPATH=build/python /usr/bin/python3 examples/middle_splitting.py [--particles 4000] [--time 30]
+
+kT_conf = <sum |F|^2> / <sum lap U> (Rugh's configurational temperature of the soft
+repulsion).  Errors: the standard error of the mean from pymbar's statistical inefficiency
+(for kT_conf, of the linearised ratio sum|F|^2 - R sum lap U, divided by <sum lap U>).
+"""
+import argparse
+import math
+
+import numpy as np
+import openmm
+from openmm import unit
+from pymbar import timeseries
+
+from openmmdpd import catalog, scenes
+from openmmdpd.compare import soft_repulsion_laplacian
+
+NAMES = ["GW", "S1", "Lowe", "PairOU", "Lowe-mid", "PairOU-mid"]
+DTS = [0.02, 0.05, 0.1]
+SAMPLE_INTERVAL, EQUILIBRATION = 0.1, 5.0   # ps
+
+
+def standard_error(x):
+    g = timeseries.statisticalInefficiency(x)
+    return math.sqrt(g * x.var() / len(x))
+
+
+def measure(name, dt, scene, sample_time, seed):
+    integrator = catalog.integrators()[name](dt)
+    integrator.setRandomNumberSeed(seed)
+    context = openmm.Context(scene.system, integrator, openmm.Platform.getPlatformByName("CPU"))
+    context.setPositions(scene.positions)
+    context.setVelocitiesToTemperature(catalog.KT_TEMPERATURE, seed)
+    n = scene.system.getNumParticles()
+    length = scene.system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(unit.nanometer)
+    integrator.step(round(EQUILIBRATION / dt))
+    every = max(1, round(SAMPLE_INTERVAL / dt))
+    kinetic, force2, laplacian = [], [], []
+    for _ in range(round(sample_time / SAMPLE_INTERVAL)):
+        integrator.step(every)
+        state = context.getState(getEnergy=True, getPositions=True)
+        ke = state.getKineticEnergy().value_in_unit(unit.kilojoule_per_mole)
+        kinetic.append(2 * ke / (3 * n - 3))
+        f2, lap = soft_repulsion_laplacian(state.getPositions(asNumpy=True).value_in_unit(unit.nanometer), length)
+        force2.append(f2)
+        laplacian.append(lap)
+    kinetic, force2, laplacian = map(np.array, (kinetic, force2, laplacian))
+    ratio = force2.mean() / laplacian.mean()
+    return (kinetic.mean(), standard_error(kinetic), ratio,
+            standard_error(force2 - ratio * laplacian) / laplacian.mean())
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--particles", type=int, default=4000)
+    parser.add_argument("--time", type=float, default=30.0, help="sampled ps per run")
+    parser.add_argument("--seed", type=int, default=3)
+    args = parser.parse_args()
+    scene = scenes.build_scene("soft", num_particles=args.particles)
+    print(f"model B, N = {args.particles}, {args.time:g} ps sampled per run after {EQUILIBRATION:g} ps\n")
+    print("| integrator | dt | kinetic kT | configurational kT |")
+    print("|---|---|---|---|")
+    for name in NAMES:
+        for dt in DTS:
+            try:
+                kt, kt_err, conf, conf_err = measure(name, dt, scene, args.time, args.seed)
+                print(f"| {name} | {dt:g} | {kt:.4f} ± {kt_err:.4f} | {conf:.4f} ± {conf_err:.4f} |", flush=True)
+            except openmm.OpenMMException as error:
+                print(f"| {name} | {dt:g} | unstable: {str(error).splitlines()[0][:60]} | |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
