@@ -126,23 +126,7 @@ TEST(DPDVVIntegrator, CheckpointContinuesBitForBit) {
             auto context = std::unique_ptr<Context>(new Context(*system, integrator, Platform::getPlatformByName(platform), properties));
             context->setPositions(positions);
             context->setVelocitiesToTemperature(KT_KELVIN, 11);
-            integrator.step(10);
-            std::stringstream checkpoint;
-            context->createCheckpoint(checkpoint);
-            integrator.step(10);
-            State first = context->getState(State::Positions | State::Velocities);
-            // Disturb the state, then restore it.
-            context->setVelocitiesToTemperature(KT_KELVIN, 99);
-            integrator.step(3);
-            context->loadCheckpoint(checkpoint);
-            EXPECT_EQ(context->getState(0).getStepCount(), 10);
-            integrator.step(10);
-            State second = context->getState(State::Positions | State::Velocities);
-            EXPECT_EQ(second.getStepCount(), 20);
-            for (size_t i = 0; i < positions.size(); i++) {
-                ASSERT_EQ(first.getPositions()[i], second.getPositions()[i]) << platform << " variant " << variant;
-                ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << platform << " variant " << variant;
-            }
+            expectCheckpointContinuesBitForBit(*context, integrator, platform + " variant " + std::to_string(variant));
         }
 }
 

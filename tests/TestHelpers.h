@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <sstream>
 #include <string>
 
 using namespace OpenMM;
@@ -94,6 +95,29 @@ inline double relativeDifference(const std::vector<Vec3>& a, const std::vector<V
         scale = std::max(scale, std::sqrt(a[i].dot(a[i])));
     }
     return scale > 0 ? difference / scale : difference;
+}
+
+/**
+ * 10 steps, a checkpoint, 10 more steps; the state disturbed (new velocities, 3 steps), the
+ * checkpoint loaded and 10 steps again: the same positions and velocities, bit for bit.
+ */
+inline void expectCheckpointContinuesBitForBit(Context& context, Integrator& integrator, const std::string& label) {
+    integrator.step(10);
+    std::stringstream checkpoint;
+    context.createCheckpoint(checkpoint);
+    integrator.step(10);
+    const State first = context.getState(State::Positions | State::Velocities);
+    context.setVelocitiesToTemperature(KT_KELVIN, 99);
+    integrator.step(3);
+    context.loadCheckpoint(checkpoint);
+    EXPECT_EQ(context.getState(0).getStepCount(), 10) << label;
+    integrator.step(10);
+    const State second = context.getState(State::Positions | State::Velocities);
+    EXPECT_EQ(second.getStepCount(), 20) << label;
+    for (size_t i = 0; i < first.getPositions().size(); i++) {
+        ASSERT_EQ(first.getPositions()[i], second.getPositions()[i]) << label << " particle " << i;
+        ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << label << " particle " << i;
+    }
 }
 
 void expectErrorNaming(const std::function<void()>& action, const std::string& name) {

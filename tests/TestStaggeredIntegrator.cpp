@@ -496,22 +496,7 @@ TEST(StaggeredIntegrator, CheckpointContinuesBitForBit) {
             Context context(*system, *integrator, Platform::getPlatformByName(platform), properties);
             context.setPositions(positions);
             context.setVelocitiesToTemperature(KT_KELVIN, 11);
-            integrator->step(10);
-            std::stringstream checkpoint;
-            context.createCheckpoint(checkpoint);
-            integrator->step(10);
-            State first = context.getState(State::Positions | State::Velocities);
-            context.setVelocitiesToTemperature(KT_KELVIN, 99);
-            integrator->step(3);
-            context.loadCheckpoint(checkpoint);
-            EXPECT_EQ(context.getState(0).getStepCount(), 10);
-            integrator->step(10);
-            State second = context.getState(State::Positions | State::Velocities);
-            EXPECT_EQ(second.getStepCount(), 20);
-            for (size_t i = 0; i < positions.size(); i++) {
-                ASSERT_EQ(first.getPositions()[i], second.getPositions()[i]) << platform << " base " << base << " particle " << i;
-                ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << platform << " base " << base << " particle " << i;
-            }
+            expectCheckpointContinuesBitForBit(context, *integrator, platform + " base " + std::to_string(base));
         }
 }
 

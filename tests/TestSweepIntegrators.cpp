@@ -149,21 +149,7 @@ TEST(SweepIntegrators, CheckpointContinuesBitForBit) {
             System* system = (platform == "CPU" ? ideal.get() : soft.get());
             auto integrator = makeScheme(scheme, 0.04, 0);
             auto context = makeContext(*system, *integrator, platform, positions);
-            integrator->step(10);
-            std::stringstream checkpoint;
-            context->createCheckpoint(checkpoint);
-            integrator->step(10);
-            const State first = context->getState(State::Positions | State::Velocities);
-            context->setVelocitiesToTemperature(KT_KELVIN, 99);
-            integrator->step(3);
-            context->loadCheckpoint(checkpoint);
-            integrator->step(10);
-            const State second = context->getState(State::Positions | State::Velocities);
-            EXPECT_EQ(second.getStepCount(), 20);
-            for (size_t i = 0; i < positions.size(); i++) {
-                ASSERT_EQ(first.getPositions()[i], second.getPositions()[i]) << platform << " " << scheme;
-                ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << platform << " " << scheme;
-            }
+            expectCheckpointContinuesBitForBit(*context, *integrator, platform + " " + scheme);
         }
 }
 

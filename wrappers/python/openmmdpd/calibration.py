@@ -17,7 +17,15 @@ from openmm import unit
 from . import DenOtterClarkeIntegrator
 from .units import MOLAR_GAS_CONSTANT, strip_units
 
-__all__ = ["Averages", "calibrate_den_otter_clarke", "ideal_gas_averages"]
+__all__ = ["Averages", "PAPER_000_TABLE_III", "calibrate_den_otter_clarke", "ideal_gas_averages"]
+
+# Paper 000 Table III: <FD.v>, <FD.FD>, <FR.FR> of its models in reduced units (= OpenMM units
+# for kT = 1 kJ/mol, unit masses, rc = 1 nm), by the scene that builds each model here.
+PAPER_000_TABLE_III = {
+    "ideal": (-7.528088, 38.254933, 15.072610),    # model A
+    "soft": (-4.985245, 14.507340, 9.976453),      # model B
+    "polymer": (-7.566508, 38.532832, 15.150489),
+}
 
 _POWER = unit.kilojoule_per_mole / unit.picosecond
 _FORCE2 = (unit.kilojoule_per_mole / unit.nanometer)**2

@@ -4,7 +4,8 @@ installed OpenMM has one (8.3 and later).  Friction 4.5/ps (= gamma for unit mas
 Lowe's collision rate), cutoff 1 nm, kT = 1 kJ/mol."""
 import openmm
 
-from . import DPDVVIntegrator, LoweAndersenIntegrator, ShardlowIntegrator
+from . import DenOtterClarkeIntegrator, DPDVVIntegrator, LoweAndersenIntegrator, ShardlowIntegrator
+from .calibration import PAPER_000_TABLE_III
 from .units import KT_TEMPERATURE
 
 FRICTION = 4.5  # 1/ps
@@ -40,8 +41,20 @@ def _lowe(method, splitting=LoweAndersenIntegrator.AfterVerlet):
     return make
 
 
-def integrators():
-    """{name: factory(dt) -> Integrator}, in the order the tools report them."""
+def _den_otter_clarke(averages):
+    def make(dt):
+        integrator = DenOtterClarkeIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, dt)
+        integrator.setAverageFDDotV(averages[0])
+        integrator.setAverageFDDotFD(averages[1])
+        integrator.setAverageFRDotFR(averages[2])
+        return integrator
+    return make
+
+
+def integrators(scene=None):
+    """{name: factory(dt) -> Integrator}, in the order the tools report them.  With the name
+    of a scene paper 000 calibrated (ideal, soft, polymer), also den Otter-Clarke ("OC") with
+    the paper's Table III averages."""
     factories = {
         "Langevin": lambda dt: openmm.LangevinMiddleIntegrator(KT_TEMPERATURE, FRICTION, dt),
         "GW": _dpdvv(DPDVVIntegrator.GrootWarren),
@@ -55,6 +68,8 @@ def integrators():
         "Lowe-mid": _lowe(LoweAndersenIntegrator.Lowe, LoweAndersenIntegrator.Middle),
         "PairOU-mid": _lowe(LoweAndersenIntegrator.PairOrnsteinUhlenbeck, LoweAndersenIntegrator.Middle),
     }
+    if scene in PAPER_000_TABLE_III:
+        factories["OC"] = _den_otter_clarke(PAPER_000_TABLE_III[scene])
     if hasattr(openmm, "DPDIntegrator"):
         factories["OpenMM-DPD"] = lambda dt: openmm.DPDIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, dt)
     return factories

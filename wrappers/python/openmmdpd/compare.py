@@ -201,7 +201,7 @@ def run_one(scene, name, factory, dt, args):
 def compare(args):
     os.makedirs(args.out, exist_ok=True)
     scene = build_scene(args.scene, num_particles=args.particles, **({"a": args.a} if args.scene == "soft" else {}))
-    factories = integrators()
+    factories = integrators(args.scene)
     names = args.integrators or [name for name in factories if name != "Langevin"] + ["Langevin"]
     unknown = [x for x in names if x not in factories]
     if unknown:

@@ -1,12 +1,14 @@
-"""Kinetic and configurational kT on model B (scene `soft`: rho 4, a 25, gamma 4.5) against the
-time step, for the middle splitting (LoweAndersenIntegrator.setSplitting(Middle): the pair
-thermostat between the half drifts) next to GW-1/2, S1, Lowe and pair OU, all in one run.
+"""Kinetic and configurational kT against the time step on model A (scene `ideal`) or model B
+(scene `soft`: rho 4, a 25, gamma 4.5): GW-1/2, S1, Lowe, pair OU, both pair thermostats in
+the middle splitting (LoweAndersenIntegrator.setSplitting(Middle)) and den Otter-Clarke with
+paper 000's Table III averages, all in one run; a markdown table on stdout.
 
-    PYTHONPATH=build/python /usr/bin/python3 examples/middle_splitting.py [--particles 4000] [--time 30]
+    PYTHONPATH=build/python /usr/bin/python3 examples/kt_vs_dt.py [--scene soft] [--particles 4000] [--time 30]
 
 kT_conf = <sum |F|^2> / <sum lap U> (Rugh's configurational temperature of the soft
-repulsion).  Errors: the standard error of the mean from pymbar's statistical inefficiency
-(for kT_conf, of the linearised ratio sum|F|^2 - R sum lap U, divided by <sum lap U>).
+repulsion; none on model A).  Errors: the standard error of the mean from pymbar's
+statistical inefficiency (for kT_conf, of the linearised ratio sum|F|^2 - R sum lap U,
+divided by <sum lap U>).
 """
 import argparse
 import math
@@ -19,7 +21,7 @@ from pymbar import timeseries
 from openmmdpd import catalog, scenes
 from openmmdpd.compare import soft_repulsion_laplacian
 
-NAMES = ["GW", "S1", "Lowe", "PairOU", "Lowe-mid", "PairOU-mid"]
+NAMES = ["GW", "S1", "Lowe", "PairOU", "Lowe-mid", "PairOU-mid", "OC"]
 DTS = [0.02, 0.05, 0.1]
 SAMPLE_INTERVAL, EQUILIBRATION = 0.1, 5.0   # ps
 
@@ -30,7 +32,7 @@ def standard_error(x):
 
 
 def measure(name, dt, scene, sample_time, seed):
-    integrator = catalog.integrators()[name](dt)
+    integrator = catalog.integrators(scene.name)[name](dt)
     integrator.setRandomNumberSeed(seed)
     context = openmm.Context(scene.system, integrator, openmm.Platform.getPlatformByName("CPU"))
     context.setPositions(scene.positions)
@@ -45,10 +47,14 @@ def measure(name, dt, scene, sample_time, seed):
         state = context.getState(getEnergy=True, getPositions=True)
         ke = state.getKineticEnergy().value_in_unit(unit.kilojoule_per_mole)
         kinetic.append(2 * ke / (3 * n - 3))
-        f2, lap = soft_repulsion_laplacian(state.getPositions(asNumpy=True).value_in_unit(unit.nanometer), length)
-        force2.append(f2)
-        laplacian.append(lap)
-    kinetic, force2, laplacian = map(np.array, (kinetic, force2, laplacian))
+        if scene.name == "soft":
+            f2, lap = soft_repulsion_laplacian(state.getPositions(asNumpy=True).value_in_unit(unit.nanometer), length)
+            force2.append(f2)
+            laplacian.append(lap)
+    kinetic = np.array(kinetic)
+    if not laplacian:
+        return kinetic.mean(), standard_error(kinetic), None, None
+    force2, laplacian = np.array(force2), np.array(laplacian)
     ratio = force2.mean() / laplacian.mean()
     return (kinetic.mean(), standard_error(kinetic), ratio,
             standard_error(force2 - ratio * laplacian) / laplacian.mean())
@@ -56,19 +62,23 @@ def measure(name, dt, scene, sample_time, seed):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scene", choices=["ideal", "soft"], default="soft")
     parser.add_argument("--particles", type=int, default=4000)
     parser.add_argument("--time", type=float, default=30.0, help="sampled ps per run")
     parser.add_argument("--seed", type=int, default=3)
     args = parser.parse_args()
-    scene = scenes.build_scene("soft", num_particles=args.particles)
-    print(f"model B, N = {args.particles}, {args.time:g} ps sampled per run after {EQUILIBRATION:g} ps\n")
+    scene = scenes.build_scene(args.scene, num_particles=args.particles)
+    model = {"ideal": "model A", "soft": "model B"}[args.scene]
+    print(f"{model} (scene {args.scene}), N = {args.particles}, {args.time:g} ps sampled per run after "
+          f"{EQUILIBRATION:g} ps, seed {args.seed}\n")
     print("| integrator | dt | kinetic kT | configurational kT |")
     print("|---|---|---|---|")
     for name in NAMES:
         for dt in DTS:
             try:
                 kt, kt_err, conf, conf_err = measure(name, dt, scene, args.time, args.seed)
-                print(f"| {name} | {dt:g} | {kt:.4f} ± {kt_err:.4f} | {conf:.4f} ± {conf_err:.4f} |", flush=True)
+                conf_text = "" if conf is None else f"{conf:.4f} ± {conf_err:.4f}"
+                print(f"| {name} | {dt:g} | {kt:.4f} ± {kt_err:.4f} | {conf_text} |", flush=True)
             except openmm.OpenMMException as error:
                 print(f"| {name} | {dt:g} | unstable: {str(error).splitlines()[0][:60]} | |", flush=True)
 
