@@ -56,7 +56,9 @@ def test_compare_records_a_transient_blow_up_as_unstable(tmp_path):
     row = run()
     assert row["status"] == "unstable" and "unstable at step 168: particle 14" in row["note"]
     assert row["reason"] == "sentinel"
-    assert run("--instability-threshold", "0")["status"] == "ok"
+    row = run("--instability-threshold", "0")
+    assert row["status"] == "ok"
+    assert float(row["chain_kT_err"]) > 0 and float(row["Rg_err"]) > 0  # the polymer's own series
 
 
 def test_help_describes_the_job_in_whole_sentences(capsys):
