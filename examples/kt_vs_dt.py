@@ -11,24 +11,18 @@ statistical inefficiency (for kT_conf, of the linearised ratio sum|F|^2 - R sum 
 divided by <sum lap U>).
 """
 import argparse
-import math
 
 import numpy as np
 import openmm
 from openmm import unit
-from pymbar import timeseries
 
 from openmmdpd import catalog, scenes
+from openmmdpd.analysis import ratio_with_error, standard_error
 from openmmdpd.compare import soft_repulsion_laplacian
 
 NAMES = ["GW", "S1", "Lowe", "PairOU", "Lowe-mid", "PairOU-mid", "OC"]
 DTS = [0.02, 0.05, 0.1]
 SAMPLE_INTERVAL, EQUILIBRATION = 0.1, 5.0   # ps
-
-
-def standard_error(x):
-    g = timeseries.statisticalInefficiency(x)
-    return math.sqrt(g * x.var() / len(x))
 
 
 def measure(name, dt, scene, sample_time, seed):
@@ -54,10 +48,7 @@ def measure(name, dt, scene, sample_time, seed):
     kinetic = np.array(kinetic)
     if not laplacian:
         return kinetic.mean(), standard_error(kinetic), None, None
-    force2, laplacian = np.array(force2), np.array(laplacian)
-    ratio = force2.mean() / laplacian.mean()
-    return (kinetic.mean(), standard_error(kinetic), ratio,
-            standard_error(force2 - ratio * laplacian) / laplacian.mean())
+    return (kinetic.mean(), standard_error(kinetic)) + ratio_with_error(force2, laplacian)
 
 
 def main():

@@ -5,9 +5,10 @@ already in those units.
 """
 import numpy as np
 from openmm import unit
+from pymbar import timeseries
 
-__all__ = ["kinetic_temperature", "block_average", "radial_distribution", "radius_of_gyration",
-           "velocity_autocorrelation"]
+__all__ = ["kinetic_temperature", "block_average", "standard_error", "ratio_with_error", "radial_distribution",
+           "radius_of_gyration", "velocity_autocorrelation"]
 
 
 def _array(value, target_unit):
@@ -40,6 +41,29 @@ def block_average(samples, nblocks=10):
                          f"for {nblocks} blocks")
     means = samples[:nblocks * block_size].reshape(nblocks, block_size).mean(axis=1)
     return float(means.mean()), float(means.std(ddof=1) / np.sqrt(nblocks))
+
+
+def standard_error(samples):
+    """Standard error of the mean of a correlated time series: sqrt(g var / n), with g the
+    statistical inefficiency (pymbar's timeseries), so every sample counts as 1/g of one.
+
+    nan for fewer than 2 samples; 0 for a constant series (pymbar refuses zero variance).
+    """
+    x = np.asarray(samples, dtype=float)
+    if len(x) < 2:
+        return float("nan")
+    if np.ptp(x) == 0:
+        return 0.0
+    return float(np.sqrt(timeseries.statisticalInefficiency(x) * x.var() / len(x)))
+
+
+def ratio_with_error(numerator, denominator):
+    """(<a> / <b>, its standard error) for paired series a, b, such as the configurational
+    temperature <sum |F|^2> / <sum lap U>: linearised, the error of the ratio R is that of
+    the mean of a - R b, divided by <b>."""
+    a, b = np.asarray(numerator, dtype=float), np.asarray(denominator, dtype=float)
+    ratio = a.mean() / b.mean()
+    return float(ratio), standard_error(a - ratio * b) / abs(b.mean())
 
 
 def radial_distribution(positions, box_length, r_max, nbins, chunk=256):

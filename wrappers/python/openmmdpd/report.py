@@ -7,9 +7,16 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from .compare import CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS, R1_BLOCKS  # noqa: E402
+
 
 def _ok(rows, name):
     return sorted((row for row in rows if row["integrator"] == name and row["status"] == "ok"),
+                  key=lambda row: row["dt"])
+
+
+def _unstable(rows, name):
+    return sorted((row for row in rows if row["integrator"] == name and row["status"] == "unstable"),
                   key=lambda row: row["dt"])
 
 
@@ -17,46 +24,97 @@ def _names(rows):
     return list(dict.fromkeys(row["integrator"] for row in rows))
 
 
+def _styles(rows):
+    """Colour and marker of each integrator: ten colours, then the same colours with squares."""
+    return {name: dict(color=f"C{k % 10}", marker="os^"[k // 10 % 3]) for k, name in enumerate(_names(rows))}
+
+
+def first_unstable(rows, name):
+    """(smallest unstable dt, its reason), or None."""
+    unstable = _unstable(rows, name)
+    return (unstable[0]["dt"], unstable[0]["reason"]) if unstable else None
+
+
+def _mark_unstable(ax, points, style, label):
+    """Unstable runs as crosses: at their value when it lies inside the axes drawn so far, on
+    the top edge otherwise (blown-up runs have none, and far-off values would hide the rest)."""
+    if not points:
+        return
+    bottom, top = ax.get_ylim()
+    for k, (x, y) in enumerate(points):
+        inside = isinstance(y, float) and math.isfinite(y) and bottom <= y <= top
+        ax.plot(x, y if inside else top, marker="x", ls="none", color=style["color"], clip_on=False,
+                label=label if k == 0 else None)
+    ax.set_ylim(bottom, top)
+
+
 def stability(rows, name):
-    """(largest stable dt, largest dt with |<kT> - 1| < 1 %, largest dt with the
-    configurational kT within 10 % of 1), None where there is none."""
+    """(largest stable dt, largest stable dt with |<kT> - 1| < 1 %), None where there is none."""
     ok = _ok(rows, name)
     stable = max((row["dt"] for row in ok), default=None)
     accurate = max((row["dt"] for row in ok if row["kT_error"] < 0.01), default=None)
-    structure = max((row["dt"] for row in ok if abs(row["kT_conf"] - 1) <= 0.1), default=None)
-    return stable, accurate, structure
+    return stable, accurate
 
 
 def _kT_chart(rows, path, scene):
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for name in _names(rows):
-        ok = _ok(rows, name)
-        if ok:
-            ax.errorbar([r["dt"] for r in ok], [r["kT"] for r in ok], yerr=[r["kT_err"] for r in ok],
-                        marker="o", capsize=2, label=name)
-    ax.axhline(1, color="k", lw=0.8)
-    ax.axhspan(0.99, 1.01, color="0.9", zorder=0, label="±1 %")
-    ax.set_xscale("log")
-    ax.set_xlabel("dt (reduced units = ps)")
-    ax.set_ylabel("<kT> (kinetic, 3N-3 dof)")
-    ax.set_title(f"Temperature against time step, scene {scene}")
-    ax.legend(fontsize=7, ncol=2)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    styles = _styles(rows)
+    for ax, key, label in ((axes[0], "kT", "<kT> (kinetic, 3N-3 dof)"),
+                           (axes[1], "kT_conf", "configurational kT (soft repulsion)")):
+        for name in _names(rows):
+            ok = [row for row in _ok(rows, name) if math.isfinite(row[key])]
+            if ok:
+                ax.errorbar([r["dt"] for r in ok], [r[key] for r in ok], yerr=[r[key + "_err"] for r in ok],
+                            ms=4, capsize=2, label=name, **styles[name])
+        ax.axhline(1, color="k", lw=0.8)
+        ax.axhspan(0.99, 1.01, color="0.9", zorder=0, label="±1 %")
+        for k, name in enumerate(_names(rows)):
+            _mark_unstable(ax, [(r["dt"], r[key]) for r in _unstable(rows, name)], styles[name],
+                           "unstable (x; top edge: off the chart)" if k == 0 else None)
+        ax.set_xscale("log")
+        ax.set_xlabel("dt (reduced units = ps)")
+        ax.set_ylabel(label + ", ± 1 standard error")
+        _legend(ax, fontsize=7, ncol=2)
+    fig.suptitle(f"Temperature against time step, scene {scene}")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
+NOISE_FLOOR_SIGMAS = 3
+
+
+def below_noise_floor(row):
+    """True where |<kT> - 1| is under NOISE_FLOOR_SIGMAS standard errors: not resolved from 0."""
+    return row["kT_error"] < NOISE_FLOOR_SIGMAS * row["kT_err"]
+
+
 def _pareto_chart(rows, path, scene):
     fig, ax = plt.subplots(figsize=(7, 4.5))
+    styles = _styles(rows)
+    floor = 1e-4  # the log axis needs a positive value
     for name in _names(rows):
         ok = _ok(rows, name)
-        if ok:
-            ax.plot([r["cpu_s_per_time"] for r in ok], [max(r["kT_error"], 1e-4) for r in ok], marker="o", label=name)
+        if not ok:
+            continue
+        x = [r["cpu_s_per_time"] for r in ok]
+        y = [max(r["kT_error"], floor) for r in ok]
+        low = [min(r["kT_err"], yk - floor) for r, yk in zip(ok, y)]
+        ax.errorbar(x, y, yerr=[low, [r["kT_err"] for r in ok]], ms=4, capsize=2, label=name, **styles[name])
+        hidden = [(xk, yk) for xk, yk, r in zip(x, y, ok) if below_noise_floor(r)]
+        ax.plot([p[0] for p in hidden], [p[1] for p in hidden], ls="none", ms=7, mfc="white", **styles[name])
+        ax.plot(x, [NOISE_FLOOR_SIGMAS * r["kT_err"] for r in ok], ls="none", marker="_", ms=12,
+                color=styles[name]["color"])
+    ax.plot([], [], ls="none", marker="_", ms=12, color="0.3", label=f"noise floor ({NOISE_FLOOR_SIGMAS} std. errors)")
+    ax.plot([], [], ls="none", marker="o", ms=7, mfc="white", color="0.3", label="below its noise floor")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.axhline(0.01, color="k", lw=0.8, ls="--")
+    for k, name in enumerate(_names(rows)):
+        _mark_unstable(ax, [(r["cpu_s_per_time"], r["kT_error"]) for r in _unstable(rows, name)
+                            if math.isfinite(r["cpu_s_per_time"])], styles[name], "unstable (x)" if k == 0 else None)
     ax.set_xlabel("cost: CPU seconds per unit of simulated time")
-    ax.set_ylabel("|<kT> - 1| (floored at 1e-4)")
+    ax.set_ylabel(f"|<kT> - 1| ± 1 standard error (floored at {floor:g})")
     ax.set_title(f"Accuracy against cost, scene {scene} (lower left is better)")
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
@@ -111,17 +169,24 @@ def _diffusion_chart(rows, path, scene):
 def _stability_chart(rows, path, scene):
     names = _names(rows)
     fig, ax = plt.subplots(figsize=(7, 0.45 * len(names) + 1.5))
+    labelled = False
     for k, name in enumerate(names):
-        stable, accurate, structure = stability(rows, name)
-        ax.barh(k + 0.27, stable or 0, height=0.27, color="tab:blue", label="largest stable dt" if k == 0 else None)
-        ax.barh(k, accurate or 0, height=0.27, color="tab:green", label="largest dt with |<kT>-1| < 1 %" if k == 0 else None)
-        ax.barh(k - 0.27, structure or 0, height=0.27, color="tab:orange",
-                label="largest dt with |kT_conf-1| < 10 %" if k == 0 else None)
+        stable, accurate = stability(rows, name)
+        ax.barh(k + 0.2, stable or 0, height=0.4, color="tab:blue", label="largest stable dt" if k == 0 else None)
+        ax.barh(k - 0.2, accurate or 0, height=0.4, color="tab:green",
+                label="largest stable dt with |<kT>-1| < 1 %" if k == 0 else None)
+        first = first_unstable(rows, name)
+        if first:
+            ax.plot(first[0], k, marker="x", color="tab:red", ls="none",
+                    label=None if labelled else "smallest unstable dt: reason")
+            ax.annotate(first[1], (first[0], k), xytext=(4, -3), textcoords="offset points", fontsize=7,
+                        color="tab:red")
+            labelled = True
     ax.set_yticks(range(len(names)))
     ax.set_yticklabels(names)
     ax.set_xlabel("dt (of those tried)")
     ax.set_title(f"Stability map, scene {scene}")
-    ax.legend(fontsize=8, loc="lower right")
+    _legend(ax, fontsize=8, loc="lower right")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -133,16 +198,50 @@ def _fmt(x, digits=4):
     return "" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.{digits}g}"
 
 
+def _pm(row, key, digits=4):
+    value, error = _fmt(row[key], digits), _fmt(row[key + "_err"], 2)
+    return f"{value} ± {error}" if value and error else value
+
+
 def _unstable_means(threshold):
-    sentinel = (f", or a particle's kinetic energy above {threshold:g} kT (this plugin's integrators: the "
-                f"instability sentinel)" if threshold > 0 else " (the instability sentinel is off)")
-    return (f"A run is unstable if it stops on a non-finite value, a particle jumping several cutoffs in one step, "
-            f"a sampled kT above 10{sentinel}; or if its <kT> is outside [0.5, 1.5].")
+    sentinel = (f", nor on a particle's kinetic energy above {threshold:g} kT (this plugin's integrators: the "
+                f"instability sentinel, `sentinel`)" if threshold > 0 else " (the instability sentinel is off)")
+    return ("A run is stable only if it passes every one of these, and unstable with the first it fails as its "
+            "reason: it does not stop on a non-finite value, a particle jumping several cutoffs in one step or a "
+            f"sampled kT above 10 (`blow-up`){sentinel}; its <kT> is within [0.5, 1.5] (`kT`); and on "
+            f"scene soft its configurational kT is within {CONF_KT_TOLERANCE:.0%} of 1 (`kT_conf`) and it has no "
+            f"overlapping particles (`overlap`): its g(r < {CORE_RADIUS:g}) — pairs that overlap by "
+            f"{1 - CORE_RADIUS:.0%}, at {0.5 * 25 * (1 - CORE_RADIUS) ** 2:g} kT of repulsion (a = 25) — is not more "
+            f"than {OVERLAP_EXCESS:g} above the median of the smallest dt's stable runs (about 0.02 in model B).")
+
+
+def _conventions():
+    return ("Errors (±) are one standard error: of the mean of a time series from its statistical inefficiency "
+            "(pymbar; the configurational kT as the ratio <sum |F|^2> / <sum lap U>, linearised), of r1 and "
+            f"Nc(r1) from the spread over {R1_BLOCKS} blocks of frames. On the Pareto chart a point whose "
+            f"|<kT> - 1| is below {NOISE_FLOOR_SIGMAS} standard errors (its noise floor, a tick) is drawn hollow: "
+            "it is not resolved from exact. Nc is given to the first minimum r1 and at the fixed radii 1.0 and 1.16: "
+            "the minimum of a soft fluid's g(r) is so flat that r1 is poorly defined, and Nc grows there by "
+            "dNc/dr = 4 pi rho r^2 g ~ 64 per unit r (model B), so r1's scatter swamps Nc(r1); at a fixed "
+            "radius Nc differs between runs only by the structure.")
+
+
+def _runs_table(rows):
+    lines = ["| integrator | dt | status | <kT> | kT conf | g dev (ref) | g dev (1) | r1 | Nc(r1) | Nc(1.0) | "
+             "Nc(1.16) | D/D0 | chain kT | Rg | CPU s / time |", "|---" * 15 + "|"]
+    for row in rows:
+        status = f"{row['status']} ({row['reason']})" if row["reason"] else row["status"]
+        lines.append("| " + " | ".join([row["integrator"], _fmt(row["dt"]), status, _pm(row, "kT"), _pm(row, "kT_conf"),
+                                        _fmt(row["g_dev_ref"], 2), _fmt(row["g_dev_ideal"], 2), _pm(row, "r1", 3),
+                                        _pm(row, "Nc"), _pm(row, "Nc_1.0"), _pm(row, "Nc_1.16"),
+                                        _fmt(row["D_ratio"], 3), _pm(row, "chain_kT"), _pm(row, "Rg"),
+                                        _fmt(row["cpu_s_per_time"], 3)]) + " |")
+    return lines
 
 
 def write_report(args, rows, r, g_of):
     out, scene = args.out, args.scene
-    charts = [("kT_vs_dt.png", "Kinetic temperature against time step", _kT_chart),
+    charts = [("kT_vs_dt.png", "Kinetic and configurational temperature against time step", _kT_chart),
               ("error_vs_cost.png", "Accuracy against cost (the Pareto chart)", _pareto_chart),
               ("diffusion.png", "Tracer diffusion relative to the smallest dt", _diffusion_chart),
               ("stability.png", "Stability map", _stability_chart)]
@@ -154,27 +253,21 @@ def write_report(args, rows, r, g_of):
              f"N = {args.particles}, {args.steps} sampled steps after {args.equilibrate} of equilibration, "
              f"gamma (or Gamma) = 4.5, rc = 1, kT = 1, platform {args.platform} with {args.threads} thread(s). "
              "Costs are CPU seconds of the integration steps alone, per unit of simulated time, "
-             "measured in this run. Data: `results.csv`. " + _unstable_means(args.instability_threshold), ""]
-    lines += ["## Stability", "",
-              "| integrator | largest stable dt | largest dt with \\|<kT>-1\\| < 1 % | largest dt with \\|kT_conf-1\\| < 10 % |",
-              "|---|---|---|---|"]
+             "measured in this run. Data: `results.csv`.", "", _unstable_means(args.instability_threshold), "",
+             _conventions(), ""]
+    lines += ["## Stability", "", "| integrator | largest stable dt | largest stable dt with \\|<kT>-1\\| < 1 % | "
+              "smallest unstable dt: reason |", "|---|---|---|---|"]
     for name in _names(rows):
-        stable, accurate, structure = stability(rows, name)
-        lines.append(f"| {name} | {_fmt(stable)} | {_fmt(accurate)} | {_fmt(structure)} |")
+        first = first_unstable(rows, name)
+        lines.append(f"| {name} | " + " | ".join(_fmt(x) for x in stability(rows, name))
+                     + (f" | {first[0]:g}: {first[1]} |" if first else " | |"))
     lines.append("")
     for filename, title, _ in charts:
         lines += [f"## {title}", "", f"![{title}]({filename})", ""]
-    lines += ["## All runs", "",
-              "| integrator | dt | status | <kT> | ± | kT conf | g dev (ref) | g dev (1) | Nc | D/D0 | chain kT | Rg | CPU s / time |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for row in rows:
-        lines.append("| " + " | ".join([row["integrator"], _fmt(row["dt"]), row["status"], _fmt(row["kT"]), _fmt(row["kT_err"], 2),
-                                        _fmt(row["kT_conf"]), _fmt(row["g_dev_ref"], 2), _fmt(row["g_dev_ideal"], 2),
-                                        _fmt(row["Nc"]), _fmt(row["D_ratio"], 3), _fmt(row["chain_kT"]), _fmt(row["Rg"]),
-                                        _fmt(row["cpu_s_per_time"], 3)]) + " |")
+    lines += ["## All runs", ""] + _runs_table(rows)
     notes = [row for row in rows if row["note"]]
     if notes:
-        lines += ["", "Notes (runs that did not complete, or whose configurations were off):", ""]
+        lines += ["", "Notes (runs that are not stable, with the reason):", ""]
         lines += [f"- {row['integrator']} at dt {row['dt']:g}: {row['status']}: {row['note']}" for row in notes]
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
