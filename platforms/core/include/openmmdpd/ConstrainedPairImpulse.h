@@ -67,6 +67,21 @@ struct FreePairImpulse {
     }
 };
 
+/**
+ * body(impulse) with the pair impulse of a sweep at these positions: FreePairImpulse, or
+ * `constrained` prepared at them where the System has constraints (every platform's sweeps).
+ */
+template <class Body>
+void withPairImpulse(ConstrainedPairImpulse& constrained, const std::vector<double>& invMass,
+                     const std::vector<OpenMM::Vec3>& positions, Body body) {
+    if (!constrained.hasConstraints())
+        body(FreePairImpulse{invMass});
+    else {
+        constrained.prepare(positions);
+        body(static_cast<const ConstrainedPairImpulse&>(constrained));
+    }
+}
+
 } // namespace DPDPlugin
 
 #endif

@@ -40,18 +40,11 @@ protected:
     void sweep(std::vector<OpenMM::Vec3>& v, const Rule& rule, bool reverse) {
         pairSweep.run(thermostat, v, rule, reverse);
     }
-    /**
-     * body(impulse) with the pair impulse of a sweep at the current positions: FreePairImpulse,
-     * or ConstrainedPairImpulse where the System has constraints (the sweep then runs in one thread).
-     */
+    /** body(impulse) with the pair impulse of a sweep at the current positions (see withPairImpulse in core). */
     template <class Body>
     void withPairImpulse(OpenMM::ContextImpl& context, Body body) {
-        if (!constrainedImpulse.hasConstraints())
-            body(FreePairImpulse{thermostat.getParameters().getInverseMasses()});
-        else {
-            constrainedImpulse.prepare(*platformData(context).positions);
-            body(static_cast<const ConstrainedPairImpulse&>(constrainedImpulse));
-        }
+        DPDPlugin::withPairImpulse(constrainedImpulse, thermostat.getParameters().getInverseMasses(),
+                                   *platformData(context).positions, body);
     }
 
 private:

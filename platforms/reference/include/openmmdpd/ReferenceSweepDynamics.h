@@ -21,18 +21,10 @@ protected:
     void ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r) ; v += dt/2m F. */
     void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
-    /**
-     * body(impulse) with the pair impulse of a sweep at the current positions: FreePairImpulse,
-     * or ConstrainedPairImpulse where the System has constraints.
-     */
+    /** body(impulse) with the pair impulse of a sweep at the current positions (see withPairImpulse in core). */
     template <class Body>
     void withPairImpulse(OpenMM::ContextImpl& context, Body body) {
-        if (!constrainedImpulse.hasConstraints())
-            body(FreePairImpulse{parameters.getInverseMasses()});
-        else {
-            constrainedImpulse.prepare(*data(context).positions);
-            body(static_cast<const ConstrainedPairImpulse&>(constrainedImpulse));
-        }
+        DPDPlugin::withPairImpulse(constrainedImpulse, parameters.getInverseMasses(), *data(context).positions, body);
     }
 
 private:
