@@ -149,6 +149,27 @@ TEST_P(LeesEdwards, CheckpointContinuesBitForBit) {
     }
 }
 
+/** setShearRate on a live Context: the box slides from the next step on, and the trajectory changes. */
+TEST_P(LeesEdwards, ShearRateIsLive) {
+    std::vector<Vec3> positions, velocities;
+    std::unique_ptr<System> system(makeShearFluid(300, positions, velocities));
+    std::vector<State> states;
+    for (bool change : {false, true}) {
+        std::unique_ptr<DPDThermostatIntegrator> integrator(GetParam().make());
+        std::unique_ptr<Context> context = shearedContext(*system, *integrator, "Reference", positions, velocities);
+        integrator->setShearRate(0);
+        integrator->step(3);
+        if (change)
+            integrator->setShearRate(RATE);
+        integrator->step(5);
+        states.push_back(context->getState(State::Velocities));
+        Vec3 a, b, c;
+        states.back().getPeriodicBoxVectors(a, b, c);
+        EXPECT_NEAR(b[0], change ? RATE * L * 5 * integrator->getStepSize() : 0.0, 1e-12) << GetParam().name;
+    }
+    EXPECT_GT(relativeDifference(states[0].getVelocities(), states[1].getVelocities()), 1e-6) << GetParam().name;
+}
+
 #if OPENMMDPD_HAVE_CPU
 TEST_P(LeesEdwards, CpuOnOneAndTwoThreadsFollowsTheReferenceTrajectory) {
     std::vector<Vec3> positions, velocities;
