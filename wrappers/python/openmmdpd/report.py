@@ -350,3 +350,63 @@ def write_report(args, rows, r, g_of, seconds=None):
         lines += [f"- {row['integrator']} at dt {row['dt']:g}: {row['status']}: {row['note']}" for row in notes]
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
+
+
+def _value(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def read_rows(path):
+    """The rows of a results.csv, numbers as floats."""
+    import csv
+    with open(path) as f:
+        return [{key: _value(value) for key, value in row.items()} for row in csv.DictReader(f)]
+
+
+def stability_map(tables, path):
+    """One stability map for several scenes: per integrator, a bar per scene to its largest
+    stable dt, and a cross at its smallest unstable dt labelled with the reason.
+    tables: {scene: rows}."""
+    names = list(dict.fromkeys(name for rows in tables.values() for name in _names(rows)))
+    height = 0.8 / len(tables)
+    fig, ax = plt.subplots(figsize=(8, 0.6 * len(names) * len(tables) / 2 + 1.5))
+    for s, (scene, rows) in enumerate(tables.items()):
+        offset = 0.4 - height * (s + 0.5)
+        for k, name in enumerate(names):
+            stable = stability(rows, name)[0]
+            ax.barh(k + offset, stable or 0, height=height * 0.9, color=f"C{s}", label=scene if k == 0 else None)
+            first = first_unstable(rows, name)
+            if first:
+                ax.plot(first[0], k + offset, marker="x", color=f"C{s}", ls="none")
+                ax.annotate(first[1], (first[0], k + offset), xytext=(4, -3), textcoords="offset points",
+                            fontsize=6, color=f"C{s}")
+    ax.set_yticks(range(len(names)))
+    ax.set_yticklabels(names)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlabel("dt: bar to the largest stable dt; x at the smallest unstable dt, with the reason")
+    ax.set_title("Stability map: " + ", ".join(tables))
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv=None):
+    """python3 -m openmmdpd.report OUT.png RESULTS.csv...: one stability map of several runs."""
+    import sys
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) < 2:
+        raise SystemExit(main.__doc__)
+    tables = {}
+    for path in argv[1:]:
+        rows = read_rows(path)
+        tables[rows[0]["scene"]] = rows
+    stability_map(tables, argv[0])
+
+
+if __name__ == "__main__":
+    main()
