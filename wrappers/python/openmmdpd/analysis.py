@@ -1,14 +1,19 @@
-"""Observables of the DPD papers (algorithms.md §9) as plain numpy, in reduced units.
+"""Observables of the DPD papers (algorithms.md §9) in reduced units: plain numpy, and MDAnalysis
+for g(r) and the mean squared displacement.
 
 Arguments may be OpenMM Quantities (converted to nm, nm/ps, amu) or plain arrays
 already in those units.
 """
+import warnings
+
 import numpy as np
 from openmm import unit
 from pymbar import timeseries
 
-__all__ = ["kinetic_temperature", "block_average", "standard_error", "ratio_with_error", "radial_distribution",
-           "radius_of_gyration", "velocity_autocorrelation"]
+__all__ = ["kinetic_temperature", "block_average", "standard_error", "ratio_with_error", "median_with_error",
+           "radial_distribution",
+           "frame_radial_distributions", "mean_squared_displacement", "radius_of_gyration",
+           "velocity_autocorrelation"]
 
 
 def _array(value, target_unit):
@@ -66,31 +71,72 @@ def ratio_with_error(numerator, denominator):
     return float(ratio), standard_error(a - ratio * b) / abs(b.mean())
 
 
-def radial_distribution(positions, box_length, r_max, nbins, chunk=256):
-    """g(r) of one configuration in a cubic periodic box; returns (r_centres, g).
+def _mdanalysis():
+    """MDAnalysis, imported on first use (it takes a second) without the DeprecationWarning of
+    MDAnalysis 2.4's import of xdrlib (imported first here: MDAnalysis resets the filters)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        try:
+            import xdrlib  # noqa: F401
+        except ImportError:  # Python 3.13 has none; nor does MDAnalysis need it there
+            pass
+        import MDAnalysis
+        import MDAnalysis.analysis.msd
+        import MDAnalysis.analysis.rdf
+        import MDAnalysis.coordinates.memory
+    return MDAnalysis
 
-    Brute force over pairs i < j with the minimum image, `chunk` rows at a time so memory
-    stays at chunk x N x 3 doubles. Normalised by the N(N-1)/2 pairs a uniform fluid puts
-    in each shell, so ideal gas gives g = 1 exactly on average. r_max must be <= L/2.
-    """
-    x = _array(positions, unit.nanometer).reshape(-1, 3)
-    length = float(_array(box_length, unit.nanometer))
+
+def _universe(frames, box_length, frame_time=1.0):
+    """An in-memory MDAnalysis Universe of frames x particles x 3 positions (nm) in a cubic box."""
+    mda = _mdanalysis()
+    frames = np.asarray(frames, dtype=np.float32)
+    universe = mda.Universe.empty(frames.shape[1], trajectory=True)
+    universe.load_new(frames, format=mda.coordinates.memory.MemoryReader, dt=frame_time,
+                      dimensions=np.array([box_length] * 3 + [90.0] * 3, dtype=np.float32))
+    return universe
+
+
+def frame_radial_distributions(frames, box_length, r_max, nbins):
+    """(r_centres, g): g(r) of each frame (one row per frame) of frames x particles x 3
+    positions in a cubic periodic box, by MDAnalysis's InterRDF (every ordered pair but a
+    particle with itself, so an ideal gas gives g = 1 on average). r_max must be <= L/2."""
+    frames = np.asarray(frames, dtype=float)
+    length = float(box_length)
     if r_max > length / 2:
         raise ValueError(f"r_max = {r_max} exceeds half the box ({length / 2})")
-    n = len(x)
-    edges = np.linspace(0.0, r_max, nbins + 1)
-    counts = np.zeros(nbins)
-    for start in range(0, n, chunk):
-        stop = min(start + chunk, n)
-        d = x[start:stop, None, :] - x[None, start:, :]
-        d -= length * np.round(d / length)
-        r = np.sqrt(np.einsum("ijk,ijk->ij", d, d))
-        # Keep j > i only: column c of this block is particle start + c.
-        upper = np.arange(n - start)[None, :] > np.arange(stop - start)[:, None]
-        counts += np.histogram(r[upper], bins=edges)[0]
-    shell_volumes = 4.0 / 3.0 * np.pi * (edges[1:] ** 3 - edges[:-1] ** 3)
-    expected = 0.5 * n * (n - 1) / length ** 3 * shell_volumes
-    return 0.5 * (edges[1:] + edges[:-1]), counts / expected
+    everyone = _universe(np.mod(frames, length), length).atoms  # wrapped: float32 keeps 1e-7 L
+    g = [_mdanalysis().analysis.rdf.InterRDF(everyone, everyone, nbins=nbins, range=(0.0, r_max), exclusion_block=(1, 1)).run(k, k + 1)
+         for k in range(len(frames))]
+    return g[0].results.bins, np.array([rdf.results.rdf for rdf in g])
+
+
+def median_with_error(values):
+    """(median, its standard error) of independent values, the error from their median absolute
+    deviation (1.4826 MAD estimates a normal spread's sigma, and the median of n values has a
+    standard error of 1.2533 sigma / sqrt(n)), so that one outlier does not set it.  Asymptotic:
+    for 7 values it reads about 9 % low."""
+    x = np.asarray(values, dtype=float)
+    median = float(np.median(x))
+    return median, 1.2533 * 1.4826 * float(np.median(np.abs(x - median))) / np.sqrt(len(x))
+
+
+def radial_distribution(positions, box_length, r_max, nbins):
+    """g(r) of one configuration in a cubic periodic box; returns (r_centres, g).
+
+    Normalised by the N(N-1)/2 pairs a uniform fluid puts in each shell, so ideal gas gives
+    g = 1 exactly on average (see frame_radial_distributions). r_max must be <= L/2.
+    """
+    x = _array(positions, unit.nanometer).reshape(1, -1, 3)
+    r, g = frame_radial_distributions(x, float(_array(box_length, unit.nanometer)), r_max, nbins)
+    return r, g[0]
+
+
+def mean_squared_displacement(frames, frame_time):
+    """(lag times, MSD) of unwrapped frames x particles x 3 positions taken every frame_time,
+    averaged over particles and every time origin (MDAnalysis's EinsteinMSD, windowed)."""
+    msd = _mdanalysis().analysis.msd.EinsteinMSD(_universe(frames, 1.0, frame_time), select="all", msd_type="xyz", fft=False).run()
+    return np.asarray(msd.times), np.asarray(msd.results.timeseries)
 
 
 def radius_of_gyration(positions_of_chain):

@@ -3,20 +3,22 @@ accuracy and for cost in the same run, with charts, the CSV behind them and a re
 
     /usr/bin/python3 -m openmmdpd.compare [--scene soft] [--out results/compare-soft]
 
-Per run: kinetic <kT> (3N - 3 dof), configurational temperature (scene soft), chain <kT>
-and Rg (polymer), each with its standard error from the statistical inefficiency (pymbar);
-g(r) and its deviation from the same integrator at the smallest dt (and from 1 on `ideal`);
-the coordination number Nc to the first minimum r1 (both with errors from blocks of frames)
-and at the fixed radii 1.0 and 1.16; tracer diffusion D from the MSD; and CPU seconds per
-unit of simulated time.  A run is stable only if it does not blow up, does not pass the
-instability threshold (40 kT by default: a transient blow-up that would otherwise recover
-and go into the averages), has <kT> in [0.5, 1.5], and on scene soft has a configurational
-kT within 10 % of 1 and no overlapping particles (g(r < 0.2) more than 0.2 above that of
-the smallest dt); an unstable run is recorded with its reason, not raised.
-
-Observables are accumulated in the loop from States (positions, velocities) rather than
-written to a trajectory for MDTraj/MDAnalysis: the runs are short, the analysis is a few
-pair histograms (scipy's periodic cKDTree), and no files are needed in between.
+Every run starts from the same configuration, equilibrated with LangevinMiddleIntegrator
+at a small dt, and samples the same simulated time (--time), so that every dt gets the same
+statistics.  Per run: kinetic <kT> (3N - 3 dof), configurational temperature (scene soft),
+chain <kT>, Rg and the longest bond (polymer), each mean with its standard error from the
+statistical inefficiency (pymbar); g(r) (MDAnalysis InterRDF on frames held in memory) and
+its deviation from the same integrator at the smallest dt (and from 1 on `ideal`); the
+coordination number Nc to the first minimum r1 (both with errors from blocks of frames)
+and at the fixed radii 1.0 and 1.16; tracer diffusion D from the MSD (MDAnalysis
+EinsteinMSD); and the cost: the time of a step relative to a LangevinMiddleIntegrator step
+on the same System at the same dt, timed in alternating blocks and repeated (median and
+its spread), besides the raw seconds.  A run is stable only if it does not blow up, does
+not pass the instability threshold (40 kT by default: a transient blow-up that would
+otherwise recover and go into the averages), has <kT> in [0.5, 1.5], on scene soft has a
+configurational kT within 10 % of 1 and no overlapping particles (g(r < 0.2) more than 0.2
+above that of the smallest dt), and on scene polymer has a chain <kT> within 10 % of 1 and
+no bond longer than 2.5; an unstable run is recorded with its reason, not raised.
 """
 import argparse
 import csv
@@ -30,21 +32,27 @@ import openmm
 from openmm import unit
 from scipy.spatial import cKDTree
 
-from .analysis import ratio_with_error, standard_error
-from .catalog import CUTOFF, INSTABILITY_THRESHOLD, integrators
+from .analysis import (frame_radial_distributions, mean_squared_displacement, median_with_error, radius_of_gyration,
+                       ratio_with_error, standard_error)
+from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
 from .scenes import SCENES, build_scene
 from .units import KT_TEMPERATURE
 
-G_R_MAX, G_BINS = 2.0, 80
+G_R_MAX, G_BIN = 2.0, 0.025  # g(r) to 2 rc (or half the box) in bins of 0.025 rc
 FIXED_RADII = (1.0, 1.16)  # Nc at these radii: r1 sits on a minimum too flat to integrate to
 R1_BLOCKS = 5              # blocks of g(r) frames whose spread gives the errors of r1 and Nc(r1)
 CONF_KT_TOLERANCE = 0.1    # a stable run's configurational kT is within 10 % of 1 (soft scene)
+CHAIN_KT_TOLERANCE = 0.1   # and its chain <kT> within 10 % of 1 (polymer scene)
+# The longest bond a stable polymer run may have: a harmonic bond (k = 7 kT/rc^2, rest length 0)
+# has rms length sqrt(3/7) = 0.65 and passes 2.5 with probability 1e-8 per bond and sample.
+BOND_LIMIT = 2.5
 CORE_RADIUS = 0.2          # g(r < 0.2 rc): pairs overlapping by 80 % (8 kT of repulsion at a = 25)
 OVERLAP_EXCESS = 0.2       # how far above the smallest-dt g(r < 0.2 rc) means overlapping particles
 COLUMNS = ["scene", "integrator", "dt", "status", "reason", "steps", "kT", "kT_err", "kT_error", "kT_conf",
            "kT_conf_err", "g_core", "g_dev_ref", "g_dev_ideal", "Nc", "Nc_err", "r1", "r1_err", "Nc_1.0",
            "Nc_1.0_err", "Nc_1.16", "Nc_1.16_err", "D", "D_ratio", "chain_kT", "chain_kT_err", "Rg", "Rg_err",
-           "cpu_s_per_time", "wall_s_per_time", "note"]
+           "bond_max", "cost_ratio", "cost_ratio_err", "cost_per_time", "cost_per_time_err", "cpu_s_per_time",
+           "wall_s_per_time", "langevin_cpu_s_per_time", "note"]
 
 
 # --- observables ------------------------------------------------------------------------------
@@ -53,21 +61,10 @@ def _box_length(system):
     return system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(unit.nanometer)
 
 
-def pair_histogram(positions, length, r_max=G_R_MAX, bins=G_BINS):
-    """Counts of pair distances in [0, r_max) of a cubic periodic box."""
-    tree = cKDTree(np.mod(positions, length), boxsize=length)
-    pairs = tree.query_pairs(r_max, output_type="ndarray")
-    d = positions[pairs[:, 0]] - positions[pairs[:, 1]]
-    d -= length * np.round(d / length)
-    return np.histogram(np.sqrt((d * d).sum(axis=1)), bins=bins, range=(0, r_max))[0]
-
-
-def radial_distribution(counts, frames, n, length, r_max=G_R_MAX, bins=G_BINS):
-    """(bin centres, g) from pair counts summed over frames; counts may also be one row per frame."""
-    edges = np.linspace(0, r_max, bins + 1)
-    shell = 4 / 3 * np.pi * (edges[1:] ** 3 - edges[:-1] ** 3)
-    ideal = 0.5 * n * (n - 1) / length ** 3 * shell * frames
-    return 0.5 * (edges[1:] + edges[:-1]), counts / ideal
+def g_r_range(length):
+    """(r_max, bins) of g(r) in a box of side length: to G_R_MAX, or half the box if smaller."""
+    bins = int(min(G_R_MAX, length / 2) / G_BIN + 1e-9)
+    return bins * G_BIN, bins
 
 
 def coordination_at(r, g, radius, density):
@@ -111,26 +108,23 @@ def _spread(values):
     return float(values.std(ddof=1) / np.sqrt(len(values))) if len(values) > 1 else float("nan")
 
 
-def shell_structure(frame_counts, n, length):
-    """(r, g, {Nc, Nc_err, r1, r1_err, Nc_1.0, Nc_1.0_err, ...}) from one pair histogram per frame.
+def shell_structure(r, frame_g, density):
+    """(g, {Nc, Nc_err, r1, r1_err, Nc_1.0, Nc_1.0_err, ...}) from g(r) of each frame (rows).
 
     r1 and Nc(r1) get their errors from the spread of R1_BLOCKS consecutive blocks of frames;
     Nc at the fixed radii from its per-frame series (statistical inefficiency).
     """
-    frame_counts = np.asarray(frame_counts, dtype=float)
-    density = n / length ** 3
-    r, g = radial_distribution(frame_counts.sum(axis=0), len(frame_counts), n, length)
+    frame_g = np.asarray(frame_g, dtype=float)
+    g = frame_g.mean(axis=0)
     r1 = first_minimum(r, g)
-    blocks = np.array_split(frame_counts, min(R1_BLOCKS, len(frame_counts)))
-    block_g = [radial_distribution(b.sum(axis=0), len(b), n, length)[1] for b in blocks]
+    block_g = [block.mean(axis=0) for block in np.array_split(frame_g, min(R1_BLOCKS, len(frame_g)))]
     block_r1 = [first_minimum(r, gb) for gb in block_g]
     shells = dict(r1=r1, r1_err=_spread(block_r1), Nc=float(coordination_at(r, g, r1, density)),
                   Nc_err=_spread([coordination_at(r, gb, x, density) for gb, x in zip(block_g, block_r1)]))
-    per_frame = radial_distribution(frame_counts, 1, n, length)[1]
     for radius in FIXED_RADII:
-        series = coordination_at(r, per_frame, radius, density)
+        series = coordination_at(r, frame_g, radius, density)
         shells[f"Nc_{radius}"], shells[f"Nc_{radius}_err"] = float(series.mean()), standard_error(series)
-    return r, g, shells
+    return g, shells
 
 
 def soft_repulsion_laplacian(positions, length, a=25.0, rc=CUTOFF):
@@ -153,12 +147,13 @@ def soft_repulsion_laplacian(positions, length, a=25.0, rc=CUTOFF):
 
 
 def diffusion(times, msd):
-    """D = slope / 6 of the MSD over the second half of the lags."""
-    half = len(times) // 2
-    if len(times) - half < 2:
+    """D = slope / 6 of an MSD averaged over time origins, fitted over the lags from a quarter
+    to half of the run (the first half has the most origins; its short lags may be ballistic)."""
+    lags = np.arange(len(times))
+    fit = (lags >= len(times) // 4) & (lags <= len(times) // 2)
+    if fit.sum() < 2:
         return float("nan")
-    slope = np.polyfit(times[half:], msd[half:], 1)[0]
-    return float(slope / 6)
+    return float(np.polyfit(np.asarray(times)[fit], np.asarray(msd)[fit], 1)[0] / 6)
 
 
 # --- stability --------------------------------------------------------------------------------
@@ -173,13 +168,18 @@ def failure_reason(message):
     return "sentinel" if "instability threshold" in message else "blow-up"
 
 
-def judge(row, soft):
-    """Marks a completed run unstable if its <kT> is outside [0.5, 1.5] or, on a scene with
-    the soft repulsion (soft), its configurational kT is more than 10 % from 1."""
+def judge(row, scene):
+    """Marks a completed run on the scene called `scene` unstable if its <kT> is outside
+    [0.5, 1.5]; on soft, if its configurational kT is more than 10 % from 1; on polymer, if
+    its chain <kT> is more than 10 % from 1 or a bond was ever longer than BOND_LIMIT."""
     if not 0.5 <= row["kT"] <= 1.5:
         mark_unstable(row, "kT", f"<kT> = {row['kT']:.3g}, outside [0.5, 1.5]")
-    elif soft and abs(row["kT_conf"] - 1) > CONF_KT_TOLERANCE:
+    elif scene == "soft" and abs(row["kT_conf"] - 1) > CONF_KT_TOLERANCE:
         mark_unstable(row, "kT_conf", f"configurational kT = {row['kT_conf']:.3g}, more than 10 % from 1")
+    elif scene == "polymer" and abs(row["chain_kT"] - 1) > CHAIN_KT_TOLERANCE:
+        mark_unstable(row, "chain_kT", f"chain <kT> = {row['chain_kT']:.3g}, more than 10 % from 1")
+    elif scene == "polymer" and row["bond_max"] > BOND_LIMIT:
+        mark_unstable(row, "bond", f"a bond reached {row['bond_max']:.3g}, longer than {BOND_LIMIT:g}")
 
 
 def judge_overlaps(rows):
@@ -200,17 +200,16 @@ def judge_overlaps(rows):
 # --- one run ----------------------------------------------------------------------------------
 
 class Sampler:
-    """One run's time series, taken every `stride` steps, and its frames (g(r) histograms,
-    configurational temperature, MSD) every `frame_every` samples."""
+    """One run's time series, taken every `stride` steps, and its frames (positions for g(r)
+    and the MSD, configurational temperature) every `frame_every` samples."""
 
     def __init__(self, scene, a):
         self.n, self.length = scene.system.getNumParticles(), _box_length(scene.system)
-        self.ideal = scene.name == "ideal"
-        self.soft = scene.name == "soft"  # the one scene whose whole potential is the soft repulsion
+        self.scene = scene.name
         self.a = a
         self.chain = np.array(scene.chain_particles[0]) if scene.chain_particles else None
-        self.kT, self.chain_kT, self.rg, self.force2, self.laplacian, self.counts = [], [], [], [], [], []
-        self.msd_times, self.msd, self.origin = [], [], None
+        self.kT, self.chain_kT, self.rg, self.bond_max, self.force2, self.laplacian = [], [], [], [], [], []
+        self.frames = []
 
     def sample(self, pos, vel):
         """Records one sample; returns its kinetic kT."""
@@ -218,97 +217,166 @@ class Sampler:
         self.kT.append(v2.sum() / (3 * self.n - 3))
         if self.chain is not None:
             self.chain_kT.append(v2[self.chain].sum() / (3 * len(self.chain)))
-            centred = pos[self.chain] - pos[self.chain].mean(axis=0)
-            self.rg.append(math.sqrt((centred * centred).sum(axis=1).mean()))
+            self.rg.append(radius_of_gyration(pos[self.chain]))
+            bonds = np.diff(pos[self.chain], axis=0)
+            bonds -= self.length * np.round(bonds / self.length)
+            self.bond_max.append(float(np.sqrt((bonds * bonds).sum(axis=1)).max()))
         return self.kT[-1]
 
-    def frame(self, pos, time):
-        self.counts.append(pair_histogram(pos, self.length))
-        if self.soft:
+    def frame(self, pos):
+        self.frames.append(pos)
+        if self.scene == "soft":  # the one scene whose whole potential is the soft repulsion
             f2, lap = soft_repulsion_laplacian(pos, self.length, self.a)
             self.force2.append(f2)
             self.laplacian.append(lap)
-        disp = pos - self.origin
-        self.msd_times.append(time)
-        self.msd.append((disp * disp).sum(axis=1).mean())
 
-    def summarise(self, row):
+    def summarise(self, row, frame_time, gr_frames):
         """Puts the observables and their standard errors in row; returns g(r) (None without frames)."""
         kT = np.array(self.kT)
-        row.update(kT=kT.mean(), kT_err=standard_error(kT), kT_error=abs(kT.mean() - 1),
-                   D=diffusion(np.array(self.msd_times), np.array(self.msd)))
+        row.update(kT=kT.mean(), kT_err=standard_error(kT), kT_error=abs(kT.mean() - 1))
         if self.force2:
             row["kT_conf"], row["kT_conf_err"] = ratio_with_error(self.force2, self.laplacian)
         if self.chain_kT:
             row.update(chain_kT=float(np.mean(self.chain_kT)), chain_kT_err=standard_error(self.chain_kT),
-                       Rg=float(np.mean(self.rg)), Rg_err=standard_error(self.rg))
-        if not self.counts:
+                       Rg=float(np.mean(self.rg)), Rg_err=standard_error(self.rg), bond_max=max(self.bond_max))
+        if len(self.frames) < 2:
             return None
-        r, g, shells = shell_structure(self.counts, self.n, self.length)
+        frames = np.array(self.frames)
+        row["D"] = diffusion(*mean_squared_displacement(frames, frame_time))
+        # g(r) of gr_frames frames spread evenly over the run: InterRDF costs ~10 pair searches of cKDTree's
+        chosen = np.unique(np.linspace(0, len(frames) - 1, gr_frames).round().astype(int))
+        r, frame_g = frame_radial_distributions(frames[chosen], self.length, *g_r_range(self.length))
+        g, shells = shell_structure(r, frame_g, self.n / self.length ** 3)
         row.update(shells, g_core=float(g[r < CORE_RADIUS].mean()))
-        if self.ideal:
+        if self.scene == "ideal":
             row["g_dev_ideal"] = float(np.sqrt(np.mean((g[r > 0.1] - 1) ** 2)))
         return g
 
 
-def _start(scene, factory, dt, args):
-    """(integrator, Context) at the scene's positions, velocities at kT = 1 with no net momentum."""
-    platform = openmm.Platform.getPlatformByName(args.platform)
+def _platform(args):
     properties = {"Threads": str(args.threads)} if args.platform == "CPU" else {}
+    return openmm.Platform.getPlatformByName(args.platform), properties
+
+
+PREPARE_DT = 0.005
+
+
+def equilibrated_positions(scene, args):
+    """The scene's positions after args.prepare units of time of LangevinMiddleIntegrator at
+    dt = PREPARE_DT: every run starts from them, so that a large dt is judged on an
+    equilibrium fluid, not on the overlaps of the random start."""
+    if args.prepare <= 0:
+        return scene.positions
+    integrator = openmm.LangevinMiddleIntegrator(KT_TEMPERATURE, FRICTION, PREPARE_DT)
+    integrator.setRandomNumberSeed(args.seed)
+    context = openmm.Context(scene.system, integrator, *_platform(args))
+    context.setPositions(scene.positions)
+    context.setVelocitiesToTemperature(KT_TEMPERATURE, args.seed)
+    integrator.step(round(args.prepare / PREPARE_DT))
+    return context.getState(getPositions=True).getPositions()
+
+
+def _start(scene, start, factory, dt, args):
+    """(integrator, Context) at the start positions, velocities at kT = 1 with no net momentum."""
     integrator = factory(dt)
     if hasattr(integrator, "setRandomNumberSeed"):
         integrator.setRandomNumberSeed(args.seed)
     if hasattr(integrator, "setInstabilityThreshold"):  # ours, not OpenMM's
         integrator.setInstabilityThreshold(args.instability_threshold)
-    context = openmm.Context(scene.system, integrator, platform, properties)
-    context.setPositions(scene.positions)
+    context = openmm.Context(scene.system, integrator, *_platform(args))
+    context.setPositions(start)
     context.setVelocitiesToTemperature(KT_TEMPERATURE, args.seed)
     v = context.getState(getVelocities=True).getVelocities(asNumpy=True)._value
     context.setVelocities(v - v.mean(axis=0))  # no net momentum (DPD conserves it)
     return integrator, context
 
 
+def schedule(dt, args):
+    """(stride, samples, frame_every) of a run at dt: a sample every ~args.sample_every units of
+    time, a frame every ~args.frame_every, args.time in all, whatever dt."""
+    stride = max(1, round(args.sample_every / dt))
+    samples = max(2, round(args.time / (stride * dt)))
+    return stride, samples, max(1, round(args.frame_every / (stride * dt)))
+
+
 def _sample(integrator, context, sampler, dt, args):
     """Equilibrates, then steps and samples; returns (CPU, wall) seconds spent in the steps."""
-    integrator.step(args.equilibrate)
-    sampler.origin = context.getState(getPositions=True).getPositions(asNumpy=True)._value
+    stride, samples, frame_every = schedule(dt, args)
+    integrator.step(round(args.equilibrate / dt))
+    sampler.frame(context.getState(getPositions=True).getPositions(asNumpy=True)._value)  # the MSD's origin
     cpu = wall = 0.0
-    for k in range(args.steps // args.stride):
+    for k in range(samples):
         c0, w0 = time.process_time(), time.perf_counter()
-        integrator.step(args.stride)
+        integrator.step(stride)
         cpu += time.process_time() - c0
         wall += time.perf_counter() - w0
         state = context.getState(getPositions=True, getVelocities=True)
         pos = state.getPositions(asNumpy=True)._value
         kT = sampler.sample(pos, state.getVelocities(asNumpy=True)._value)
         if not math.isfinite(kT) or kT > 10:
-            raise openmm.OpenMMException(f"kinetic temperature {kT:.3g} at step {(k + 1) * args.stride}")
-        if (k + 1) % args.frame_every == 0:
-            sampler.frame(pos, (k + 1) * args.stride * dt)
+            raise openmm.OpenMMException(f"kinetic temperature {kT:.3g} at step {(k + 1) * stride}")
+        if (k + 1) % frame_every == 0:
+            sampler.frame(pos)
     return cpu, wall
 
 
-def run_one(scene, name, factory, dt, args):
-    """One integrator at one dt: (a dict with the COLUMNS, g(r) or None)."""
+def _cpu_seconds(integrator, steps):
+    start = time.process_time()
+    integrator.step(steps)
+    return time.process_time() - start
+
+
+def cost_against_langevin(scene, integrator, context, dt, steps, args):
+    """The cost of a step of `integrator` as a ratio to a LangevinMiddleIntegrator step on the
+    same System at the same dt, from the same state: `steps` steps of each in turn,
+    args.cost_repeats times; the median of the per-repeat ratios of CPU seconds, with its
+    standard error from their spread (machine noise slower than a repeat cancels in a ratio).
+    Returns the cost columns; none where Langevin fails (it may blow up at a large dt)."""
+    langevin = openmm.LangevinMiddleIntegrator(KT_TEMPERATURE, FRICTION, dt)
+    langevin.setRandomNumberSeed(args.seed)
+    reference = openmm.Context(scene.system, langevin, *_platform(args))
+    reference.setState(context.getState(getPositions=True, getVelocities=True))
+    ratios, base = [], []
+    for k in range(args.cost_repeats + 1):
+        mine = _cpu_seconds(integrator, steps)  # an instability here stops the run
+        try:
+            theirs = _cpu_seconds(langevin, steps)
+        except openmm.OpenMMException:
+            return {}  # Langevin itself fails at this dt: no cost
+        if k > 0:  # the first round warms Langevin's new Context up (its neighbour list)
+            ratios.append(mine / theirs)
+            base.append(theirs)
+    ratio, error = median_with_error(ratios)
+    return dict(cost_ratio=ratio, cost_ratio_err=error, cost_per_time=ratio / dt, cost_per_time_err=error / dt,
+                langevin_cpu_s_per_time=float(np.median(base)) / (steps * dt))
+
+
+def run_one(scene, start, name, factory, dt, args):
+    """One integrator at one dt from the start positions: (a dict with the COLUMNS, g(r) or None)."""
     row = {c: float("nan") for c in COLUMNS}
     row.update(scene=scene.name, integrator=name, dt=dt, status="ok", reason="", steps=0, note="")
     try:
-        integrator, context = _start(scene, factory, dt, args)
+        integrator, context = _start(scene, start, factory, dt, args)
     except openmm.OpenMMException as error:
         row.update(status="invalid", note=str(error).splitlines()[0][:160])
         return row, None
     sampler = Sampler(scene, args.a)
+    stride, samples, frame_every = schedule(dt, args)
     try:
         cpu, wall = _sample(integrator, context, sampler, dt, args)
+        # blocks of ~args.cost_block seconds: many of the scheduler's time slices, so a block
+        # is not made slow by one slice given to another process
+        block = max(1, round(args.cost_block * samples * stride / max(cpu, 1e-9)))
+        row.update(cost_against_langevin(scene, integrator, context, dt, block, args))
     except openmm.OpenMMException as error:
         message = str(error).splitlines()[0][:160]
         mark_unstable(row, failure_reason(message), message)
-        row["steps"] = len(sampler.kT) * args.stride
+        row["steps"] = len(sampler.kT) * stride
         return row, None
-    simulated = args.steps * dt
-    row.update(steps=args.steps, cpu_s_per_time=cpu / simulated, wall_s_per_time=wall / simulated)
-    g = sampler.summarise(row)
-    judge(row, sampler.soft)
+    simulated = samples * stride * dt
+    row.update(steps=samples * stride, cpu_s_per_time=cpu / simulated, wall_s_per_time=wall / simulated)
+    g = sampler.summarise(row, frame_every * stride * dt, args.gr_frames)
+    judge(row, scene.name)
     return row, g
 
 
@@ -326,7 +394,21 @@ def _deviations(rows, names, g_of):
             row["D_ratio"] = row["D"] / ref["D"] if ref["D"] else float("nan")
 
 
+def _write_csvs(out, rows, r, g_of):
+    with open(os.path.join(out, "results.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=COLUMNS)
+        writer.writeheader()
+        writer.writerows(rows)
+    with open(os.path.join(out, "gr.csv"), "w", newline="") as f:
+        writer = csv.writer(f)
+        keys = sorted(g_of)
+        writer.writerow(["r"] + [f"{name} dt={dt:g}" for name, dt in keys])
+        for k, rk in enumerate(r):
+            writer.writerow([f"{rk:.4f}"] + [f"{g_of[key][k]:.5f}" for key in keys])
+
+
 def compare(args):
+    began = time.perf_counter()
     os.makedirs(args.out, exist_ok=True)
     scene = build_scene(args.scene, num_particles=args.particles, **({"a": args.a} if args.scene == "soft" else {}))
     factories = integrators(args.scene)
@@ -340,50 +422,61 @@ def compare(args):
         progress = tqdm(runs, desc=f"compare {args.scene}", unit="run", disable=args.quiet)
     except ImportError:
         progress = runs
+    start = equilibrated_positions(scene, args)
     rows, g_of = [], {}
     for name, dt in progress:
-        row, g = run_one(scene, name, factories[name], dt, args)
+        row, g = run_one(scene, start, name, factories[name], dt, args)
         rows.append(row)
         if g is not None:
             g_of[(name, dt)] = g
     if scene.name == "soft":
         judge_overlaps(rows)
     _deviations(rows, names, g_of)
-    csv_path = os.path.join(args.out, "results.csv")
-    with open(csv_path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS)
-        writer.writeheader()
-        writer.writerows(rows)
-    r = 0.5 * (np.linspace(0, G_R_MAX, G_BINS + 1)[1:] + np.linspace(0, G_R_MAX, G_BINS + 1)[:-1])
-    with open(os.path.join(args.out, "gr.csv"), "w", newline="") as f:
-        writer = csv.writer(f)
-        keys = sorted(g_of)
-        writer.writerow(["r"] + [f"{name} dt={dt:g}" for name, dt in keys])
-        for k, rk in enumerate(r):
-            writer.writerow([f"{rk:.4f}"] + [f"{g_of[key][k]:.5f}" for key in keys])
+    r_max, bins = g_r_range(_box_length(scene.system))
+    r = (np.arange(bins) + 0.5) * (r_max / bins)
+    _write_csvs(args.out, rows, r, g_of)
     from .report import write_report
-    write_report(args, rows, r, g_of)
+    write_report(args, rows, r, g_of, time.perf_counter() - began)
     return rows
 
 
-def main(argv=None):
+# --quick: a run of seconds for CI and a first look (explicit options still override it)
+QUICK = dict(particles=500, time=3.0, equilibrate=0.5, prepare=1.0, frame_every=0.5, gr_frames=4, cost_block=0.01,
+             cost_repeats=3, dts=[0.02, 0.06, 0.15])
+
+
+def _parser():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph, whole
-    parser.add_argument("--scene", default="soft", choices=SCENES)
-    parser.add_argument("--integrators", nargs="+", help="default: all available")
-    parser.add_argument("--dts", type=float, nargs="+", default=[0.01, 0.02, 0.04, 0.06, 0.1, 0.15])
-    parser.add_argument("--particles", type=int, default=2000)
-    parser.add_argument("--a", type=float, default=25.0, help="soft repulsion (scene soft)")
-    parser.add_argument("--steps", type=int, default=1000, help="sampled steps per run")
-    parser.add_argument("--equilibrate", type=int, default=300, help="steps before sampling")
-    parser.add_argument("--stride", type=int, default=10, help="steps between samples")
-    parser.add_argument("--frame-every", type=int, default=5, help="samples between g(r)/MSD frames")
-    parser.add_argument("--platform", default="CPU")
-    parser.add_argument("--threads", type=int, default=os.cpu_count() or 1)
-    parser.add_argument("--seed", type=int, default=2024)
-    parser.add_argument("--instability-threshold", type=float, default=INSTABILITY_THRESHOLD,
-                        help="stop a run when a particle's kinetic energy passes this many kT (0: off)")
-    parser.add_argument("--out", default=None, help="output folder (default results/compare-SCENE)")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add = parser.add_argument
+    add("--scene", default="soft", choices=SCENES)
+    add("--integrators", nargs="+", help="default: all available")
+    add("--dts", type=float, nargs="+", default=[0.02, 0.03, 0.04, 0.06, 0.1, 0.15])
+    add("--particles", type=int, default=2000)
+    add("--a", type=float, default=25.0, help="soft repulsion (scene soft)")
+    add("--time", type=float, default=100.0, help="simulated time sampled per run (reduced units)")
+    add("--equilibrate", type=float, default=2.0, help="time each run equilibrates before sampling")
+    add("--prepare", type=float, default=5.0,
+        help="time of Langevin at dt 0.005 that equilibrates the start of every run (0: the random start)")
+    add("--sample-every", type=float, default=0.1, help="time between samples of kT (at least one step)")
+    add("--frame-every", type=float, default=2.0, help="time between frames (positions, configurational kT)")
+    add("--gr-frames", type=int, default=8, help="frames, spread over the run, whose g(r) is measured")
+    add("--cost-block", type=float, default=0.1, help="CPU seconds per timed block of the cost ratio to Langevin")
+    add("--cost-repeats", type=int, default=7, help="alternating timed blocks (integrator, Langevin)")
+    add("--quick", action="store_true", help=f"a run of seconds for CI: {QUICK}")
+    add("--platform", default="CPU")
+    add("--threads", type=int, default=os.cpu_count() or 1)
+    add("--seed", type=int, default=2024)
+    add("--instability-threshold", type=float, default=INSTABILITY_THRESHOLD,
+        help="stop a run when a particle's kinetic energy passes this many kT (0: off)")
+    add("--out", default=None, help="output folder (default results/compare-SCENE)")
+    add("--quiet", action="store_true", help="no progress bar")
+    return parser
+
+
+def main(argv=None):
+    parser = _parser()
+    if parser.parse_args(argv).quick:
+        parser.set_defaults(**QUICK)
     args = parser.parse_args(argv)
     args.out = args.out or os.path.join("results", f"compare-{args.scene}")
     start = time.perf_counter()

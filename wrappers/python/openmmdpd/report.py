@@ -7,7 +7,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from .compare import CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS, R1_BLOCKS  # noqa: E402
+from .compare import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS,  # noqa: E402
+                      R1_BLOCKS, schedule)
 
 
 def _ok(rows, name):
@@ -45,7 +46,8 @@ def _mark_unstable(ax, points, style, label):
         inside = isinstance(y, float) and math.isfinite(y) and bottom <= y <= top
         ax.plot(x, y if inside else top, marker="x", ls="none", color=style["color"], clip_on=False,
                 label=label if k == 0 else None)
-    ax.set_ylim(bottom, top)
+    if bottom > 0 or ax.get_yscale() != "log":
+        ax.set_ylim(bottom, top)
 
 
 def stability(rows, name):
@@ -56,11 +58,14 @@ def stability(rows, name):
     return stable, accurate
 
 
+SECOND_PANEL = {"soft": ("kT_conf", "configurational kT (soft repulsion)"), "polymer": ("chain_kT", "chain <kT>")}
+
+
 def _kT_chart(rows, path, scene):
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    panels = [("kT", "<kT> (kinetic, 3N-3 dof)")] + ([SECOND_PANEL[scene]] if scene in SECOND_PANEL else [])
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.5), squeeze=False)
     styles = _styles(rows)
-    for ax, key, label in ((axes[0], "kT", "<kT> (kinetic, 3N-3 dof)"),
-                           (axes[1], "kT_conf", "configurational kT (soft repulsion)")):
+    for ax, (key, label) in zip(axes.flat, panels):
         for name in _names(rows):
             ok = [row for row in _ok(rows, name) if math.isfinite(row[key])]
             if ok:
@@ -94,13 +99,14 @@ def _pareto_chart(rows, path, scene):
     styles = _styles(rows)
     floor = 1e-4  # the log axis needs a positive value
     for name in _names(rows):
-        ok = _ok(rows, name)
+        ok = [r for r in _ok(rows, name) if math.isfinite(r["cost_per_time"])]
         if not ok:
             continue
-        x = [r["cpu_s_per_time"] for r in ok]
+        x = [r["cost_per_time"] for r in ok]
         y = [max(r["kT_error"], floor) for r in ok]
         low = [min(r["kT_err"], yk - floor) for r, yk in zip(ok, y)]
-        ax.errorbar(x, y, yerr=[low, [r["kT_err"] for r in ok]], ms=4, capsize=2, label=name, **styles[name])
+        ax.errorbar(x, y, xerr=[r["cost_per_time_err"] for r in ok], yerr=[low, [r["kT_err"] for r in ok]], ms=4,
+                    capsize=2, label=name, **styles[name])
         hidden = [(xk, yk) for xk, yk, r in zip(x, y, ok) if below_noise_floor(r)]
         ax.plot([p[0] for p in hidden], [p[1] for p in hidden], ls="none", ms=7, mfc="white", **styles[name])
         ax.plot(x, [NOISE_FLOOR_SIGMAS * r["kT_err"] for r in ok], ls="none", marker="_", ms=12,
@@ -111,9 +117,10 @@ def _pareto_chart(rows, path, scene):
     ax.set_yscale("log")
     ax.axhline(0.01, color="k", lw=0.8, ls="--")
     for k, name in enumerate(_names(rows)):
-        _mark_unstable(ax, [(r["cpu_s_per_time"], r["kT_error"]) for r in _unstable(rows, name)
-                            if math.isfinite(r["cpu_s_per_time"])], styles[name], "unstable (x)" if k == 0 else None)
-    ax.set_xlabel("cost: CPU seconds per unit of simulated time")
+        _mark_unstable(ax, [(r["cost_per_time"], r["kT_error"]) for r in _unstable(rows, name)
+                            if math.isfinite(r["cost_per_time"])], styles[name], "unstable (x)" if k == 0 else None)
+    ax.set_xlabel("cost: LangevinMiddleIntegrator steps per unit of simulated time\n"
+                  "(step time / Langevin's, same System and dt, interleaved; divided by dt)")
     ax.set_ylabel(f"|<kT> - 1| ± 1 standard error (floored at {floor:g})")
     ax.set_title(f"Accuracy against cost, scene {scene} (lower left is better)")
     ax.legend(fontsize=7, ncol=2)
@@ -166,6 +173,31 @@ def _diffusion_chart(rows, path, scene):
     plt.close(fig)
 
 
+def _polymer_chart(rows, path, scene):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    styles = _styles(rows)
+    for name in _names(rows):
+        ok = [row for row in _ok(rows, name) if math.isfinite(row["Rg"])]
+        if ok:
+            axes[0].errorbar([r["dt"] for r in ok], [r["Rg"] for r in ok], yerr=[r["Rg_err"] for r in ok], ms=4,
+                             capsize=2, label=name, **styles[name])
+        done = [row for row in rows if row["integrator"] == name and math.isfinite(row["bond_max"])]
+        if done:
+            axes[1].plot([r["dt"] for r in done], [r["bond_max"] for r in done], label=name, **styles[name])
+    for ax, label in ((axes[0], "chain Rg, ± 1 standard error"), (axes[1], "longest bond over the run")):
+        if ax.lines:  # a log axis with nothing on it fails to draw
+            ax.set_xscale("log")
+        ax.set_xlabel("dt")
+        ax.set_ylabel(label)
+    axes[1].axhline(BOND_LIMIT, color="tab:red", lw=0.8, ls="--", label=f"limit {BOND_LIMIT:g}")
+    for ax in axes:
+        _legend(ax, fontsize=7, ncol=2)
+    fig.suptitle(f"The chain against time step, scene {scene} (left: stable runs; right: every run that finished)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def _stability_chart(rows, path, scene):
     names = _names(rows)
     fig, ax = plt.subplots(figsize=(7, 0.45 * len(names) + 1.5))
@@ -212,7 +244,10 @@ def _unstable_means(threshold):
             f"scene soft its configurational kT is within {CONF_KT_TOLERANCE:.0%} of 1 (`kT_conf`) and it has no "
             f"overlapping particles (`overlap`): its g(r < {CORE_RADIUS:g}) — pairs that overlap by "
             f"{1 - CORE_RADIUS:.0%}, at {0.5 * 25 * (1 - CORE_RADIUS) ** 2:g} kT of repulsion (a = 25) — is not more "
-            f"than {OVERLAP_EXCESS:g} above the median of the smallest dt's stable runs (about 0.02 in model B).")
+            f"than {OVERLAP_EXCESS:g} above the median of the smallest dt's stable runs (about 0.02 in model B); on "
+            f"scene polymer its chain <kT> is within {CHAIN_KT_TOLERANCE:.0%} of 1 (`chain_kT`) and no bond of the "
+            f"chain is ever, at a sample, longer than {BOND_LIMIT:g} (`bond`; a harmonic bond of k = 7, rest length 0, "
+            "has rms length 0.65 and passes 2.5 with probability 1e-8 per bond and sample).")
 
 
 def _conventions():
@@ -228,33 +263,77 @@ def _conventions():
 
 def _runs_table(rows):
     lines = ["| integrator | dt | status | <kT> | kT conf | g dev (ref) | g dev (1) | r1 | Nc(r1) | Nc(1.0) | "
-             "Nc(1.16) | D/D0 | chain kT | Rg | CPU s / time |", "|---" * 15 + "|"]
+             "Nc(1.16) | D/D0 | chain kT | Rg | longest bond | cost / Langevin step | CPU s / time |", "|---" * 17 + "|"]
     for row in rows:
         status = f"{row['status']} ({row['reason']})" if row["reason"] else row["status"]
         lines.append("| " + " | ".join([row["integrator"], _fmt(row["dt"]), status, _pm(row, "kT"), _pm(row, "kT_conf"),
                                         _fmt(row["g_dev_ref"], 2), _fmt(row["g_dev_ideal"], 2), _pm(row, "r1", 3),
                                         _pm(row, "Nc"), _pm(row, "Nc_1.0"), _pm(row, "Nc_1.16"),
                                         _fmt(row["D_ratio"], 3), _pm(row, "chain_kT"), _pm(row, "Rg"),
+                                        _fmt(row["bond_max"], 3), _pm(row, "cost_ratio", 3),
                                         _fmt(row["cpu_s_per_time"], 3)]) + " |")
     return lines
 
 
-def write_report(args, rows, r, g_of):
+def _setup(args, seconds):
+    stride, samples, frame_every = schedule(min(args.dts), args)
+    prepared = (f"the scene's random start after {args.prepare:g} units of time of LangevinMiddleIntegrator at dt "
+                "0.005" if args.prepare > 0 else "the scene's random start")
+    took = f" The whole run took {seconds:.0f} s (wall time)." if seconds is not None else ""
+    return (f"N = {args.particles}, gamma (or Gamma) = 4.5, rc = 1, kT = 1, platform {args.platform} with "
+            f"{args.threads} thread(s).{took} Every run starts from the same configuration, {prepared}; it "
+            f"equilibrates for {args.equilibrate:g} units of time with its own integrator and dt, then samples "
+            f"{args.time:g} units of time, whatever its dt: <kT> every {args.sample_every:g} (or every step), a frame "
+            f"(positions for the MSD, configurational kT) every {args.frame_every:g}, g(r) on {args.gr_frames} frames "
+            f"spread over the run (at the smallest dt: {samples * stride} steps, {samples} samples). Data: "
+            "`results.csv`.")
+
+
+def _cost_means(args, rows):
+    own = [row["cost_ratio"] for row in rows if row["integrator"] == "Langevin" and math.isfinite(row["cost_ratio"])]
+    errors = [row["cost_ratio_err"] / row["cost_ratio"] for row in rows if math.isfinite(row["cost_ratio_err"])]
+    noise = (f" Langevin timed against itself reads {min(own):.3g}–{max(own):.3g}: the ratio's own noise."
+             if own else "")
+    spread = (f" Relative standard errors of the ratios: median {100 * sorted(errors)[len(errors) // 2]:.1f} %, "
+              f"largest {100 * max(errors):.1f} %." if errors else "")
+    return ("Cost is a ratio, measured in the same run: the time of one step of the integrator over that of one "
+            "LangevinMiddleIntegrator step on the same System at the same dt, from the same state, in blocks of "
+            f"the same number of steps of each (about {args.cost_block:g} CPU s of the integrator), alternated "
+            f"{args.cost_repeats} times after a warm-up pair (CPU seconds); "
+            "the median of the per-pair ratios, ± its standard error from their median absolute deviation. Machine "
+            "noise slower than a pair of blocks cancels in each ratio, so the cost axis does not zigzag with the "
+            "load. The Pareto chart's cost is that ratio divided by dt: LangevinMiddleIntegrator steps per unit of "
+            "simulated time (Langevin at dt 0.01 costs 100). Raw seconds stay in `results.csv`: `cpu_s_per_time` and "
+            "`wall_s_per_time` of the sampled steps, `langevin_cpu_s_per_time` of the timed Langevin blocks."
+            + noise + spread)
+
+
+def _precision(rows):
+    errors = sorted((row["kT_err"], row["integrator"], row["dt"]) for row in rows
+                    if row["status"] == "ok" and math.isfinite(row["kT_err"]))
+    if not errors:
+        return ""
+    largest = errors[-1]
+    return (f"Precision: the standard error of <kT> of the {len(errors)} stable runs is {errors[0][0]:.4f}–"
+            f"{largest[0]:.4f} (median {errors[len(errors) // 2][0]:.4f}; largest: {largest[1]} at dt "
+            f"{largest[2]:g}).")
+
+
+def write_report(args, rows, r, g_of, seconds=None):
     out, scene = args.out, args.scene
-    charts = [("kT_vs_dt.png", "Kinetic and configurational temperature against time step", _kT_chart),
+    second = {"soft": " and configurational", "polymer": " and chain"}.get(scene, "")
+    charts = [("kT_vs_dt.png", f"Kinetic{second} temperature against time step", _kT_chart),
               ("error_vs_cost.png", "Accuracy against cost (the Pareto chart)", _pareto_chart),
               ("diffusion.png", "Tracer diffusion relative to the smallest dt", _diffusion_chart),
               ("stability.png", "Stability map", _stability_chart)]
+    if scene == "polymer":
+        charts.insert(1, ("polymer.png", "The chain: Rg and the longest bond", _polymer_chart))
     for filename, _, draw in charts:
         draw(rows, os.path.join(out, filename), scene)
     _gr_chart(rows, r, g_of, os.path.join(out, "gr.png"), scene)
-    charts.insert(2, ("gr.png", "Radial distribution functions", None))
-    lines = [f"# Integrator comparison on scene `{scene}`", "",
-             f"N = {args.particles}, {args.steps} sampled steps after {args.equilibrate} of equilibration, "
-             f"gamma (or Gamma) = 4.5, rc = 1, kT = 1, platform {args.platform} with {args.threads} thread(s). "
-             "Costs are CPU seconds of the integration steps alone, per unit of simulated time, "
-             "measured in this run. Data: `results.csv`.", "", _unstable_means(args.instability_threshold), "",
-             _conventions(), ""]
+    charts.insert(-2, ("gr.png", "Radial distribution functions", None))
+    lines = [f"# Integrator comparison on scene `{scene}`", "", _setup(args, seconds), "", _precision(rows), "",
+             _cost_means(args, rows), "", _unstable_means(args.instability_threshold), "", _conventions(), ""]
     lines += ["## Stability", "", "| integrator | largest stable dt | largest stable dt with \\|<kT>-1\\| < 1 % | "
               "smallest unstable dt: reason |", "|---|---|---|---|"]
     for name in _names(rows):
@@ -271,3 +350,63 @@ def write_report(args, rows, r, g_of):
         lines += [f"- {row['integrator']} at dt {row['dt']:g}: {row['status']}: {row['note']}" for row in notes]
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
+
+
+def _value(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def read_rows(path):
+    """The rows of a results.csv, numbers as floats."""
+    import csv
+    with open(path) as f:
+        return [{key: _value(value) for key, value in row.items()} for row in csv.DictReader(f)]
+
+
+def stability_map(tables, path):
+    """One stability map for several scenes: per integrator, a bar per scene to its largest
+    stable dt, and a cross at its smallest unstable dt labelled with the reason.
+    tables: {scene: rows}."""
+    names = list(dict.fromkeys(name for rows in tables.values() for name in _names(rows)))
+    height = 0.8 / len(tables)
+    fig, ax = plt.subplots(figsize=(8, 0.6 * len(names) * len(tables) / 2 + 1.5))
+    for s, (scene, rows) in enumerate(tables.items()):
+        offset = 0.4 - height * (s + 0.5)
+        for k, name in enumerate(names):
+            stable = stability(rows, name)[0]
+            ax.barh(k + offset, stable or 0, height=height * 0.9, color=f"C{s}", label=scene if k == 0 else None)
+            first = first_unstable(rows, name)
+            if first:
+                ax.plot(first[0], k + offset, marker="x", color=f"C{s}", ls="none")
+                ax.annotate(first[1], (first[0], k + offset), xytext=(4, -3), textcoords="offset points",
+                            fontsize=6, color=f"C{s}")
+    ax.set_yticks(range(len(names)))
+    ax.set_yticklabels(names)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlabel("dt: bar to the largest stable dt; x at the smallest unstable dt, with the reason")
+    ax.set_title("Stability map: " + ", ".join(tables))
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv=None):
+    """python3 -m openmmdpd.report OUT.png RESULTS.csv...: one stability map of several runs."""
+    import sys
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) < 2:
+        raise SystemExit(main.__doc__)
+    tables = {}
+    for path in argv[1:]:
+        rows = read_rows(path)
+        tables[rows[0]["scene"]] = rows
+    stability_map(tables, argv[0])
+
+
+if __name__ == "__main__":
+    main()

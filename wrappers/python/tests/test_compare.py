@@ -11,9 +11,8 @@ from openmmdpd import analysis, compare, report
 
 def test_compare_smoke_run(tmp_path):
     out = str(tmp_path / "cmp")
-    compare.main(["--scene", "soft", "--particles", "250", "--steps", "60", "--equilibrate", "150",
-                  "--stride", "10", "--frame-every", "2", "--dts", "0.02", "0.1", "3.0",
-                  "--integrators", "GW", "S1", "Lowe", "--threads", "1", "--out", out, "--quiet"])
+    compare.main(["--quick", "--dts", "0.02", "0.1", "3.0", "--integrators", "GW", "S1", "Lowe", "--threads", "1",
+                  "--out", out, "--quiet"])
     with open(os.path.join(out, "results.csv")) as f:
         reader = csv.DictReader(f)
         assert reader.fieldnames == compare.COLUMNS
@@ -32,6 +31,8 @@ def test_compare_smoke_run(tmp_path):
         assert row["status"] == "ok"
         assert 0.7 < float(row["kT"]) < 1.3
         assert float(row["cpu_s_per_time"]) > 0
+        assert float(row["cost_ratio"]) > 0 and float(row["cost_ratio_err"]) >= 0
+        assert float(row["cost_per_time"]) == pytest.approx(float(row["cost_ratio"]) / 0.02)
         for column in ("kT_err", "kT_conf_err", "r1_err", "Nc_err", "Nc_1.0_err", "Nc_1.16_err"):
             assert float(row[column]) > 0, column
         assert float(row["Nc_1.0"]) < float(row["Nc_1.16"])
@@ -41,6 +42,16 @@ def test_compare_smoke_run(tmp_path):
     assert "| GW | 0.02 | 0.02 |" in report or "| GW | 0.02 |" in report
     assert "above 40 kT" in report  # the instability sentinel is on by default
     assert "| Lowe | 0.1 | unstable (kT_conf) |" in report
+    assert "LangevinMiddleIntegrator steps per unit of simulated time" in report
+
+
+def test_quick_preset_sets_defaults_that_explicit_options_override(monkeypatch):
+    seen = {}
+    monkeypatch.setattr(compare, "compare", lambda args: seen.update(vars(args)) or [])
+    compare.main(["--quick", "--time", "7", "--out", "x"])
+    assert (seen["particles"], seen["time"], seen["dts"]) == (compare.QUICK["particles"], 7.0, compare.QUICK["dts"])
+    compare.main(["--out", "x"])
+    assert seen["particles"] == 2000 and seen["time"] > compare.QUICK["time"]
 
 
 def test_compare_records_a_transient_blow_up_as_unstable(tmp_path):
@@ -48,17 +59,20 @@ def test_compare_records_a_transient_blow_up_as_unstable(tmp_path):
     # transient event the run would otherwise go through and average over.
     def run(*extra):
         out = str(tmp_path / f"cmp{len(extra)}")
-        compare.main(["--scene", "polymer", "--particles", "500", "--steps", "200", "--equilibrate", "0",
-                      "--stride", "10", "--dts", "0.03", "--integrators", "GW", "--threads", "1", "--seed", "29",
-                      "--out", out, "--quiet", *extra])
+        compare.main(["--scene", "polymer", "--particles", "500", "--time", "6", "--equilibrate", "0", "--prepare", "0",
+                      "--sample-every", "0.3", "--dts", "0.03", "--integrators", "GW", "--threads", "1", "--seed", "29",
+                      "--cost-block", "0.01", "--cost-repeats", "2", "--out", out, "--quiet", *extra])
         with open(os.path.join(out, "results.csv")) as f:
             return next(csv.DictReader(f))
     row = run()
     assert row["status"] == "unstable" and "unstable at step 168: particle 14" in row["note"]
     assert row["reason"] == "sentinel"
+    # Without the sentinel the run goes through the event, and the polymer's own criteria catch it:
+    # its chain <kT> is 1.36 ± 0.22 and a bond reached 2.74.
     row = run("--instability-threshold", "0")
-    assert row["status"] == "ok"
+    assert row["steps"] == "200" and row["status"] == "unstable" and row["reason"] == "chain_kT"
     assert float(row["chain_kT_err"]) > 0 and float(row["Rg_err"]) > 0  # the polymer's own series
+    assert float(row["bond_max"]) > compare.BOND_LIMIT
 
 
 def test_help_describes_the_job_in_whole_sentences(capsys):
@@ -106,8 +120,9 @@ def test_coordination_number_at_a_fixed_radius_is_exact_on_the_ideal_gas():
     n, density, frames = 1000, 3.0, 40  # sigma(Nc(1.16)) = 0.03, 0.16 % of it
     length = (n / density) ** (1 / 3)
     rng = np.random.default_rng(3)
-    counts = [compare.pair_histogram(rng.uniform(0, length, (n, 3)), length) for _ in range(frames)]
-    r, g, shells = compare.shell_structure(counts, n, length)
+    r, frame_g = analysis.frame_radial_distributions(rng.uniform(0, length, (frames, n, 3)), length,
+                                                     *compare.g_r_range(length))
+    g, shells = compare.shell_structure(r, frame_g, density)
     for radius in compare.FIXED_RADII:
         p = 4 / 3 * np.pi * radius ** 3 / length ** 3
         sigma = 2 / (n - 1) * np.sqrt(n * (n - 1) / 2 * p * (1 - p) / frames)
@@ -128,8 +143,9 @@ def test_first_minimum_and_coordination_number_of_a_model_g():
 
 # --- stability --------------------------------------------------------------------------------
 
-def _row(dt=0.01, kT=1.0, kT_conf=1.0, g_core=0.02, name="GW"):
-    return dict(integrator=name, dt=dt, status="ok", reason="", note="", kT=kT, kT_conf=kT_conf, g_core=g_core)
+def _row(dt=0.01, kT=1.0, kT_conf=1.0, g_core=0.02, name="GW", chain_kT=1.0, bond_max=1.5):
+    return dict(integrator=name, dt=dt, status="ok", reason="", note="", kT=kT, kT_conf=kT_conf, g_core=g_core,
+                chain_kT=chain_kT, bond_max=bond_max)
 
 
 def test_each_stability_criterion_can_fail_a_run():
@@ -137,17 +153,20 @@ def test_each_stability_criterion_can_fail_a_run():
     assert compare.failure_reason("kinetic temperature 13.9 at step 10") == "blow-up"
     assert compare.failure_reason("GW: the simulation is unstable at step 168: particle 14 has kinetic energy "
                                   "41 kT, above the instability threshold 40 kT.") == "sentinel"
-    for kwargs, soft, reason in [(dict(kT=1.6), True, "kT"), (dict(kT=0.4), False, "kT"),
-                                 (dict(kT_conf=1.12), True, "kT_conf"), (dict(kT_conf=0.88), True, "kT_conf"),
-                                 (dict(kT_conf=1.12), False, ""), (dict(kT_conf=1.08), True, "")]:
+    for kwargs, scene, reason in [(dict(kT=1.6), "soft", "kT"), (dict(kT=0.4), "ideal", "kT"),
+                                  (dict(kT_conf=1.12), "soft", "kT_conf"), (dict(kT_conf=0.88), "soft", "kT_conf"),
+                                  (dict(kT_conf=1.12), "ideal", ""), (dict(kT_conf=1.08), "soft", ""),
+                                  (dict(chain_kT=1.12), "polymer", "chain_kT"), (dict(chain_kT=0.88), "polymer", "chain_kT"),
+                                  (dict(chain_kT=1.08, bond_max=2.4), "polymer", ""), (dict(chain_kT=1.2), "soft", ""),
+                                  (dict(bond_max=2.6), "polymer", "bond"), (dict(bond_max=2.6), "soft", "")]:
         row = _row(**kwargs)
-        compare.judge(row, soft)
+        compare.judge(row, scene)
         assert (row["status"], row["reason"]) == ("unstable" if reason else "ok", reason), kwargs
     # Overlap: against the median g(r < 0.2) of the smallest dt's stable runs (0.02, not the outlier 0.9).
     rows = [_row(g_core=0.02), _row(g_core=0.03, name="S1"), _row(g_core=0.9, name="Lowe"),
             _row(dt=0.1, g_core=0.2), _row(dt=0.1, g_core=0.4, name="S1"),
             _row(dt=0.15, g_core=1.0, name="Lowe", kT=2.0)]
-    compare.judge(rows[-1], True)
+    compare.judge(rows[-1], "soft")
     compare.judge_overlaps(rows)
     assert [row["reason"] for row in rows] == ["", "", "overlap", "", "overlap", "kT"]
 
@@ -155,3 +174,29 @@ def test_each_stability_criterion_can_fail_a_run():
 def test_points_under_three_standard_errors_are_below_the_noise_floor():
     assert report.below_noise_floor({"kT_error": 0.0059, "kT_err": 0.002})
     assert not report.below_noise_floor({"kT_error": 0.0061, "kT_err": 0.002})
+
+
+# --- cost and MSD -----------------------------------------------------------------------------
+
+def test_median_error_matches_the_spread_of_medians():
+    # 7 normal values per median, as the cost's 7 repeats: the error estimated from each draw's MAD against
+    # the true scatter of the medians over 20000 draws. The MAD of 7 values is biased low by about 9 %
+    # (the estimator is asymptotic); allowed 12 %. Without the factor 1.2533 it would read 27 % low.
+    rng = np.random.default_rng(5)
+    draws = rng.standard_normal((20000, 7))
+    truth = np.median(draws, axis=1).std()
+    estimated = np.mean([analysis.median_with_error(x)[1] for x in draws])
+    assert estimated == pytest.approx(truth, rel=0.12)
+    assert analysis.median_with_error([1.0, 2.0, 9.0])[0] == 2.0  # robust: the outlier does not move it
+
+
+def test_diffusion_of_a_random_walk_from_the_library_msd():
+    # Gaussian steps of variance s^2 per axis per frame: MSD(lag) = 3 s^2 lag exactly, D = s^2 / (2 frame time).
+    # sigma of D from 20 independent walks of 500 particles each (the test's own scatter).
+    rng = np.random.default_rng(6)
+    s, frame_time, frames = 0.2, 0.5, 40
+    estimates = [compare.diffusion(*analysis.mean_squared_displacement(
+        np.cumsum(rng.normal(0, s, (frames, 500, 3)), axis=0), frame_time)) for _ in range(20)]
+    sigma = np.std(estimates, ddof=1) / np.sqrt(len(estimates))
+    assert 0 < sigma < 0.01 * s ** 2 / (2 * frame_time)
+    assert abs(np.mean(estimates) - s ** 2 / (2 * frame_time)) < 3 * sigma
