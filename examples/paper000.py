@@ -6,10 +6,11 @@ to DPD-VV), ours next to the paper's, written to docs/results/paper000/.
     PYTHONPATH=build/python nice -n 10 /usr/bin/python3 examples/paper000.py [--quick] [--out DIR]
 
 Every run goes through the main job's run_one (openmmdpd.compare: the same observables, pymbar
-standard errors and strict stability criteria); the costs are one interleaved run of
-openmmdpd.bench's measure.  Results go to runs-SCENE.csv, gr-soft.csv and costs.csv; the charts
-and tables are drawn from those (--report-only: only that).  The tables in README.md are replaced between its
-"generated" markers; the text around them is written by hand.
+standard errors and strict stability criteria), all of a scene's from one start equilibrated with
+Langevin (compare.equilibrated_positions), each sampling the same simulated time; the costs are
+one interleaved run of openmmdpd.bench's measure.  Results go to runs-SCENE.csv, gr-soft.csv and
+costs.csv; the charts and tables are drawn from those (--report-only: only that).  The tables in
+README.md are replaced between its "generated" markers; the text around them is written by hand.
 """
 import argparse
 import csv
@@ -37,7 +38,8 @@ FIGURE = {"ideal": "Fig. 1", "soft": "Fig. 4", "polymer": "Fig. 7"}
 DTS = {"ideal": [0.01, 0.02, 0.05, 0.1, 0.2, 0.3],
        "soft": [0.005, 0.01, 0.02, 0.05, 0.075, 0.1, 0.15],
        "polymer": [0.005, 0.01, 0.02, 0.025, 0.03, 0.04]}
-EQUILIBRATION = 3.0     # time units before sampling (from random positions)
+PREPARE = 5.0           # time units of Langevin that equilibrate the one start of a scene's runs
+EQUILIBRATION = 3.0     # time units each run equilibrates from that start before sampling
 SAMPLE_TIME = {"ideal": 15.0, "soft": 15.0, "polymer": 20.0}
 SAMPLE_INTERVAL = 0.1   # time units between kT samples
 FRAME_INTERVAL = 0.75   # time units between g(r) and configurational-kT frames (model B only)
@@ -90,26 +92,40 @@ def factories(scene_name):
     return dict(made, **{"Lowe-paper": lowe_paper, "SC-VV6": sc_vv_six})
 
 
-def run_args(scene_name, dt, args):
-    """compare.run_one's settings for one run: times converted to steps at this dt."""
-    stride = max(1, round(SAMPLE_INTERVAL / dt))
-    samples = max(2, round(SAMPLE_TIME[scene_name] * args.scale / (stride * dt)))
-    frame_every = max(1, round(FRAME_INTERVAL / (stride * dt))) if scene_name == "soft" else samples + 1
+def run_args(scene_name, args):
+    """compare.run_one's settings for a scene's runs but gr_frames (see every_frame), times in
+    reduced units (compare.schedule turns them into steps at each dt).  Frames on model B
+    only: elsewhere one frame beyond the run, so none is taken but the MSD's origin.  run_one
+    also times every run against Langevin; Table VII comes from bench instead, so that timing
+    is kept as short as compare's --quick has it."""
+    sample_time = SAMPLE_TIME[scene_name] * args.scale
+    frame_every = FRAME_INTERVAL if scene_name == "soft" else 2 * sample_time
     return SimpleNamespace(platform="CPU", threads=args.threads, seed=args.seed,
                            instability_threshold=catalog.INSTABILITY_THRESHOLD, a=25.0,
-                           equilibrate=round(EQUILIBRATION * args.scale / dt), steps=samples * stride,
-                           stride=stride, frame_every=frame_every)
+                           prepare=PREPARE * args.scale, equilibrate=EQUILIBRATION * args.scale, time=sample_time,
+                           sample_every=SAMPLE_INTERVAL, frame_every=frame_every,
+                           cost_block=compare.QUICK["cost_block"], cost_repeats=compare.QUICK["cost_repeats"])
+
+
+def every_frame(dt, settings):
+    """settings with gr_frames = every frame a run at dt takes (the MSD's origin and one every
+    frame_every samples), so that g(r) averages all of them."""
+    _, samples, frame_every = compare.schedule(dt, settings)
+    return SimpleNamespace(**vars(settings), gr_frames=samples // frame_every + 1)
 
 
 def run_scene(scene_name, args):
-    """Every integrator at every dt of the scene: (compare's rows, strictly judged; {(name, dt): g(r)})."""
+    """Every integrator at every dt of the scene, all from one Langevin-equilibrated start:
+    (compare's rows, strictly judged; g(r)'s bin centres; {(name, dt): g(r)})."""
     scene = scenes.build_scene(scene_name, num_particles=args.particles)
     made = factories(scene_name)
+    settings = run_args(scene_name, args)
+    positions = compare.equilibrated_positions(scene, settings)
     rows, g_of = [], {}
     for name in NAMES:
         for dt in DTS[scene_name]:
             start = time.perf_counter()
-            row, g = compare.run_one(scene, name, made[name], dt, run_args(scene_name, dt, args))
+            row, g = compare.run_one(scene, positions, name, made[name], dt, every_frame(dt, settings))
             rows.append(row)
             if g is not None:
                 g_of[(name, dt)] = g
@@ -117,18 +133,13 @@ def run_scene(scene_name, args):
                   f"({time.perf_counter() - start:.0f} s)", file=sys.stderr, flush=True)
     if scene_name == "soft":
         compare.judge_overlaps(rows)
-    return rows, g_of
+    return rows, compare.g_r_centres(scene.system), g_of
 
 
-def bin_centres():
-    edges = np.linspace(0, compare.G_R_MAX, compare.G_BINS + 1)
-    return 0.5 * (edges[1:] + edges[:-1])
-
-
-def radius_for(g, nc, density=4.0):
-    """The radius R at which our g(r) gives Nc(R) = nc (Nc(R) grows monotonically)."""
+def radius_for(r, g, nc, density=4.0):
+    """The radius R at which our g(r) (bin centres r) gives Nc(R) = nc (Nc(R) grows monotonically)."""
     radii = np.linspace(0.9, 1.5, 601)
-    return float(np.interp(nc, compare.coordination_at(bin_centres(), np.array(g)[None, :], radii[:, None], density),
+    return float(np.interp(nc, compare.coordination_at(np.asarray(r), np.array(g)[None, :], radii[:, None], density),
                            radii))
 
 
@@ -160,23 +171,24 @@ def read_csv(path):
         return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(f)]
 
 
-def write_gr(path, g_of):
+def write_gr(path, r, g_of):
     keys = sorted(g_of)
     with open(path, "w", newline="") as f:
         writer = csv.writer(f)
         writer.writerow(["r"] + [f"{name} dt={dt:g}" for name, dt in keys])
-        for k, r in enumerate(bin_centres()):
-            writer.writerow([f"{r:.4f}"] + [f"{g_of[key][k]:.5f}" for key in keys])
+        for k, rk in enumerate(r):
+            writer.writerow([f"{rk:.4f}"] + [f"{g_of[key][k]:.5f}" for key in keys])
 
 
 def read_gr(path):
+    """(bin centres, {(name, dt): g(r)}) from write_gr's file; (None, {}) without one."""
     if not os.path.exists(path):
-        return {}
+        return None, {}
     with open(path, newline="") as f:
         table = list(csv.reader(f))
     columns = list(zip(*[[float(x) for x in row] for row in table[1:]]))
     keys = [(head.split(" dt=")[0], float(head.split(" dt=")[1])) for head in table[0][1:]]
-    return dict(zip(keys, columns[1:]))
+    return columns[0], dict(zip(keys, columns[1:]))
 
 
 def _finite(x):
@@ -244,7 +256,7 @@ def kt_table(rows, scene_name):
     return lines
 
 
-def table_vi(rows, g_of):
+def table_vi(rows, r, g_of):
     """Nc ours at r = 1.16 and at our r1, the paper's (to its r1), at the paper's dts; and the radius
     at which our g(r) gives the paper's Nc (its r1, if the structures agree)."""
     lines = ["| integrator | dt | paper Nc (r1) | ours Nc(1.16) | ours - paper | ours Nc(r1) | our r1 | "
@@ -259,7 +271,7 @@ def table_vi(rows, g_of):
             ours = row.get("Nc_1.16")
             diff = f"{ours - paper:+.2f}" if paper is not None and _finite(ours) else ""
             g = g_of.get((name, dt))
-            radius = f"{radius_for(g, paper):.3f}" if paper is not None and g is not None else ""
+            radius = f"{radius_for(r, g, paper):.3f}" if paper is not None and g is not None else ""
             lines.append(f"| {name} | {dt:g} | {'' if paper is None else f'{paper:.2f} ± 0.05'} | "
                          f"{_pm(row, 'Nc_1.16', 2)}{status} | {diff} | {_pm(row, 'Nc', 2)} | {_pm(row, 'r1', 3)} | "
                          f"{radius} |")
@@ -283,17 +295,27 @@ def table_vii(costs):
     return lines
 
 
-def generated_tables(runs, g_of, costs, args):
+def started_from(runs, args):
+    """Where the runs started: compare's Langevin-equilibrated start, or, for CSVs written
+    before compare timed every run against Langevin (no cost_ratio column), random positions."""
+    if all("cost_ratio" in rows[0] for rows in runs.values() if rows):
+        return (f"one start per scene equilibrated by {PREPARE * args.scale:g} time units of Langevin "
+                f"(dt {compare.PREPARE_DT:g})")
+    return "the scene's random positions (the script before compare's API change, commit e3462f6)"
+
+
+def generated_tables(runs, gr, costs, args):
     lines = [f"Made by `examples/paper000.py`; N = {args.particles}, CPU platform, "
              f"{args.threads} thread(s), seed {args.seed}; per run {EQUILIBRATION * args.scale:g} time units of "
-             f"equilibration, then {SAMPLE_TIME['soft'] * args.scale:g} (models A, B) or "
+             f"equilibration from {started_from(runs, args)}, then "
+             f"{SAMPLE_TIME['soft'] * args.scale:g} (models A, B) or "
              f"{SAMPLE_TIME['polymer'] * args.scale:g} (polymer) sampled, kT every {SAMPLE_INTERVAL:g}, "
              f"g(r) and configurational kT every {FRAME_INTERVAL:g} (model B). Errors: one standard error "
              "(pymbar's statistical inefficiency). Lowe-paper: Lowe at the paper's Gamma "
              f"({PAPER_LOWE_GAMMA['ideal']:g} in model A and the polymer, {PAPER_LOWE_GAMMA['soft']:g} in model B); "
              "Lowe and Lowe-mid: Gamma = 4.5, as everywhere in this project.", ""]
     if "soft" in runs:
-        lines += ["### Table VI: coordination number Nc, model B", ""] + table_vi(runs["soft"], g_of) + [""]
+        lines += ["### Table VI: coordination number Nc, model B", ""] + table_vi(runs["soft"], *gr) + [""]
     if costs:
         lines += [f"### Table VII: cost per step, model B, N = {args.particles}, dt = 0.05", "",
                   f"Ours: one interleaved run of `openmmdpd.bench.measure`, best of {args.repeats} "
@@ -335,10 +357,10 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     start = time.perf_counter()
     for scene_name in [] if args.report_only else args.scenes:
-        rows, g_of = run_scene(scene_name, args)
+        rows, r, g_of = run_scene(scene_name, args)
         write_csv(os.path.join(args.out, f"runs-{scene_name}.csv"), rows, compare.COLUMNS)
         if g_of:
-            write_gr(os.path.join(args.out, f"gr-{scene_name}.csv"), g_of)
+            write_gr(os.path.join(args.out, f"gr-{scene_name}.csv"), r, g_of)
     cost_path = os.path.join(args.out, "costs.csv")
     if not (args.no_costs or args.report_only):
         costs = measure_costs(args)
@@ -350,8 +372,8 @@ def main():
         draw_scene(rows, scene_name, args.out)
     costs = ({row["integrator"]: row["s_per_step"] for row in read_csv(cost_path)}
              if os.path.exists(cost_path) else {})
-    g_of = read_gr(os.path.join(args.out, "gr-soft.csv"))
-    write_readme(os.path.join(args.out, "README.md"), generated_tables(runs, g_of, costs, args))
+    gr = read_gr(os.path.join(args.out, "gr-soft.csv"))
+    write_readme(os.path.join(args.out, "README.md"), generated_tables(runs, gr, costs, args))
     print(f"done in {time.perf_counter() - start:.0f} s; {args.out}/README.md", file=sys.stderr)
 
 
