@@ -67,6 +67,12 @@ def g_r_range(length):
     return bins * G_BIN, bins
 
 
+def g_r_centres(system):
+    """The centres of the g(r) bins of run_one in the system's box (see g_r_range)."""
+    r_max, bins = g_r_range(_box_length(system))
+    return (np.arange(bins) + 0.5) * (r_max / bins)
+
+
 def coordination_at(r, g, radius, density):
     """Nc(R) = 4 pi rho int_0^R g r^2 dr, g constant within each bin (so the ideal gas gives
     exactly 4/3 pi R^3 rho); g may hold one row per frame (one Nc per row)."""
@@ -432,8 +438,7 @@ def compare(args):
     if scene.name == "soft":
         judge_overlaps(rows)
     _deviations(rows, names, g_of)
-    r_max, bins = g_r_range(_box_length(scene.system))
-    r = (np.arange(bins) + 0.5) * (r_max / bins)
+    r = g_r_centres(scene.system)
     _write_csvs(args.out, rows, r, g_of)
     from .report import write_report
     write_report(args, rows, r, g_of, time.perf_counter() - began)
