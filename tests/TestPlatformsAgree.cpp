@@ -5,6 +5,7 @@
 // with their own type-pair parameters, and a triclinic box.
 
 #include "TestHelpers.h"
+#include "TestSchemes.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/DenOtterClarkeIntegrator.h"
@@ -71,67 +72,7 @@ DPDThermostatIntegrator* withTypes(DPDThermostatIntegrator* integrator) {
     return integrator;
 }
 
-DPDThermostatIntegrator* dpdvv(DPDVVIntegrator::Variant variant, double lambda) {
-    DPDVVIntegrator* integrator = new DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, DT);
-    integrator->setVariant(variant);
-    integrator->setLambda(lambda);
-    return integrator;
-}
-
-DPDThermostatIntegrator* shardlow(int order) {
-    ShardlowIntegrator* integrator = new ShardlowIntegrator(KT_KELVIN, 4.5, 1.0, DT);
-    integrator->setOrder(order);
-    return integrator;
-}
-
-DPDThermostatIntegrator* lowe(LoweAndersenIntegrator::Method method,
-                              LoweAndersenIntegrator::Splitting splitting = LoweAndersenIntegrator::AfterVerlet) {
-    LoweAndersenIntegrator* integrator = new LoweAndersenIntegrator(KT_KELVIN, 4.5, 1.0, DT);
-    integrator->setMethod(method);
-    integrator->setSplitting(splitting);
-    return integrator;
-}
-
-DPDThermostatIntegrator* edpd(EDPDIntegrator::Scheme scheme) {
-    EDPDIntegrator* integrator = new EDPDIntegrator(KT_KELVIN, 4.5, 1.0, 10.0, DT);
-    integrator->setScheme(scheme);
-    return integrator;
-}
-
-DPDThermostatIntegrator* denOtterClarke() {
-    // Model B's averages (paper 000 Table III)
-    DenOtterClarkeIntegrator* integrator = new DenOtterClarkeIntegrator(KT_KELVIN, 4.5, 1.0, DT);
-    integrator->setAverageFDDotV(-4.985245);
-    integrator->setAverageFDDotFD(14.507340);
-    integrator->setAverageFRDotFR(9.976453);
-    return integrator;
-}
-
-struct Scheme {
-    std::string name;
-    std::function<DPDThermostatIntegrator*()> make;
-    bool uniformMasses = false;  // the integrator takes one mass only
-};
-
-void PrintTo(const Scheme& scheme, std::ostream* out) {
-    *out << scheme.name;
-}
-
-const std::vector<Scheme> SCHEMES = {
-    {"GW-0.5", [] { return dpdvv(DPDVVIntegrator::GrootWarren, 0.5); }},
-    {"GW-0.65", [] { return dpdvv(DPDVVIntegrator::GrootWarren, 0.65); }},
-    {"DPD-VV", [] { return dpdvv(DPDVVIntegrator::DPDVV, 0.5); }},
-    {"SC-VV", [] { return dpdvv(DPDVVIntegrator::SelfConsistent, 0.5); }},
-    {"S1", [] { return shardlow(1); }},
-    {"S2", [] { return shardlow(2); }},
-    {"Lowe", [] { return lowe(LoweAndersenIntegrator::Lowe); }},
-    {"PairOU", [] { return lowe(LoweAndersenIntegrator::PairOrnsteinUhlenbeck); }},
-    {"Lowe-mid", [] { return lowe(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle); }},
-    {"PairOU-mid", [] { return lowe(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle); }},
-    {"EDPD-OneSided", [] { return edpd(EDPDIntegrator::OneSided); }},
-    {"EDPD-Symmetric", [] { return edpd(EDPDIntegrator::Symmetric); }},
-    {"OC", denOtterClarke, true},
-};
+const std::vector<Scheme> SCHEMES = schemesAt(DT);
 
 
 struct Simulation {

@@ -4,6 +4,15 @@
 #include "openmm/internal/ContextImpl.h"
 #include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/System.h"
+#include "openmm/CMMotionRemover.h"
+#include "openmm/CustomBondForce.h"
+#include "openmm/CustomAngleForce.h"
+#include "openmm/CustomTorsionForce.h"
+#include "openmm/CustomCompoundBondForce.h"
+#include "openmm/HarmonicAngleForce.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/PeriodicTorsionForce.h"
+#include "openmm/RBTorsionForce.h"
 #include <algorithm>
 #include <cmath>
 
@@ -66,6 +75,40 @@ void DPDThermostatIntegrator::setInstabilityThreshold(double factor) {
     parametersVersion++;
 }
 
+void DPDThermostatIntegrator::setShearRate(double rate) {
+    require(std::isfinite(rate), name + ": shearRate must be a finite number (1/ps), got " + numberText(rate));
+    shearRate = rate;
+    parametersVersion++;
+}
+
+namespace {
+
+/** Forces that act within molecules, which the shear wraps as a whole: they need not be periodic. */
+bool isBondedOrInert(const OpenMM::Force& force) {
+    return dynamic_cast<const OpenMM::HarmonicBondForce*>(&force) || dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force) ||
+           dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&force) || dynamic_cast<const OpenMM::RBTorsionForce*>(&force) ||
+           dynamic_cast<const OpenMM::CustomBondForce*>(&force) || dynamic_cast<const OpenMM::CustomAngleForce*>(&force) ||
+           dynamic_cast<const OpenMM::CustomTorsionForce*>(&force) ||
+           dynamic_cast<const OpenMM::CustomCompoundBondForce*>(&force) || dynamic_cast<const OpenMM::CMMotionRemover*>(&force);
+}
+
+} // namespace
+
+void DPDThermostatIntegrator::validateShear(const OpenMM::System& system) const {
+    const std::string under = name + ": under shear (shearRate " + numberText(shearRate) + " /ps) ";
+    require(system.usesPeriodicBoundaryConditions(), under + "the System must be periodic");
+    OpenMM::Vec3 a, b, c;
+    system.getDefaultPeriodicBoxVectors(a, b, c);
+    require(c[0] == 0 && c[1] == 0, under + "the third box vector must be (0, 0, Lz): the boundary slides along x only");
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& force = system.getForce(k);
+        require(force.usesPeriodicBoundaryConditions() || isBondedOrInert(force),
+                under + "every Force must use periodic boundary conditions or be a bonded force (its molecule is wrapped "
+                "as a whole); Force " + std::to_string(k) + " of the System is neither (a barostat, a non-periodic "
+                "nonbonded or external force)");
+    }
+}
+
 void DPDThermostatIntegrator::setStepSize(double size) {
     checkStepSize(size);
     OpenMM::Integrator::setStepSize(size);
@@ -86,6 +129,8 @@ void DPDThermostatIntegrator::validate(const OpenMM::System& system) const {
         system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
         requireCutoffFitsBox(name, "the thermostat cutoff", getMaxCutoff(), box);
     }
+    if (shearRate != 0)
+        validateShear(system);
 }
 
 void DPDThermostatIntegrator::initialize(OpenMM::ContextImpl& contextRef) {

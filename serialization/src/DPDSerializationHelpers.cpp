@@ -12,6 +12,7 @@ void DPDPlugin::serializeThermostatParameters(const DPDThermostatIntegrator& int
     node.setIntProperty("randomSeed", integrator.getRandomNumberSeed());
     node.setIntProperty("integrationForceGroups", integrator.getIntegrationForceGroups());
     node.setDoubleProperty("instabilityThreshold", integrator.getInstabilityThreshold());
+    node.setDoubleProperty("shearRate", integrator.getShearRate());
     serializeTypeTable(integrator, node, "friction");
 }
 
@@ -20,5 +21,7 @@ void DPDPlugin::deserializeThermostatParameters(const SerializationNode& node, D
     integrator.setIntegrationForceGroups(node.getIntProperty("integrationForceGroups"));
     // XML written before the sentinel existed has no threshold: off, as it was.
     integrator.setInstabilityThreshold(node.getDoubleProperty("instabilityThreshold", 0.0));
+    // XML written before shear existed has none.
+    integrator.setShearRate(node.getDoubleProperty("shearRate", 0.0));
     deserializeTypeTable(node, integrator, "friction");
 }

@@ -172,6 +172,9 @@ def _arg(self, method, name, value, target_unit):
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setDefaultFriction %{
     friction = _arg(self, "setDefaultFriction", "defaultFriction", friction, _RATE)
 %}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::setShearRate %{
+    rate = _arg(self, "setShearRate", "shearRate", rate, _RATE)
+%}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setDefaultCutoff %{
     cutoff = _arg(self, "setDefaultCutoff", "defaultCutoff", cutoff, _NM)
 %}
@@ -217,6 +220,9 @@ def _arg(self, method, name, value, target_unit):
     val = _unit.Quantity(val, _unit.kelvin)
 %}
 %pythonappend DPDPlugin::DPDThermostatIntegrator::getDefaultFriction %{
+    val = _unit.Quantity(val, _unit.picosecond**-1)
+%}
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getShearRate %{
     val = _unit.Quantity(val, _unit.picosecond**-1)
 %}
 %pythonappend DPDPlugin::DPDThermostatIntegrator::getDefaultCutoff %{

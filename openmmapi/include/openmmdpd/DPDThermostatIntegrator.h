@@ -122,13 +122,32 @@ public:
      * @param factor  the threshold as a multiple of kT, >= 0 (0 turns the check off)
      */
     void setInstabilityThreshold(double factor);
+    /** Get the shear rate of the Lees-Edwards boundaries (1/ps; 0, the default, means no shear). */
+    double getShearRate() const { return shearRate; }
+    /**
+     * Shear the System with Lees-Edwards boundaries (algorithms.md section 8): flow along x,
+     * gradient along y, the image above the box sliding at U = rate Ly along x.  The sliding
+     * image is the Context's triclinic box b = (offset, Ly, 0): every step advances the offset
+     * by U times the time drifted (reduced to OpenMM's range |offset| <= Lx/2), so every
+     * periodic OpenMM Force works unchanged.  The integrator owns the rest: a molecule
+     * whose centre leaves through y = Ly (or 0) re-enters through the other side, shifted by
+     * -b (+b) and with its x velocity lowered (raised) by U, and every thermostat pair
+     * across the boundary sees its partner's image moving at +-U.  Velocities stay those of
+     * the lab frame (computeKineticEnergy() included); the streaming velocity at height y is
+     * rate (y - Ly/2).  Needs a periodic System whose third box vector is (0, 0, Lz) and whose
+     * Forces are periodic or bonded (a bonded force sees its molecule wrapped as a whole).
+     * Takes effect on a live Context at the next step.
+     *
+     * @param rate  the shear rate (1/ps), finite; its sign sets the direction of the flow
+     */
+    void setShearRate(double rate);
     /** The largest thermostat cutoff over the defaults and all type pairs (nm). */
     double getMaxCutoff() const { return types.getMaxCutoff(defaultCutoff); }
     /** The largest friction over the defaults and all type pairs (1/ps). */
     double getMaxFriction() const { return types.getMaxValue(defaultFriction); }
     /**
      * Changes whenever a thermostat parameter does (temperature, friction, cutoffs, types,
-     * type pairs, the instability threshold): the step kernels take such changes into a live
+     * type pairs, the instability threshold, the shear rate): the step kernels take such changes into a live
      * Context at the next step.
      */
     int getThermostatParametersVersion() const { return parametersVersion; }
@@ -167,8 +186,10 @@ private:
     void checkFriction(double friction) const;
     void checkCutoff(double cutoff) const;
     void checkStepSize(double size) const;
+    /** Under shear: a periodic System with c = (0, 0, Lz) whose Forces are periodic or bonded. */
+    void validateShear(const OpenMM::System& system) const;
     std::string name;
-    double temperature, defaultFriction, defaultCutoff, instabilityThreshold = 0;
+    double temperature, defaultFriction, defaultCutoff, instabilityThreshold = 0, shearRate = 0;
     int randomNumberSeed, parametersVersion = 0, seedVersion = 0;
     ParticleTypeTable types;
     OpenMM::Kernel kernel;

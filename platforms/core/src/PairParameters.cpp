@@ -51,7 +51,8 @@ TypePairTable thermostatTable(const OpenMM::System& system, const DPDThermostatI
 
 DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) :
         table(thermostatTable(system, integrator)), kT(BOLTZMANN_KJ_PER_MOL_K * integrator.getTemperature()),
-        instabilityThreshold(integrator.getInstabilityThreshold()) {
+        instabilityThreshold(integrator.getInstabilityThreshold()),
+        shearRate(integrator.getShearRate()) {
     const int n = system.getNumParticles();
     mass.resize(n);
     invMass.resize(n);

@@ -45,6 +45,8 @@ void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {
 void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
     checkCutoffFitsBox(box);
     search.build(positions, box);
+    searched = &positions;
+    searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
     // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
@@ -69,7 +71,7 @@ void DPDThermostatForces::findWorkerPairs(int w) {
     for (size_t cell = begin; cell < end; cell++) {
         cellPairStart[cell] = (int) out.size();  // local offset, made global by copyWorkerPairs
         search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
-            if (parameters.pairGeometry(i, j, d, g))
+            if (parameters.pairGeometry(i, j, d, g, imageVelocityX(i, j, d)))
                 out.push_back(g);
         });
     }
@@ -148,6 +150,8 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
                                            const std::vector<Vec3>* base, std::vector<Vec3>& out) {
     checkCutoffFitsBox(box);
     search.build(positions, box);
+    searched = &positions;
+    searchedHeight = box[1][1];
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     sortedVelocities.resize(sortedIndex.size());
     if (sortedIndex.size() < out.size())  // particles outside the thermostat get no pair force
@@ -184,6 +188,7 @@ namespace {
  * per worker: its scratch arrays are set up once, not per block (a Vec3 zeroes itself).
  */
 struct DPDSlotForces {
+    const DPDThermostatForces& thermostat;
     const DPDPairParameters& parameters;
     const PairRandom& random;
     const std::vector<int>& sortedIndex;
@@ -201,7 +206,7 @@ struct DPDSlotForces {
         int n = 0;
         for (int k = 0; k < count; k++) {
             const int j = sortedIndex[q[k]];
-            if (parameters.pairGeometry(i, j, d[k], g[n])) {
+            if (parameters.pairGeometry(i, j, d[k], g[n], thermostat.imageVelocityX(i, j, d[k]))) {
                 slots[n] = q[k];
                 first[n] = i;
                 second[n++] = j;
@@ -211,7 +216,7 @@ struct DPDSlotForces {
         PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
         PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
         for (int k = 0; k < n; k++) {
-            forces[k] = DPDPairForce::dissipative(g[k], sortedVelocities[p] - sortedVelocities[slots[k]]) +
+            forces[k] = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[slots[k]])) +
                         DPDPairForce::random(g[k], xi[k], invSqrtDt);
             if (soft != nullptr)
                 forces[k] += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
@@ -224,7 +229,7 @@ struct DPDSlotForces {
 
 void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
     std::unique_ptr<DPDSlotForces> evaluate(
-            new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, soft, step, 1 / std::sqrt(dt)});
+            new DPDSlotForces{*this, parameters, random, search.getSortedIndex(), sortedVelocities, soft, step, 1 / std::sqrt(dt)});
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, workerDissipative[w]);
 }
 

@@ -15,7 +15,7 @@ PairDynamics::PairDynamics(const OpenMM::System& system, const DPDThermostatInte
                            int cellMultiple) :
         name(integrator.className()), executor(executor), thermostat(system, integrator, executor, cellMultiple),
         carried(system.getNumParticles()), force(carried.force), conservative(system.getNumParticles()),
-        workerSums(executor.getNumWorkers()), motion(system) {
+        workerSums(executor.getNumWorkers()), motion(system), shear(system) {
 }
 
 void PairDynamics::checkFinite(const std::vector<Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,

@@ -13,7 +13,7 @@ ReferenceDynamics::ReferenceDynamics(const OpenMM::System& system, const DPDTher
         random(PairRandom::seedFor(integrator.getRandomNumberSeed())),
         carried(system.getNumParticles()),
         pairList(parameters.getActive(), parameters.getMaxCutoff(), system.usesPeriodicBoundaryConditions(), cellMultiple),
-        cellMultiple(cellMultiple), motion(system) {
+        cellMultiple(cellMultiple), motion(system), shear(system) {
 }
 
 void ReferenceDynamics::updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
@@ -27,10 +27,11 @@ std::vector<PairGeometry> ReferenceDynamics::findPairs(OpenMM::ContextImpl& cont
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     if (context.getSystem().usesPeriodicBoundaryConditions())
         requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), box);
+    const std::vector<Vec3>& r = *data(context).positions;
     std::vector<PairGeometry> pairs;
     PairGeometry g;
-    for (const ReferencePair& p : pairList.find(*data(context).positions, box))
-        if (parameters.pairGeometry(p.i, p.j, p.d, g))
+    for (const ReferencePair& p : pairList.find(r, box))
+        if (parameters.pairGeometry(p.i, p.j, p.d, g, parameters.imageVelocityX(r[p.i][1] - r[p.j][1], p.d[1], box[1][1])))
             pairs.push_back(g);
     return pairs;
 }
@@ -44,7 +45,7 @@ std::vector<Vec3> ReferenceDynamics::conservativeForce(OpenMM::ContextImpl& cont
 
 void ReferenceDynamics::addDissipative(const std::vector<PairGeometry>& pairs, const std::vector<Vec3>& v, std::vector<Vec3>& out) const {
     for (const PairGeometry& p : pairs) {
-        const Vec3 f = DPDPairForce::dissipative(p, v[p.i] - v[p.j]);
+        const Vec3 f = DPDPairForce::dissipative(p, p.relativeVelocity(v[p.i], v[p.j]));
         out[p.i] += f;
         out[p.j] -= f;
     }
@@ -71,6 +72,7 @@ void ReferenceDynamics::movePositions(OpenMM::ContextImpl& context, const std::v
     checkFinite(r, "position", step, name);
     checkMove(maxMove2, parameters.getMaxCutoff(), step, name);
     motion.finishDrift(context, dt, alsoCorrect);
+    shear.slide(context, parameters.getShearRate(), dt, r, *data(context).velocities, alsoCorrect);
 }
 
 double ReferenceDynamics::sumMV2(const std::vector<Vec3>& v) const {

@@ -13,9 +13,11 @@ same inner step dt (speed-up against K = 1) and the chain and total <kT> error:
     /usr/bin/python3 -m openmmdpd.bench --staggered [--chain-lengths 20 100] [--sub-steps 1 2 5 10 20]
 
 --sentinel instead measures what the instability sentinel costs: GW (lambda 0.5) with the
-threshold off and at INSTABILITY_THRESHOLD, alternated --repeats times, medians side by side:
+threshold off and at INSTABILITY_THRESHOLD, alternated --repeats times, medians side by side;
+--shear RATE likewise what Lees-Edwards shear costs each of --integrators:
 
     /usr/bin/python3 -m openmmdpd.bench --sentinel --sizes 32000 --threads 1 --repeats 9
+    /usr/bin/python3 -m openmmdpd.bench --shear 0.1 --integrators GW S1 --sizes 32000 --threads 1 --repeats 9
 """
 import argparse
 import statistics
@@ -165,26 +167,38 @@ def measure_staggered(args):
     return rows
 
 
-def measure_sentinel(n, threads, args):
-    """GW steps/s with the sentinel off and on, alternated: (median off, median on, median of
-    the per-round cost on/off - 1).  Medians, since the two differ by less than the noise."""
+def measure_paired(n, threads, args, name, change):
+    """Integrator `name` as is and with change(integrator) applied, alternated: (median
+    steps/s as is, median changed, median of the per-round cost changed/as-is - 1).
+    Medians, since the two may differ by less than the noise."""
     platform = openmm.Platform.getPlatformByName("CPU")
     scene = soft_scene(num_particles=n)
     runs = []
-    for threshold in (0.0, INSTABILITY_THRESHOLD):
-        integrator = integrators()["GW"](args.dt)
-        integrator.setInstabilityThreshold(threshold)
+    for changed in (False, True):
+        integrator = integrators()[name](args.dt)
+        if changed:
+            change(integrator)
         context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})
         context.setPositions(scene.positions)
         context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
         rate = steps_per_second(integrator, args.warmup)
         runs.append((context, integrator, args.steps or max(5, round(rate * args.seconds))))
-    off, on = [], []
+    plain, changed = [], []
     for _ in range(args.repeats):
-        for rates, (_, integrator, steps) in zip((off, on), runs):
+        for rates, (_, integrator, steps) in zip((plain, changed), runs):
             rates.append(steps_per_second(integrator, steps))
-    cost = statistics.median(a / b - 1 for a, b in zip(off, on))
-    return statistics.median(off), statistics.median(on), cost
+    cost = statistics.median(a / b - 1 for a, b in zip(plain, changed))
+    return statistics.median(plain), statistics.median(changed), cost
+
+
+def print_paired(args, title, names, columns, change):
+    print(title)
+    print(f"{'integrator':>10} {'N':>6} {'threads':>7}  {columns[0]:>14} {columns[1]:>14}  {'cost':>8}")
+    for name in names:
+        for n in args.sizes:
+            for threads in args.threads:
+                plain, changed, cost = measure_paired(n, threads, args, name, change)
+                print(f"{name:>10} {n:>6} {threads:>7}  {plain:>14.2f} {changed:>14.2f}  {100 * cost:>+7.2f}%")
 
 
 def print_staggered_table(rows, args):
@@ -224,6 +238,8 @@ def main(argv=None):
                         help="also compare DPDSoftRepulsionForce with the same CustomNonbondedForce")
     parser.add_argument("--sentinel", action="store_true",
                         help="measure GW with the instability sentinel off and on instead")
+    parser.add_argument("--shear", type=float, default=0.0, metavar="RATE",
+                        help="measure --integrators unsheared and sheared at RATE (1/ps) instead")
     parser.add_argument("--staggered", action="store_true",
                         help="measure StaggeredDPDIntegrator on fene-chains instead (see the module help)")
     parser.add_argument("--chain-lengths", type=int, nargs="+", default=[20, 100], help="--staggered: M")
@@ -241,13 +257,14 @@ def main(argv=None):
         return
 
     if args.sentinel:
-        print(f"scene soft, GW (lambda 0.5), CPU platform, dt={args.dt:g}; instability threshold 0 (off) and "
-              f"{INSTABILITY_THRESHOLD:g} kT alternated, medians of {args.repeats}")
-        print(f"{'N':>6} {'threads':>7}  {'steps/s off':>11} {'steps/s on':>10}  {'cost of the sentinel':>20}")
-        for n in args.sizes:
-            for threads in args.threads:
-                off, on, cost = measure_sentinel(n, threads, args)
-                print(f"{n:>6} {threads:>7}  {off:>11.2f} {on:>10.2f}  {100 * cost:>+19.2f}%")
+        print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; instability threshold 0 (off) and "
+                     f"{INSTABILITY_THRESHOLD:g} kT alternated, medians of {args.repeats}", ["GW"],
+                     ("steps/s off", "steps/s on"), lambda i: i.setInstabilityThreshold(INSTABILITY_THRESHOLD))
+        return
+    if args.shear:
+        print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; no shear and Lees-Edwards shear at rate "
+                     f"{args.shear:g}/ps alternated, medians of {args.repeats}", args.integrators,
+                     ("steps/s", "steps/s sheared"), lambda i: i.setShearRate(args.shear))
         return
 
     catalog = integrators("soft")  # with den Otter-Clarke ("OC") at paper 000's model B averages

@@ -118,10 +118,10 @@ struct ShardlowPairUpdate {
         const double noise = p.sigmaWR * normal(p) * std::sqrt(h);
         const double friction = p.gammaWD * h;
         // explicit half
-        double u = p.e.dot(v[p.i] - v[p.j]);
+        double u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
         impulse.apply(p, 0.5 * (noise - friction * u), v);
         // implicit half, with u after the explicit one
-        u = p.e.dot(v[p.i] - v[p.j]);
+        u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
         const double mu = 1 / inverseMu;
         impulse.apply(p, 0.5 * (noise - friction * u) / (1 + friction / (2 * mu)), v);
     }
@@ -145,7 +145,7 @@ struct LowePairUpdate {
             return;
         const double xi = PairRandom::boxMuller(bits);
         const double mu = 1 / inverseMu;
-        const double u = p.e.dot(v[p.i] - v[p.j]);
+        const double u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
         impulse.apply(p, mu * (xi * std::sqrt(kT / mu) - u), v);
     }
 };
@@ -166,7 +166,7 @@ struct PairOrnsteinUhlenbeckUpdate {
             return;
         const double mu = 1 / inverseMu;
         const double decay = std::exp(-p.gammaWD * h / mu);
-        const double u = p.e.dot(v[p.i] - v[p.j]);
+        const double u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
         const double target = u * decay + std::sqrt(kT / mu * (1 - decay * decay)) * normal(p);
         impulse.apply(p, mu * (target - u), v);
     }

@@ -15,12 +15,20 @@ namespace DPDPlugin {
  * current positions: the unit vector e = r_ij / r (minimum image), the weight
  * wR = 1 - r/rc, and the pair's weighted friction gamma_ij wD = gamma_ij wR^2, weighted
  * noise amplitude sigma_ij wR, and its type pair's friction rate (1/ps; Lowe-Andersen's
- * collision rate Gamma).
+ * collision rate Gamma).  Under shear, imageVx is the x velocity of the image of j that
+ * r_ij points to, relative to j itself (0 within the box).
  */
 struct PairGeometry {
     int i, j;
     OpenMM::Vec3 e;
-    double wR, gammaWD, sigmaWR, rate;
+    double wR, gammaWD, sigmaWR, rate, imageVx;
+
+    /** v_ij = v_i - v_j, with j moving as its image does. */
+    OpenMM::Vec3 relativeVelocity(const OpenMM::Vec3& vi, const OpenMM::Vec3& vj) const {
+        OpenMM::Vec3 v = vi - vj;
+        v[0] -= imageVx;
+        return v;
+    }
 };
 
 /**
@@ -73,11 +81,26 @@ public:
     double getKT() const { return kT; }
     /** The integrator's instability threshold (a multiple of kT; 0 = off). */
     double getInstabilityThreshold() const { return instabilityThreshold; }
+    /** The integrator's shear rate (1/ps; 0 = no shear). */
+    double getShearRate() const { return shearRate; }
     /**
-     * The geometry of a pair at displacement d = r_i - r_j (nearest image); returns false
-     * if the pair is beyond its own type-pair cutoff.
+     * Under shear, the x velocity of the image of j at r_i - d relative to j: n U, with n =
+     * (y_ij - d_y) / Ly the boundary crossings between the two (algorithms.md section 8: from
+     * the same image the distance came from) and U = rate Ly.
+     *
+     * @param yij  y_i - y_j of the positions as stored
+     * @param dy   the y component of the displacement d the pair search found
+     * @param Ly   the box height
      */
-    bool pairGeometry(int i, int j, const OpenMM::Vec3& d, PairGeometry& out) const {
+    double imageVelocityX(double yij, double dy, double Ly) const {
+        return shearRate == 0 ? 0.0 : std::round((yij - dy) / Ly) * shearRate * Ly;
+    }
+    /**
+     * The geometry of a pair at displacement d = r_i - r_j (nearest image) whose partner's
+     * image moves at imageVx (see imageVelocityX); returns false if the pair is beyond its
+     * own type-pair cutoff.
+     */
+    bool pairGeometry(int i, int j, const OpenMM::Vec3& d, PairGeometry& out, double imageVx = 0) const {
         const int t = table.index(i, j);
         const double r2 = d.dot(d);
         if (r2 >= table.cutoff2(t) || r2 == 0)
@@ -100,6 +123,7 @@ public:
         out.gammaWD = gamma * wR * wR;
         out.sigmaWR = sigma * wR;
         out.rate = table.value(t);
+        out.imageVx = imageVx;
         return true;
     }
     /** sigma = sqrt(2 gamma kT), the fluctuation-dissipation partner of a friction gamma. */
@@ -114,7 +138,7 @@ public:
 
 private:
     TypePairTable table;
-    double kT, instabilityThreshold;
+    double kT, instabilityThreshold, shearRate;
     std::vector<double> mass, invMass;
     std::vector<bool> active;
     // When every particle has one mass (the usual DPD fluid), gamma and sigma depend on the

@@ -59,7 +59,7 @@ struct DPDListForces {
     void operator()(size_t k, const PairGeometry& p, OpenMM::Vec3* f) {
         OpenMM::Vec3 fd, fr;
         if (Dissipative)
-            fd = DPDPairForce::dissipative(p, velocities[p.i] - velocities[p.j]);
+            fd = DPDPairForce::dissipative(p, p.relativeVelocity(velocities[p.i], velocities[p.j]));
         if (Random) {
             if (k >= chunkStart + CHUNK) {
                 chunkStart = k;

@@ -61,6 +61,11 @@ public:
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     uint32_t getSeed() const { return random.getSeed(); }
 
+    /** The x velocity of the image of j at r_i - d (DPDPairParameters::imageVelocityX), for the positions searched. */
+    double imageVelocityX(int i, int j, const OpenMM::Vec3& d) const {
+        return parameters.imageVelocityX((*searched)[i][1] - (*searched)[j][1], d[1], searchedHeight);
+    }
+
 private:
     /** The pair search needs the cutoff to fit in half the periodic box. */
     void checkCutoffFitsBox(const OpenMM::Vec3* box) const;
@@ -88,6 +93,8 @@ private:
     std::vector<std::vector<PairGeometry>> workerPairs;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
     std::vector<OpenMM::Vec3> sortedVelocities;
+    const std::vector<OpenMM::Vec3>* searched = nullptr;  // the positions and box height of the last search
+    double searchedHeight = 0;
 };
 
 } // namespace DPDPlugin

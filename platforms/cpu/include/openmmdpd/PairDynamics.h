@@ -4,6 +4,7 @@
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ConstrainedMotion.h"
 #include "openmmdpd/DPDThermostatForces.h"
+#include "openmmdpd/LeesEdwardsBoundary.h"
 #include "openmmdpd/StepState.h"
 #include "openmm/internal/ContextImpl.h"
 #include "ReferencePlatform.h"
@@ -87,7 +88,8 @@ protected:
      * The drift of a step of length dt ending at `step`: r[i] += displacement(i) for every
      * particle, in parallel, the blow-up checks (non-finite, or a jump of more than
      * MAX_MOVE_PER_STEP cutoffs), then the constraints and virtual sites
-     * (ConstrainedMotion::finishDrift, which also corrects the velocities and `alsoCorrect`).
+     * (ConstrainedMotion::finishDrift, which also corrects the velocities and `alsoCorrect`),
+     * and under shear the sliding boundary (LeesEdwardsBoundary::slide).
      */
     template <class Displacement>
     void movePositions(OpenMM::ContextImpl& context, long long step, double dt, Displacement displacement,
@@ -144,6 +146,7 @@ protected:
     std::vector<OpenMM::Vec3> conservative;
     mutable std::vector<double> workerSums;
     ConstrainedMotion motion;
+    LeesEdwardsBoundary shear;
 
     /**
      * The DPDSoftRepulsionForce of these groups that the thermostat pairs can carry (one
@@ -195,6 +198,7 @@ void PairDynamics::movePositions(OpenMM::ContextImpl& context, long long step, d
     checkFinite(r, "position", step);
     checkMoves(step);
     motion.finishDrift(context, dt, alsoCorrect);
+    shear.slide(context, thermostat.getParameters().getShearRate(), dt, r, *platformData(context).velocities, alsoCorrect);
 }
 
 template <class Displacement>

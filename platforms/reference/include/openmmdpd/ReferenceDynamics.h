@@ -3,6 +3,7 @@
 
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ConstrainedMotion.h"
+#include "openmmdpd/LeesEdwardsBoundary.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
@@ -64,7 +65,8 @@ protected:
     /**
      * The drift of a step of length dt ending at `step`: r += move[i] for every particle,
      * the blow-up checks, then the constraints and virtual sites (ConstrainedMotion::finishDrift,
-     * which also corrects the velocities and `alsoCorrect`).
+     * which also corrects the velocities and `alsoCorrect`), and under shear the sliding
+     * boundary (LeesEdwardsBoundary::slide, which gives them the jumps of the crossings).
      */
     void movePositions(OpenMM::ContextImpl& context, const std::vector<OpenMM::Vec3>& move, long long step, double dt,
                        std::vector<OpenMM::Vec3>* alsoCorrect = nullptr);
@@ -87,6 +89,7 @@ private:
     ReferencePairList pairList;
     int cellMultiple;
     ConstrainedMotion motion;
+    LeesEdwardsBoundary shear;
 };
 
 } // namespace DPDPlugin
