@@ -21,20 +21,34 @@ void LeesEdwardsBoundary::slide(OpenMM::ContextImpl& context, double rate, doubl
     const double offset = box[1][0] + U * dt;
     box[1][0] = offset - Lx * std::round(offset / Lx);
     context.setPeriodicBoxVectors(box[0], box[1], box[2]);
-    for (const std::vector<int>& molecule : context.getMolecules()) {
+    // A fluid of free particles (the usual DPD system): one pass over them.
+    const std::vector<std::vector<int>>& molecules = context.getMolecules();
+    if (molecules.size() == positions.size()) {
+        for (size_t i = 0; i < positions.size(); i++) {
+            const double crossings = std::floor(positions[i][1] / Ly);
+            if (crossings != 0)
+                wrap((int) i, crossings, box[1], U, positions, velocities, alsoJump);
+        }
+        return;
+    }
+    for (const std::vector<int>& molecule : molecules) {
         double y = 0;
         for (int i : molecule)
             y += positions[i][1];
         const double crossings = std::floor(y / molecule.size() / Ly);
         if (crossings == 0)
             continue;
-        for (int i : molecule) {
-            positions[i] -= box[1] * crossings;
-            if (!moves[i])
-                continue;
-            velocities[i][0] -= crossings * U;
-            if (alsoJump != nullptr)
-                (*alsoJump)[i][0] -= crossings * U;
-        }
+        for (int i : molecule)
+            wrap(i, crossings, box[1], U, positions, velocities, alsoJump);
     }
+}
+
+void LeesEdwardsBoundary::wrap(int i, double crossings, const Vec3& b, double U, std::vector<Vec3>& positions,
+                               std::vector<Vec3>& velocities, std::vector<Vec3>* alsoJump) const {
+    positions[i] -= b * crossings;
+    if (!moves[i])
+        return;
+    velocities[i][0] -= crossings * U;
+    if (alsoJump != nullptr)
+        (*alsoJump)[i][0] -= crossings * U;
 }

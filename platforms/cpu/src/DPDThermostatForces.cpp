@@ -154,6 +154,8 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
     searchedHeight = box[1][1];
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     sortedVelocities.resize(sortedIndex.size());
+    const bool sheared = (parameters.getShearRate() != 0);
+    sortedHeights.resize(sheared ? sortedIndex.size() : 0);
     if (sortedIndex.size() < out.size())  // particles outside the thermostat get no pair force
         for (size_t i = 0; i < out.size(); i++)
             out[i] = (base != nullptr ? (*base)[i] : Vec3());
@@ -164,8 +166,11 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
         size_t begin, end;
         executor.range(w, sortedIndex.size(), begin, end);
         if (phase == 0)
-            for (size_t k = begin; k < end; k++)
+            for (size_t k = begin; k < end; k++) {
                 sortedVelocities[k] = velocities[sortedIndex[k]];
+                if (sheared)
+                    sortedHeights[k] = positions[sortedIndex[k]][1];
+            }
         else if (phase == 1)
             sumPairForcesBySlot(w, step, dt, soft);
         else
@@ -188,11 +193,12 @@ namespace {
  * per worker: its scratch arrays are set up once, not per block (a Vec3 zeroes itself).
  */
 struct DPDSlotForces {
-    const DPDThermostatForces& thermostat;
     const DPDPairParameters& parameters;
     const PairRandom& random;
     const std::vector<int>& sortedIndex;
     const std::vector<Vec3>& sortedVelocities;
+    const double* sortedHeights;  // null without shear
+    double boxHeight;
     const SoftRepulsionKernel* soft;
     long long step;
     double invSqrtDt;
@@ -206,7 +212,9 @@ struct DPDSlotForces {
         int n = 0;
         for (int k = 0; k < count; k++) {
             const int j = sortedIndex[q[k]];
-            if (parameters.pairGeometry(i, j, d[k], g[n], thermostat.imageVelocityX(i, j, d[k]))) {
+            const double imageVx =
+                    sortedHeights ? parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q[k]], d[k][1], boxHeight) : 0.0;
+            if (parameters.pairGeometry(i, j, d[k], g[n], imageVx)) {
                 slots[n] = q[k];
                 first[n] = i;
                 second[n++] = j;
@@ -229,7 +237,9 @@ struct DPDSlotForces {
 
 void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
     std::unique_ptr<DPDSlotForces> evaluate(
-            new DPDSlotForces{*this, parameters, random, search.getSortedIndex(), sortedVelocities, soft, step, 1 / std::sqrt(dt)});
+            new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities,
+                              sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft, step,
+                              1 / std::sqrt(dt)});
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, workerDissipative[w]);
 }
 

@@ -216,11 +216,19 @@ int PairSearch::gatherInOneCall(int cell, int p, HitBlock& block) const {
 }
 
 void PairSearch::updateNeighbourTable() {
-    bool same = true;
-    for (int k = 0; k < 3; k++)
-        same = same && tableCells[k] == numCells[k] && tableBox[k] == box[k];
-    if (same && !neighbourStart.empty())
+    bool sameGrid = !neighbourStart.empty(), sameBox = true;
+    for (int k = 0; k < 3; k++) {
+        sameGrid = sameGrid && tableCells[k] == numCells[k];
+        sameBox = sameBox && tableBox[k] == box[k];
+    }
+    if (sameGrid && sameBox)
         return;
+    if (sameGrid) {
+        for (Neighbour& n : neighbourTable)
+            n.shift = box[0] * n.wrap[0] + box[1] * n.wrap[1] + box[2] * n.wrap[2];
+        std::copy(box, box + 3, tableBox);
+        return;
+    }
     const int total = numCells[0] * numCells[1] * numCells[2];
     neighbourStart.assign(1, 0);
     neighbourTable.clear();
@@ -240,8 +248,8 @@ void PairSearch::neighbourCells(int cell, std::vector<Neighbour>& out) const {
     out.clear();
     const int c[3] = {cell % numCells[0], (cell / numCells[0]) % numCells[1], cell / (numCells[0] * numCells[1])};
     // The other cell at offset d from this one, and the image shift that brings it next to it.
-    auto locate = [&](const int* d, int& other, Vec3& shift) {
-        int idx[3], wrap[3];
+    auto locate = [&](const int* d, int& other, Vec3& shift, int* wrap) {
+        int idx[3];
         for (int k = 0; k < 3; k++) {
             idx[k] = c[k] + d[k];
             wrap[k] = 0;
@@ -265,7 +273,7 @@ void PairSearch::neighbourCells(int cell, std::vector<Neighbour>& out) const {
                 for (int dx = (dz == 0 && dy == 0 ? 0 : -1); dx <= 1; dx++) {
                     const int d[3] = {dx, dy, dz};
                     Neighbour n;
-                    if (!locate(d, n.firstCell, n.shift))
+                    if (!locate(d, n.firstCell, n.shift, n.wrap))
                         continue;
                     n.lastCell = n.firstCell;
                     n.exactShift = true;
@@ -283,7 +291,7 @@ void PairSearch::neighbourCells(int cell, std::vector<Neighbour>& out) const {
             for (int dx = -1; dx <= 1; dx++) {
                 const int d[3] = {dx, dy, dz};
                 Neighbour n;
-                if (locate(d, n.firstCell, n.shift) && n.firstCell >= cell) {
+                if (locate(d, n.firstCell, n.shift, n.wrap) && n.firstCell >= cell) {
                     n.lastCell = n.firstCell;
                     n.exactShift = false;
                     out.push_back(n);

@@ -28,6 +28,9 @@ public:
                std::vector<OpenMM::Vec3>& velocities, std::vector<OpenMM::Vec3>* alsoJump = nullptr) const;
 
 private:
+    /** Particle i crossed the boundary `crossings` times: back by that many b, its x velocity (if it moves) by that many U. */
+    void wrap(int i, double crossings, const OpenMM::Vec3& b, double U, std::vector<OpenMM::Vec3>& positions,
+              std::vector<OpenMM::Vec3>& velocities, std::vector<OpenMM::Vec3>* alsoJump) const;
     std::vector<bool> moves;  // mass > 0: its velocity takes the jump
 };
 

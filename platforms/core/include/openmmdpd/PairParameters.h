@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_PAIRPARAMETERS_H_
 #define OPENMMDPD_PAIRPARAMETERS_H_
 
+#include "openmmdpd/BoxGeometry.h"
 #include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmm/System.h"
 #include "openmm/Vec3.h"
@@ -93,7 +94,7 @@ public:
      * @param Ly   the box height
      */
     double imageVelocityX(double yij, double dy, double Ly) const {
-        return shearRate == 0 ? 0.0 : std::round((yij - dy) / Ly) * shearRate * Ly;
+        return shearRate == 0 ? 0.0 : roundToInteger((yij - dy) / Ly) * shearRate * Ly;
     }
     /**
      * The geometry of a pair at displacement d = r_i - r_j (nearest image) whose partner's

@@ -61,10 +61,6 @@ public:
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     uint32_t getSeed() const { return random.getSeed(); }
 
-    /** The x velocity of the image of j at r_i - d (DPDPairParameters::imageVelocityX), for the positions searched. */
-    double imageVelocityX(int i, int j, const OpenMM::Vec3& d) const {
-        return parameters.imageVelocityX((*searched)[i][1] - (*searched)[j][1], d[1], searchedHeight);
-    }
 
 private:
     /** The pair search needs the cutoff to fit in half the periodic box. */
@@ -82,6 +78,10 @@ private:
     void copyWorkerPairs(int w);
     /** computeInOnePass' pair pass: worker w's cells' pair forces into its buffer, by sorted slot. */
     void sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft);
+    /** The x velocity of the image of j at r_i - d (DPDPairParameters::imageVelocityX), for the positions searched. */
+    double imageVelocityX(int i, int j, const OpenMM::Vec3& d) const {
+        return parameters.imageVelocityX((*searched)[i][1] - (*searched)[j][1], d[1], searchedHeight);
+    }
     std::string name;  // the integrator's class, for error messages
     DPDPairParameters parameters;
     ParallelExecutor& executor;
@@ -93,6 +93,7 @@ private:
     std::vector<std::vector<PairGeometry>> workerPairs;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
     std::vector<OpenMM::Vec3> sortedVelocities;
+    std::vector<double> sortedHeights;  // y of each slot's particle as stored (under shear only)
     const std::vector<OpenMM::Vec3>* searched = nullptr;  // the positions and box height of the last search
     double searchedHeight = 0;
 };

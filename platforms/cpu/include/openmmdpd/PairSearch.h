@@ -1,20 +1,13 @@
 #ifndef OPENMMDPD_PAIRSEARCH_H_
 #define OPENMMDPD_PAIRSEARCH_H_
 
+#include "openmmdpd/BoxGeometry.h"
 #include "openmm/Vec3.h"
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 namespace DPDPlugin {
-
-/**
- * Nearest integer, for |x| far below 2^63.  std::round is a library call on baseline
- * x86-64 and dominated the pair search; a truncating conversion is one instruction.
- */
-inline double roundToInteger(double x) {
-    return (double) (long long) (x + (x >= 0 ? 0.5 : -0.5));
-}
 
 /** The displacement r_i - r_j, reduced to the nearest periodic image (OpenMM's reduced box form). */
 inline OpenMM::Vec3 minimumImage(OpenMM::Vec3 d, const OpenMM::Vec3* box, bool periodic) {
@@ -122,6 +115,7 @@ private:
         int firstCell, lastCell;
         bool exactShift;     // shift gives the image (else each pair gets a minimum-image test)
         OpenMM::Vec3 shift;  // the other cells' images lie at their positions + shift
+        int wrap[3];         // shift = sum_k wrap[k] box[k]: kept so a new box only moves the shifts
     };
     void neighbourCells(int cell, std::vector<Neighbour>& out) const;
     /** A particle's hits: their slots, the runs they came from, and their displacements. */
@@ -143,7 +137,10 @@ private:
     void chooseGrid(const double* reach);
     void sortIntoCells();
     void storeSortedPositions(const std::vector<OpenMM::Vec3>& positions);
-    /** The neighbour cells of every cell, for the current grid (rebuilt when it changes). */
+    /**
+     * The neighbour cells of every cell, for the current grid: rebuilt when the grid changes;
+     * when only the box does (a sliding Lees-Edwards box, every step) only the shifts move.
+     */
     void updateNeighbourTable();
     std::vector<bool> active;
     double cutoff;
