@@ -35,10 +35,11 @@ System* makeShearFluid(int n, std::vector<Vec3>& positions, std::vector<Vec3>& v
 }
 
 std::unique_ptr<Context> shearedContext(System& system, DPDThermostatIntegrator& integrator, const std::string& platform,
-                                        const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities) {
+                                        const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+                                        const std::map<std::string, std::string>& properties = {}) {
     integrator.setShearRate(RATE);
     integrator.setRandomNumberSeed(17);
-    std::unique_ptr<Context> context(new Context(system, integrator, Platform::getPlatformByName(platform)));
+    std::unique_ptr<Context> context(new Context(system, integrator, Platform::getPlatformByName(platform), properties));
     context->setPositions(positions);
     context->setVelocities(velocities);
     return context;
@@ -180,13 +181,10 @@ TEST_P(LeesEdwards, CpuOnOneAndTwoThreadsFollowsTheReferenceTrajectory) {
     const State want = expected->getState(State::Positions | State::Velocities);
     for (int threads : {1, 2}) {
         std::unique_ptr<DPDThermostatIntegrator> integrator(GetParam().make());
-        integrator->setShearRate(RATE);
-        integrator->setRandomNumberSeed(17);
-        Context context(*system, *integrator, Platform::getPlatformByName("CPU"), {{"Threads", std::to_string(threads)}});
-        context.setPositions(positions);
-        context.setVelocities(velocities);
+        std::unique_ptr<Context> context =
+                shearedContext(*system, *integrator, "CPU", positions, velocities, {{"Threads", std::to_string(threads)}});
         integrator->step(20);
-        const State got = context.getState(State::Positions | State::Velocities);
+        const State got = context->getState(State::Positions | State::Velocities);
         EXPECT_LT(relativeDifference(want.getPositions(), got.getPositions()), 1e-10) << GetParam().name << ", " << threads;
         EXPECT_LT(relativeDifference(want.getVelocities(), got.getVelocities()), 1e-10) << GetParam().name << ", " << threads;
     }
