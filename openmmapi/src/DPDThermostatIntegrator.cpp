@@ -83,7 +83,7 @@ void DPDThermostatIntegrator::setShearRate(double rate) {
 
 void DPDThermostatIntegrator::setPressureTensorEnabled(bool enabled) {
     require(!enabled || supportsPressureTensor(), name + ": the pressure tensor is not available for this integrator; "
-            "it is for DPDVVIntegrator, ShardlowIntegrator and LoweAndersenIntegrator");
+            "it is for DPDVVIntegrator, ShardlowIntegrator, LoweAndersenIntegrator and EDPDIntegrator");
     pressureTensorEnabled = enabled;
 }
 

@@ -78,7 +78,7 @@ public:
     void validate(const OpenMM::System& system) const override;
 
 protected:
-    /** Its steps do not sample the pressure tensor (yet). */
+    /** Its step scales FC and FD by alpha and FR by beta: the applied forces do not split into the tensor's parts. */
     bool supportsPressureTensor() const override { return false; }
     std::string kernelName() const override;
     void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const override;

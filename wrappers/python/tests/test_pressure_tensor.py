@@ -69,9 +69,9 @@ def test_one_step_sample_equals_numpy(make, rate):
 
 
 def test_errors_name_the_problem():
-    edpd = openmmdpd.EDPDIntegrator(KT_KELVIN, 4.5, 1.0, 10.0, 0.02)
+    den_otter_clarke = openmmdpd.DenOtterClarkeIntegrator(KT_KELVIN, 4.5, 1.0, 0.02)
     with pytest.raises(openmm.OpenMMException, match="pressure tensor is not available"):
-        edpd.setPressureTensorEnabled(True)
+        den_otter_clarke.setPressureTensorEnabled(True)
     integrator = openmmdpd.DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, 0.02)
     with pytest.raises(openmm.OpenMMException, match="not bound to a Context"):
         integrator.getAveragePressureTensor()

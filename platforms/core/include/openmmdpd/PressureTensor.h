@@ -36,6 +36,13 @@ inline double pairDistance(const PairGeometry& p, const DPDPairParameters& param
     return parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
 }
 
+/** virial += sum over the pairs of r_k c_k e_k e_k^T, for pair forces c_k e_k given per pair. */
+inline void addPairVirial(const std::vector<PairGeometry>& pairs, const std::vector<double>& c, const DPDPairParameters& parameters,
+                          SymmetricTensor& virial) {
+    for (size_t k = 0; k < pairs.size(); k++)
+        addAlong(virial, pairs[k].e, pairDistance(pairs[k], parameters) * c[k]);
+}
+
 /**
  * The impulses J (along e, on i) that a pairwise-sequential sweep gives each pair of its
  * list, for the thermostat part of the pressure tensor (algorithms.md section 10): the
