@@ -78,6 +78,8 @@ public:
     void validate(const OpenMM::System& system) const override;
 
 protected:
+    /** Its step scales FC and FD by alpha and FR by beta: the applied forces do not split into the tensor's parts. */
+    bool supportsPressureTensor() const override { return false; }
     std::string kernelName() const override;
     void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const override;
     void executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const override;

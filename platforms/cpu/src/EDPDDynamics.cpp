@@ -44,6 +44,8 @@ void EDPDDynamics::step(OpenMM::ContextImpl& context, const EDPDIntegrator& inte
     computeConservativeAndPairs(context, integrator.getIntegrationForceGroups(), next);
     memory.advance(thermostat.getPairs(), current, recurrence, pairS);
     computeAuxiliaryForce();
+    if (thermostatVirial != nullptr)
+        addPairVirial(thermostat.getPairs(), coefficient, thermostat.getParameters(), *thermostatVirial);
     forEachParticle(r.size(), [&](size_t i) {
         force[i] = conservative[i] + auxiliary[i];
         v[i] += force[i] * (0.5 * dt * invMass[i]);

@@ -8,14 +8,19 @@ AuxiliaryRecurrence ReferenceEDPDDynamics::recurrence(const EDPDIntegrator& inte
                                integrator.getScheme() == EDPDIntegrator::Symmetric);
 }
 
-std::vector<Vec3> ReferenceEDPDDynamics::totalForce(const std::vector<Vec3>& FC, const std::vector<PairGeometry>& pairs) const {
-    // -grad h_k s_k, with grad_i h_k = wR e and grad_j h_k = -wR e.
+std::vector<Vec3> ReferenceEDPDDynamics::totalForce(const std::vector<Vec3>& FC, const std::vector<PairGeometry>& pairs,
+                                                     SymmetricTensor* virial) const {
+    // -grad h_k s_k, with grad_i h_k = wR e and grad_j h_k = -wR e: the pair force c_k e, c_k = -wR s_k.
     std::vector<Vec3> auxiliary(FC.size());
-    for (const PairGeometry& p : pairs) {
-        const Vec3 f = p.e * (-p.wR * memory.inRangeValue(p.i, p.j));
-        auxiliary[p.i] += f;
-        auxiliary[p.j] -= f;
+    std::vector<double> c(pairs.size());
+    for (size_t k = 0; k < pairs.size(); k++) {
+        const PairGeometry& p = pairs[k];
+        c[k] = -p.wR * memory.inRangeValue(p.i, p.j);
+        auxiliary[p.i] += p.e * c[k];
+        auxiliary[p.j] -= p.e * c[k];
     }
+    if (virial != nullptr)
+        addPairVirial(pairs, c, parameters, *virial);
     std::vector<Vec3> F(FC.size());
     for (size_t i = 0; i < F.size(); i++)
         F[i] = FC[i] + auxiliary[i];
@@ -56,7 +61,7 @@ void ReferenceEDPDDynamics::step(OpenMM::ContextImpl& context, const EDPDIntegra
     const std::vector<PairGeometry> pairs = findPairs(context);
     memory.advance(pairs, current, rec);
     // p^{n+1} = p^{n+1/2} + dt/2 F(r^{n+1}, s^{n+1})
-    carried.force = totalForce(FC, pairs);
+    carried.force = totalForce(FC, pairs, thermostatVirial);
     halfKick(v, carried.force, dt);
     constrainVelocities(context);
     finishStep(context, dt);

@@ -30,7 +30,8 @@ private:
     /** The recurrence of the integrator's scheme, alpha and step size. */
     AuxiliaryRecurrence recurrence(const EDPDIntegrator& integrator) const;
     /** F = FC - sum_k wR e s_k over `pairs`, their s taken from the memory. */
-    std::vector<OpenMM::Vec3> totalForce(const std::vector<OpenMM::Vec3>& FC, const std::vector<PairGeometry>& pairs) const;
+    std::vector<OpenMM::Vec3> totalForce(const std::vector<OpenMM::Vec3>& FC, const std::vector<PairGeometry>& pairs,
+                                         SymmetricTensor* virial = nullptr) const;
     /** v += dt/(2m) F for every particle. */
     void halfKick(std::vector<OpenMM::Vec3>& v, const std::vector<OpenMM::Vec3>& F, double dt) const;
     ReferencePairMemory memory;
