@@ -391,7 +391,7 @@ def main(argv=None):
     parser.add_argument("--dt", type=float,
                         help=f"time step (ps = reduced units), default 0.04 ({SCALE_DT:g} with --scale, --memory)")
     parser.add_argument("--integrators", nargs="+",
-                        help=f"from: {', '.join(integrators('soft'))} (and EDPD with --memory); default "
+                        help=f"from: {', '.join(integrators('soft'))} (and EDPD with --scale, --memory); default "
                         f"{' '.join(DEFAULT_INTEGRATORS)} ({' '.join(SCALE_INTEGRATORS)} with --scale, "
                         f"{' '.join(MEMORY_INTEGRATORS)} with --memory)")
     parser.add_argument("--warmup", type=int, default=10, help="untimed steps per integrator")
