@@ -18,26 +18,65 @@ threshold off and at INSTABILITY_THRESHOLD, alternated --repeats times, medians 
 
     /usr/bin/python3 -m openmmdpd.bench --sentinel --sizes 32000 --threads 1 --repeats 9
     /usr/bin/python3 -m openmmdpd.bench --shear 0.1 --integrators GW S1 --sizes 32000 --threads 1 --repeats 9
+
+--scale instead measures particle-steps/s from 4000 to a million particles on model B (dt 0.05,
+one thread unless --threads says otherwise), each integrator against GW and Langevin at the
+same N and against itself at the first N; --memory the bytes per particle a Context of each
+integrator adds to the resident memory (each in a fresh process):
+
+    /usr/bin/python3 -m openmmdpd.bench --scale --memory [--sizes 4000 32000 256000 1000000]
 """
 import argparse
+import ctypes
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+import gc
+import multiprocessing
+import os
 import statistics
 import sys
 import time
 
 import openmm
 
-from .catalog import INSTABILITY_THRESHOLD, integrators
+from . import EDPDIntegrator
+from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
 from . import staggered
 
 DEFAULT_INTEGRATORS = ["Langevin", "GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU", "OC"]
+SCALE_INTEGRATORS = ["GW", "DPD-VV", "S1", "Lowe", "Langevin"]
+MEMORY_INTEGRATORS = SCALE_INTEGRATORS + ["EDPD"]
+SCALE_SIZES = [4000, 32000, 256000, 1000000]
+SCALE_DT = 0.05  # model B's step (issue 16)
+# --memory: steps between readings of the resident memory, and the size of the throw-away
+# Context made first in each measuring process.
+MEMORY_CHUNK_STEPS = 5
+MEMORY_WARM_N = 125
 
 
 def steps_per_second(integrator, steps):
     start = time.perf_counter()
     integrator.step(steps)
     return steps / (time.perf_counter() - start)
+
+
+def warm_up(integrator, args):
+    """Untimed steps: the first pays for the Context's setup; then up to args.warmup - 1 more,
+    stopping after args.seconds (a step at a million particles takes most of a second).
+    Returns the rate of those after the first, to size the timed runs."""
+    integrator.step(1)
+    steps, start = 0, time.perf_counter()
+    while steps == 0 or (steps < args.warmup - 1 and time.perf_counter() - start < args.seconds):
+        integrator.step(1)
+        steps += 1
+    return steps / (time.perf_counter() - start)
+
+
+def timed_steps(rate, args):
+    """Steps per timed run: --steps, or about --seconds worth (at least 2)."""
+    return args.steps or max(2, round(rate * args.seconds))
 
 
 def measure(scene, factories, threads, args):
@@ -49,11 +88,11 @@ def measure(scene, factories, threads, args):
             context = openmm.Context(scene.system, make(args.dt), platform, {"Threads": str(threads)})
             context.setPositions(scene.positions)
             context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
-            rate = steps_per_second(context.getIntegrator(), args.warmup)
+            rate = warm_up(context.getIntegrator(), args)
         except openmm.OpenMMException as error:
             results[label] = f"failed: {error}"
             continue
-        runs[label] = (context, args.steps or max(5, round(rate * args.seconds)))
+        runs[label] = (context, timed_steps(rate, args))
         results[label] = 0.0
     for _ in range(args.repeats):
         for label, (context, steps) in list(runs.items()):
@@ -90,7 +129,7 @@ def measure_soft_force(n, threads, args):
         step_context.setPositions(scene.positions)
         step_context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
         contexts.append(step_context)
-        rate = steps_per_second(integrator, args.warmup)
+        rate = warm_up(integrator, args)
         runs[f"GW step, {kind}"] = (lambda i=integrator, k=max(3, round(rate * args.seconds)): steps_per_second(i, k))
     results = {label: 0.0 for label in runs}
     for _ in range(args.repeats):
@@ -123,6 +162,131 @@ def print_table(rows):
             base = one_thread.get((n, label))
             speedup = f"{rate / base:.2f}" if threads != 1 and isinstance(base, float) else ""
             print(f"{n:>6} {threads:>7}  {label:<16} {rate:>9.1f}  {ratio:>21}  {speedup:>20}")
+
+
+def measure_sizes(factories, args):
+    """Rows (N, threads, measure's results): one scene per N, shared by every integrator."""
+    rows = []
+    for n in args.sizes:
+        scene = soft_scene(num_particles=n)
+        for threads in args.threads:
+            print(f"measuring N={n} threads={threads} ...", file=sys.stderr, flush=True)
+            rows.append((n, threads, measure(scene, factories, threads, args)))
+    return rows
+
+
+def ratio(a, b):
+    return f"{a / b:.2f}" if isinstance(a, float) and isinstance(b, float) and b > 0 else "-"
+
+
+def print_scale_table(rows, args):
+    """Particle-steps/s; speed against GW and cost against Langevin at the same N (as issue 16's
+    definition of done states them), and cost per particle-step against the first N's."""
+    print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, "
+          f"gamma=4.5, best of {args.repeats} interleaved; speed/GW = steps/s / GW's, cost/Langevin = "
+          f"time per step / Langevin's, at the same N; cost/particle = time per particle-step / "
+          f"the integrator's at N={rows[0][0]}")
+    print(f"{'N':>8} {'threads':>7}  {'integrator':<10} {'steps/s':>9} {'Mparticle-steps/s':>17}  "
+          f"{'speed/GW':>8} {'cost/Langevin':>13} {'cost/particle':>13}")
+    first = {}
+    for n, threads, results in rows:
+        for label, rate in results.items():
+            if isinstance(rate, str):
+                print(f"{n:>8} {threads:>7}  {label:<10} {rate}")
+                continue
+            first.setdefault((threads, label), n * rate)
+            print(f"{n:>8} {threads:>7}  {label:<10} {rate:>9.2f} {n * rate / 1e6:>17.3f}  "
+                  f"{ratio(rate, results.get('GW')):>8} {ratio(results.get('Langevin'), rate):>13} "
+                  f"{ratio(first[threads, label], n * rate):>13}")
+
+
+def resident_bytes():
+    """This process's resident memory (Linux)."""
+    with open("/proc/self/statm") as statm:
+        return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def release_free_memory():
+    """Hands the memory malloc holds free back to the system (glibc's malloc_trim), so that a
+    Context reusing it is counted as it touches it again."""
+    gc.collect()
+    try:
+        ctypes.CDLL(None).malloc_trim(0)
+    except AttributeError:  # not glibc
+        pass
+
+
+def factory(name, edpd_alpha):
+    """The catalog's integrator `name`, or "EDPD" (not in the catalog: its alpha is ours)."""
+    if name == "EDPD":
+        return lambda dt: EDPDIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, edpd_alpha, dt)
+    return integrators("soft")[name]
+
+
+def context_memory(name, n, threads, dt, edpd_alpha, max_steps):
+    """In a fresh process (see measure_memory): the growth of the resident memory from before
+    a Context of `name` on model B with n particles is made until it stops growing (a chunk of
+    steps adds < 1 % to it and to EDPD's pair variables, or max_steps), as (bytes per
+    particle, steps run, EDPD's pair variables per particle or None)."""
+    platform = openmm.Platform.getPlatformByName("CPU")
+    make = factory(name, edpd_alpha)
+
+    def start(scene):
+        context = openmm.Context(scene.system, make(dt), platform, {"Threads": str(threads)})
+        context.setPositions(scene.positions)
+        context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+        context.getIntegrator().step(1)
+        return context
+
+    # What every Context loads once (code pages, the platform's one-time data) is not per
+    # particle: a small Context made and dropped first takes it out of the reading.
+    start(soft_scene(num_particles=MEMORY_WARM_N))
+    scene = soft_scene(num_particles=n)
+    release_free_memory()
+    before = resident_bytes()
+    context = start(scene)  # held: the integrator lives as long as its Context
+    integrator, steps = context.getIntegrator(), 1
+    pairs = integrator.getNumPairVariables if name == "EDPD" else lambda: 0
+    while steps < max_steps:
+        last = resident_bytes(), pairs()
+        integrator.step(MEMORY_CHUNK_STEPS)
+        steps += MEMORY_CHUNK_STEPS
+        now = resident_bytes(), pairs()
+        if now[0] - last[0] < 0.01 * (now[0] - before) and now[1] - last[1] <= 0.01 * now[1]:
+            break
+    return (resident_bytes() - before) / n, steps, pairs() / n if name == "EDPD" else None
+
+
+def measure_memory(args):
+    """Rows (N, name, context_memory's result or the error), each in a fresh process: in one
+    that has already made and dropped Contexts, malloc hands freed memory to the next one
+    and the growth reads low."""
+    rows = []
+    for n in args.sizes:
+        for name in args.integrators:
+            print(f"memory N={n} {name} ...", file=sys.stderr, flush=True)
+            with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as process:
+                try:
+                    rows.append((n, name, process.submit(context_memory, name, n, args.threads[0], args.dt,
+                                                         args.edpd_alpha, args.memory_steps).result()))
+                except (openmm.OpenMMException, BrokenProcessPool) as error:  # the latter: killed (memory?)
+                    rows.append((n, name, f"failed: {error}"))
+    return rows
+
+
+def print_memory_table(rows, args):
+    print(f"resident memory a Context adds (OpenMM's Context and CPU platform data, the force's "
+          f"and the integrator's buffers) per particle, scene soft, CPU platform, {args.threads[0]} "
+          f"thread(s) (the first of --threads), dt={args.dt:g}, EDPD alpha={args.edpd_alpha:g}/ps; each in a "
+          f"fresh process")
+    print(f"{'N':>8}  {'integrator':<10} {'bytes/particle':>14} {'steps':>5} {'pair vars/particle':>18}")
+    for n, name, result in rows:
+        if isinstance(result, str):
+            print(f"{n:>8}  {name:<10} {result}")
+            continue
+        per_particle, steps, pairs = result
+        pairs = "-" if pairs is None else f"{pairs:.1f}"
+        print(f"{n:>8}  {name:<10} {per_particle:>14.0f} {steps:>5} {pairs:>18}")
 
 
 def measure_staggered(args):
@@ -181,8 +345,7 @@ def measure_paired(n, threads, args, name, change):
         context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})
         context.setPositions(scene.positions)
         context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
-        rate = steps_per_second(integrator, args.warmup)
-        runs.append((context, integrator, args.steps or max(5, round(rate * args.seconds))))
+        runs.append((context, integrator, timed_steps(warm_up(integrator, args), args)))
     plain, changed = [], []
     for _ in range(args.repeats):
         for rates, (_, integrator, steps) in zip((plain, changed), runs):
@@ -222,11 +385,15 @@ def print_staggered_table(rows, args):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[4000, 32000])
-    parser.add_argument("--threads", type=int, nargs="+", default=[1, 2])
-    parser.add_argument("--dt", type=float, default=0.04, help="time step (ps = reduced units)")
-    parser.add_argument("--integrators", nargs="+", default=DEFAULT_INTEGRATORS,
-                        help=f"from: {', '.join(integrators('soft'))}")
+    parser.add_argument("--sizes", type=int, nargs="+",
+                        help=f"default 4000 32000 ({' '.join(map(str, SCALE_SIZES))} with --scale, --memory)")
+    parser.add_argument("--threads", type=int, nargs="+", help="default 1 2 (1 with --scale, --memory)")
+    parser.add_argument("--dt", type=float,
+                        help=f"time step (ps = reduced units), default 0.04 ({SCALE_DT:g} with --scale, --memory)")
+    parser.add_argument("--integrators", nargs="+",
+                        help=f"from: {', '.join(integrators('soft'))} (and EDPD with --scale, --memory); default "
+                        f"{' '.join(DEFAULT_INTEGRATORS)} ({' '.join(SCALE_INTEGRATORS)} with --scale, "
+                        f"{' '.join(MEMORY_INTEGRATORS)} with --memory)")
     parser.add_argument("--warmup", type=int, default=10, help="untimed steps per integrator")
     parser.add_argument("--steps", type=int, default=None,
                         help="timed steps per measurement (default: about --seconds worth)")
@@ -234,6 +401,14 @@ def main(argv=None):
                         help="target length of one measurement when --steps is not given")
     parser.add_argument("--repeats", type=int, default=3,
                         help="interleaved measurements; best kept")
+    parser.add_argument("--scale", action="store_true",
+                        help="particle-steps/s and ratios from 4000 to a million particles instead")
+    parser.add_argument("--memory", action="store_true",
+                        help="bytes per particle of each integrator's Context instead (with --scale: as well)")
+    parser.add_argument("--edpd-alpha", type=float, default=20.0,
+                        help="EDPD's alpha (1/ps); its pair memory grows as alpha falls")
+    parser.add_argument("--memory-steps", type=int, default=100,
+                        help="--memory: most steps before the reading, if the memory still grows")
     parser.add_argument("--soft-force", action="store_true",
                         help="also compare DPDSoftRepulsionForce with the same CustomNonbondedForce")
     parser.add_argument("--sentinel", action="store_true",
@@ -251,6 +426,20 @@ def main(argv=None):
     parser.add_argument("--sample-time", type=float, default=4.0,
                         help="--staggered: simulated time over which <kT> is sampled")
     args = parser.parse_args(argv)
+    at_scale = args.scale or args.memory
+    args.sizes = args.sizes or (SCALE_SIZES if at_scale else [4000, 32000])
+    args.threads = args.threads or ([1] if at_scale else [1, 2])
+    args.dt = args.dt or (SCALE_DT if at_scale else 0.04)
+
+    if at_scale:
+        if args.scale:
+            chosen = args.integrators or SCALE_INTEGRATORS
+            print_scale_table(measure_sizes([(name, factory(name, args.edpd_alpha)) for name in chosen], args), args)
+        if args.memory:
+            args.integrators = args.integrators or MEMORY_INTEGRATORS
+            print_memory_table(measure_memory(args), args)
+        return
+    args.integrators = args.integrators or DEFAULT_INTEGRATORS
 
     if args.staggered:
         print_staggered_table(measure_staggered(args), args)
@@ -268,13 +457,7 @@ def main(argv=None):
         return
 
     catalog = integrators("soft")  # with den Otter-Clarke ("OC") at paper 000's model B averages
-    factories = [(name, catalog[name]) for name in args.integrators]
-    rows = []
-    for n in args.sizes:
-        scene = soft_scene(num_particles=n)
-        for threads in args.threads:
-            print(f"measuring N={n} threads={threads} ...", file=sys.stderr, flush=True)
-            rows.append((n, threads, measure(scene, factories, threads, args)))
+    rows = measure_sizes([(name, catalog[name]) for name in args.integrators], args)
     print(f"scene soft (rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, "
           f"gamma=4.5, best of {args.repeats}")
     print_table(rows)

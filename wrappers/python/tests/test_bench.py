@@ -1,4 +1,8 @@
-"""The bench's paired measurements run and print one row per integrator, size and thread count."""
+"""The bench's modes run and print one row per integrator, size and thread count; --scale's
+ratios agree with its rates; --memory reads a Context's resident memory."""
+import numpy as np
+from pytest import approx
+
 from openmmdpd import bench
 
 
@@ -14,3 +18,41 @@ def test_sentinel_cost_is_measured(capsys):
     bench.main(["--sentinel", "--sizes", "500", "--threads", "1", "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
     rows = capsys.readouterr().out.splitlines()[2:]
     assert len(rows) == 1 and rows[0].split()[:3] == ["GW", "500", "1"]
+
+
+def test_scale_table_ratios_agree_with_its_rates(capsys):
+    bench.main(["--scale", "--integrators", "GW", "S1", "Langevin", "--sizes", "500", "1000",
+                "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1].split() == ["N", "threads", "integrator", "steps/s", "Mparticle-steps/s",
+                                "speed/GW", "cost/Langevin", "cost/particle"]
+    rows = [line.split() for line in lines[2:]]
+    assert [row[:3] for row in rows] == [[n, "1", name] for n in ("500", "1000") for name in ("GW", "S1", "Langevin")]
+    rate = {(int(row[0]), row[2]): float(row[3]) for row in rows}
+    for n, _, name, _, million, speed, cost, per_particle in rows:
+        n = int(n)
+        expected = (n * rate[n, name] / 1e6, rate[n, name] / rate[n, "GW"], rate[n, "Langevin"] / rate[n, name],
+                    500 * rate[500, name] / (n * rate[n, name]))
+        assert [float(million), float(speed), float(cost), float(per_particle)] == approx(expected, rel=0.01, abs=0.006)
+    assert {row[5] for row in rows if row[2] == "GW"} == {"1.00"}
+    assert {row[6] for row in rows if row[2] == "Langevin"} == {"1.00"}
+    assert {row[7] for row in rows if row[0] == "500"} == {"1.00"}
+
+
+def test_resident_bytes_sees_an_allocation():
+    before = bench.resident_bytes()
+    block = np.ones(64 << 20, dtype=np.uint8)  # 64 MiB, every page touched
+    assert bench.resident_bytes() - before >= 60 << 20
+    del block
+
+
+def test_memory_table_counts_each_context_with_edpd_pairs(capsys):
+    bench.main(["--memory", "--integrators", "GW", "EDPD", "--sizes", "1000", "--memory-steps", "11"])
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1].split() == ["N", "integrator", "bytes/particle", "steps", "pair", "vars/particle"]
+    (_, gw, gw_bytes, gw_steps, gw_pairs), (_, edpd, edpd_bytes, edpd_steps, edpd_pairs) = [
+        line.split() for line in lines[2:]]
+    assert (gw, edpd, gw_pairs) == ("GW", "EDPD", "-")
+    assert float(gw_bytes) > 0 and int(gw_steps) <= 11 and int(edpd_steps) <= 11
+    # Each EDPD pair variable is held in 24 bytes (PairMemory), so the reading holds at least that.
+    assert float(edpd_pairs) > 1 and float(edpd_bytes) >= 24 * float(edpd_pairs)
