@@ -55,6 +55,14 @@ def lowe(seed):
     return integrator
 
 
+def groot_warren(seed):
+    """The velocity-Verlet base unstaggered: GW with lambda 0.65, gamma 4.5, dt 0.01."""
+    integrator = openmmdpd.DPDVVIntegrator(KT_TEMPERATURE, FRICTION, 1.0, DT)
+    integrator.setLambda(0.65)
+    integrator.setRandomNumberSeed(seed)
+    return integrator
+
+
 def staggered(base, k, seed):
     integrator = openmmdpd.StaggeredDPDIntegrator(KT_TEMPERATURE, FRICTION, 1.0, k * DT, k)
     integrator.setBaseScheme(openmmdpd.StaggeredDPDIntegrator.LoweAndersen if base == "lowe"
@@ -89,7 +97,8 @@ def relaxation_run(scene, solvent, start, args):
     box = np.diag([v.value_in_unit(unit.nanometer) for v in scene.system.getDefaultPeriodicBoxVectors()])
     positions = solvent.copy()
     positions[:BEADS] = stretched_chain(box, 0.3)
-    context = context_for(scene, lowe(100 + start), args)
+    make = lowe if args.tau_scheme == "lowe" else groot_warren
+    context = context_for(scene, make(100 + start), args)
     context.setPositions(positions)
     context.setVelocitiesToTemperature(KT_TEMPERATURE, 200 + start)
     samples = []
@@ -217,10 +226,10 @@ def plot_extension(rows, out):
     fig, ax = plt.subplots(figsize=(6, 4))
     for (base, k) in sorted({(r["base"], r["K"]) for r in rows}):
         mine = [r for r in rows if r["base"] == base and r["K"] == k]
-        ax.errorbar([r["Wi"] * (1 + 0.02 * k) for r in mine], [r["extension"] for r in mine],
+        ax.errorbar([r.get("Wi_own", r["Wi"]) * (1 + 0.02 * k) for r in mine], [r["extension"] for r in mine],
                     yerr=[r["error"] for r in mine], marker="o" if base == "lowe" else "s", capsize=3,
                     linestyle="-" if base == "lowe" else "--", label=f"{'Lowe' if base == 'lowe' else 'vV'} K = {k}")
-    ax.set(xscale="log", xlabel="Wi = rate tau", ylabel="<x>/L", title="wlc-shear: mean fractional extension")
+    ax.set(xscale="log", xlabel="Wi = rate tau (each base's own tau)" if "Wi_own" in rows[0] else "Wi = rate tau", ylabel="<x>/L", title="wlc-shear: mean fractional extension")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "extension.png"), dpi=120)
@@ -246,6 +255,14 @@ def report_only(args):
         with open(path) as f:
             tau = json.load(f)
     rows = read_rows(os.path.join(args.out, "extension.csv"))
+    # The vV base's solvent (gamma 4.5) is not Lowe's (Gamma 4.5): with its own tau, if measured
+    # (--tau-scheme vv --out OUT/tau-vv), its rows get their own Weissenberg numbers.
+    path = os.path.join(args.out, "tau-vv", "tau.json")
+    if tau is not None and os.path.exists(path):
+        with open(path) as f:
+            tau["vv"] = json.load(f)
+        for r in rows:
+            r["Wi_own"] = r["rate"] * (tau["vv"]["tau"] if r["base"] == "vv" else tau["tau"])
     plot_extension(rows, args.out)
     write_markdown(tau, rows, args, args.out)
 
@@ -259,11 +276,17 @@ def write_markdown(tau, rows, args, out):
                   f"<x²>_0 = {tau['baseline']:.3f}); paper 002's area estimate {tau['area_tau']:.3f}.", ""]
     else:
         lines += [f"tau = {args.tau} (given, not measured in this run).", ""]
+    if tau is not None and "vv" in tau:
+        lines += [f"With the vV base's solvent (GW, lambda 0.65, gamma 4.5, dt 0.01): tau = {tau['vv']['tau']:.3f} ± "
+                  f"{tau['vv']['tau_error']:.3f} ({tau['vv']['starts']} starts; area estimate {tau['vv']['area_tau']:.3f}). "
+                  "Wi is rate x Lowe's tau for every row; 'own Wi' uses each base's own tau.", ""]
     if rows:
-        lines += ["| Wi | rate | base | K | Dt | <x>/L | error | samples | peculiar kT (end) |",
-                  "|---|---|---|---|---|---|---|---|---|"]
-        lines += [f"| {r['Wi']} | {r['rate']:.4f} | {r['base']} | {r['K']} | {r['Dt']} | {r['extension']:.4f} | "
-                  f"{r['error']:.4f} | {r['samples']} | {r['peculiar_kT_end']:.3f} |" for r in rows]
+        own = "Wi_own" in rows[0]
+        lines += ["| Wi | " + ("own Wi | " if own else "") + "rate | base | K | Dt | <x>/L | error | samples | "
+                  "peculiar kT (end) |", "|---|" + ("---|" if own else "") + "---|---|---|---|---|---|---|---|"]
+        lines += [f"| {r['Wi']} | " + (f"{r['Wi_own']:.2f} | " if own else "") + f"{r['rate']:.4f} | {r['base']} | "
+                  f"{r['K']} | {r['Dt']} | {r['extension']:.4f} | {r['error']:.4f} | {r['samples']} | "
+                  f"{r['peculiar_kT_end']:.3f} |" for r in rows]
     with open(os.path.join(out, "results.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
 
@@ -278,6 +301,8 @@ def main(argv=None):
     parser.add_argument("--starts", type=int, default=8, help="independent relaxation runs")
     parser.add_argument("--relax-time", type=float, default=30.0, help="time units per relaxation run")
     parser.add_argument("--tau", type=float, help="skip (a): use this relaxation time")
+    parser.add_argument("--tau-scheme", choices=["lowe", "vv"], default="lowe",
+                        help="(a) with Lowe (paper 002) or GW lambda 0.65 (the vV base's solvent and viscosity)")
     parser.add_argument("--wi", type=float, nargs="+", default=[0.5, 1.0, 2.0, 4.0])
     parser.add_argument("--schemes", nargs="+", help="e.g. lowe-1 vv-6 (default: Lowe and vV, K = 1, 6, 10)")
     parser.add_argument("--settle", type=float, default=2.0, help="discarded before sampling (in tau)")
