@@ -9,6 +9,7 @@
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 #include <functional>
 #include <ostream>
 #include <string>
@@ -74,6 +75,28 @@ std::vector<Scheme> schemesAt(double dt) {
         {"EDPD-OneSided", [=] { return edpd(EDPDIntegrator::OneSided); }},
         {"EDPD-Symmetric", [=] { return edpd(EDPDIntegrator::Symmetric); }},
         {"OC", denOtterClarke, true},
+    };
+}
+
+/**
+ * StaggeredDPDIntegrator with both bases at K = 1 and 3, paper 002's recommended parameters
+ * (weighted); gamma (vV) or Gamma (Lowe) 4.5, rc 1, kT 1.  The System needs a force in
+ * group 1, the default fast group.
+ */
+std::vector<Scheme> staggeredSchemesAt(double dt) {
+    using namespace DPDPlugin;
+    auto staggered = [dt](StaggeredDPDIntegrator::BaseScheme base, int k) {
+        StaggeredDPDIntegrator* integrator = new StaggeredDPDIntegrator(KT_KELVIN, 4.5, 1.0, dt, k);
+        integrator->setBaseScheme(base);
+        integrator->useRecommendedParameters();
+        return (DPDThermostatIntegrator*) integrator;
+    };
+    const StaggeredDPDIntegrator::BaseScheme vv = StaggeredDPDIntegrator::VelocityVerlet, lowe = StaggeredDPDIntegrator::LoweAndersen;
+    return {
+        {"Staggered-vV-K1", [=] { return staggered(vv, 1); }},
+        {"Staggered-vV-K3", [=] { return staggered(vv, 3); }},
+        {"Staggered-Lowe-K1", [=] { return staggered(lowe, 1); }},
+        {"Staggered-Lowe-K3", [=] { return staggered(lowe, 3); }},
     };
 }
 

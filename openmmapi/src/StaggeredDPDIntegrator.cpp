@@ -406,11 +406,6 @@ bool StaggeredDPDIntegrator::fastForcesListTheirParticles(const OpenMM::System& 
 
 void StaggeredDPDIntegrator::validate(const OpenMM::System& system) const {
     DPDThermostatIntegrator::validate(system);
-    // The sub-cycle restarts the polymer from the start of the step, across any wrap the
-    // outer drift made: the sliding boundary is not yet threaded through it.
-    require(getShearRate() == 0, std::string(className()) +
-            ": shear (shearRate != 0) is not supported by this integrator yet; it is by DPDVVIntegrator, "
-            "ShardlowIntegrator, LoweAndersenIntegrator, EDPDIntegrator and DenOtterClarkeIntegrator");
     // The polymer sub-cycle moves the polymer alone, against forces from side Contexts that
     // know neither constraints nor virtual sites: refused rather than integrated wrongly.
     require(system.getNumConstraints() == 0, "StaggeredDPDIntegrator: the System must have no constraints (the polymer "

@@ -32,7 +32,7 @@ StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const Stagger
 
 void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) {
     polymer.select(system, integrator);
-    for (auto* v : {&fastForce, &newFastForce, &startPositions, &drivingForce, &fastPositions})
+    for (auto* v : {&fastForce, &newFastForce, &startPositions, &startVelocities, &drivingForce, &fastPositions})
         v->assign(polymer.particles.size(), Vec3());
     fastContext.reset();
     fastIntegrator.reset();
@@ -321,8 +321,11 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDInt
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     const long long current = data.stepCount, next = current + 1;
     prepareStep(context, integrator);
-    for (size_t k = 0; k < polymer.particles.size(); k++)
+    for (size_t k = 0; k < polymer.particles.size(); k++) {
         startPositions[k] = (*data.positions)[polymer.particles[k]];
+        startVelocities[k] = (*data.velocities)[polymer.particles[k]];
+    }
+    context.getPeriodicBoxVectors(startBox[0], startBox[1], startBox[2]);
     predict(context, integrator, next);
     evaluatePredictedForce(context, integrator, next);
     kickSolvent(context, integrator);
@@ -371,6 +374,8 @@ void StaggeredDynamics::predict(OpenMM::ContextImpl& context, const StaggeredDPD
     // Solvent: r += Dt u + Dt^2/(2m) F.  Polymer: r^ = r + Dt u + Dt^2/(2m) (F + Fp),
     // evaluated at r^^ = mu r + (1 - mu) r^.  Velocity-Verlet base: the predicted velocities
     // u^ = u + lambda Dt F/m (solvent), u^^ = a u + (1 - a) (u + lambda Dt (F + Fp)/m) (polymer).
+    // Under shear they take the jumps of the molecules that cross, as the positions do: F^'s
+    // dissipative force pairs them with the wrapped positions.
     movePositions(context, next, Dt, [&](size_t i) {
         const int k = polymer.index[i];
         Vec3 f = force[i];
@@ -383,7 +388,7 @@ void StaggeredDynamics::predict(OpenMM::ContextImpl& context, const StaggeredDPD
         }
         const Vec3 move = v[i] * Dt + f * (0.5 * Dt * Dt * invMass[i]);
         return (k >= 0 ? move * (1 - mu) : move);
-    });
+    }, verlet ? &predicted : nullptr);
 }
 
 void StaggeredDynamics::evaluatePredictedForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
@@ -410,16 +415,30 @@ void StaggeredDynamics::kickSolvent(OpenMM::ContextImpl& context, const Staggere
 
 void StaggeredDynamics::subCycle(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long next) {
     std::vector<Vec3>& r = *platformData(context).positions;
+    std::vector<Vec3>& v = *platformData(context).velocities;
     const double b = integrator.getB();
+    // Under shear the predicting drift slid the box to the end of the step and wrapped the
+    // molecules that crossed, the polymer's too, with their velocity jumps.  The polymer
+    // starts again from the start of the step, so from that time's box and velocities too;
+    // each sub-step slides the box on and wraps the polymer when it crosses.
+    Vec3 endBox[3];
+    context.getPeriodicBoxVectors(endBox[0], endBox[1], endBox[2]);
+    const bool sheared = (thermostat.getParameters().getShearRate() != 0);
+    if (sheared)
+        context.setPeriodicBoxVectors(startBox[0], startBox[1], startBox[2]);
     // Polymer: K sub-steps from the start of the outer step, driven by F^^ = b F + (1 - b) F^
     // and the fast force, which alone is re-evaluated.
     for (size_t k = 0; k < polymer.particles.size(); k++) {
         const int p = polymer.particles[k];
         r[p] = startPositions[k];
+        v[p] = startVelocities[k];
         drivingForce[k] = force[p] * b + newForce[p] * (1 - b);
     }
     for (int s = 0; s < integrator.getNumSubSteps(); s++)
         subStep(context, integrator, s, next);
+    // K sub-step slides make U Dt up to rounding: the step ends in the box F^ was evaluated in.
+    if (sheared)
+        context.setPeriodicBoxVectors(endBox[0], endBox[1], endBox[2]);
 }
 
 void StaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, int s, long long next) {
@@ -432,6 +451,8 @@ void StaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPD
         const int p = polymer.particles[k];
         return v[p] * dt + (drivingForce[k] + fastForce[k]) * (0.5 * dt * dt * invMass[p]);
     });
+    // The solvent is inside the box already: only polymer molecules can cross here.
+    shear.slide(context, thermostat.getParameters().getShearRate(), dt, *data.positions, v);
     computeFastForce(context, integrator, next, newFastForce);
     // The slow force at the ends of the sub-step: linear in time from F to F^ (weighted), or
     // F and F^ (non-weighted).

@@ -65,7 +65,7 @@ void ReferenceStaggeredDynamics::step(OpenMM::ContextImpl& context, const Stagge
         Fp = fastForce(context, integrator, current);
         carried.setValid();
     }
-    const std::vector<Vec3> start = r;
+    const StepStart start(context, r, v);
     const std::vector<Vec3> predicted = predict(context, integrator);
     // F^ = F(r_s, r^^_p ; u^_s, u^^_p): the one slow evaluation of the outer step.
     const std::vector<Vec3> newF = slowForce(context, integrator, predicted, current + 1);
@@ -100,7 +100,9 @@ std::vector<Vec3> ReferenceStaggeredDynamics::predict(OpenMM::ContextImpl& conte
         if (k >= 0)
             predicted[i] = u[i] * a + predicted[i] * (1 - a);
     }
-    movePositions(context, move, data(context).stepCount + 1, Dt);
+    // Under shear the predicted velocities take the jumps of the molecules that cross, as
+    // their positions do: F^'s dissipative force pairs them with the wrapped positions.
+    movePositions(context, move, data(context).stepCount + 1, Dt, &predicted);
     return predicted;
 }
 
@@ -116,17 +118,31 @@ void ReferenceStaggeredDynamics::kickSolvent(OpenMM::ContextImpl& context, const
 }
 
 void ReferenceStaggeredDynamics::subCycle(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator,
-                                          const std::vector<Vec3>& start, const std::vector<Vec3>& newF) {
+                                          const StepStart& start, const std::vector<Vec3>& newF) {
     std::vector<Vec3>& r = *data(context).positions;
+    std::vector<Vec3>& u = *data(context).velocities;
     const double b = integrator.getB();
+    // Under shear the predicting drift slid the box to the end of the step and wrapped the
+    // molecules that crossed, the polymer's too, with their velocity jumps.  The polymer
+    // starts again from the start of the step, so from that time's box and velocities too;
+    // each sub-step's drift slides the box on and wraps the polymer when it crosses.
+    Vec3 endBox[3];
+    context.getPeriodicBoxVectors(endBox[0], endBox[1], endBox[2]);
+    const bool sheared = (parameters.getShearRate() != 0);
+    if (sheared)
+        context.setPeriodicBoxVectors(start.box[0], start.box[1], start.box[2]);
     // The polymer starts again from r_p, driven by F^^_p = b F_p + (1 - b) F^_p.
     std::vector<Vec3> driving(r.size());
     for (int p : polymer.particles) {
-        r[p] = start[p];
+        r[p] = start.positions[p];
+        u[p] = start.velocities[p];
         driving[p] = carried.force[p] * b + newF[p] * (1 - b);
     }
     for (int s = 0; s < integrator.getNumSubSteps(); s++)
         subStep(context, integrator, s, driving, newF);
+    // K sub-step slides make U Dt up to rounding: the step ends in the box F^ was evaluated in.
+    if (sheared)
+        context.setPeriodicBoxVectors(endBox[0], endBox[1], endBox[2]);
 }
 
 void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, int s,

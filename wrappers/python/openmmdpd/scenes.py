@@ -10,7 +10,8 @@ import openmm
 from openmm import app, unit
 
 __all__ = ["Scene", "SCENES", "build_scene", "ideal_scene", "soft_scene", "polymer_scene", "fene_chains_scene",
-           "FAST_FORCE_GROUP",
+           "wlc_shear_scene", "FAST_FORCE_GROUP", "WLC_LP_RATIO", "LAMBDA_DNA", "underhill_doyle_ratio",
+           "fractional_extension", "update_persistence_ratio",
            "soft_repulsion_force", "harmonic_bond_force", "wca_force", "fene_bond_force",
            "wlc_bond_force", "periodic_marker_force", "random_positions", "random_walk"]
 
@@ -20,7 +21,7 @@ Scene.__doc__ = """A ready-to-simulate system.
 chain_particles: tuple of chains, each a tuple of particle indices in bond order
 (empty for scenes without chains)."""
 
-SCENES = ("ideal", "soft", "polymer", "fene-chains")
+SCENES = ("ideal", "soft", "polymer", "fene-chains", "wlc-shear")
 
 # The force group of the stiff polymer forces (FENE, WCA) in the scenes made for the
 # staggered integrator; StaggeredDPDIntegrator's default fastForceGroups is this group.
@@ -114,20 +115,30 @@ def fene_bond_force(bonds, k=7.0, rmax=3.0):
     return force
 
 
-def wlc_bond_force(bonds, lp, l_spring, kT=1.0):
+# The global parameter of wlc_bond_force(..., lp_ratio=True): effective over true persistence length.
+WLC_LP_RATIO = "lpRatio"
+
+
+def wlc_bond_force(bonds, lp, l_spring, kT=1.0, periodic=True, lp_ratio=False):
     """Marko–Siggia worm-like springs, F(r) = kT/lp [1/(4(1-R)^2) - 1/4 + R], R = r/l_spring.
 
     Energy (zero at r = 0): kT/lp l_spring [1/(4(1-R)) - 1/4 - R/4 + R^2/2].
     1/(1-R) is written exp(-log(1-R)) so that R > 1 gives NaN energy and forces, as for
     FENE; Lepton simplifies the sqrt forms (sqrt(x)^2, x - x) away.
+    periodic=False measures bonds directly (for springs longer than half the box: the
+    integrators keep molecules whole). lp_ratio=True makes the persistence length
+    lp * WLC_LP_RATIO, a global parameter (default 1) for a correction that changes in a run.
     """
+    persistence = f"(lp*{WLC_LP_RATIO})" if lp_ratio else "lp"
     force = openmm.CustomBondForce(
-        "kT/lp*L*(0.25*exp(-log(1 - R)) - 0.25 - 0.25*R + 0.5*R^2); R=r/L; "
+        f"kT/{persistence}*L*(0.25*exp(-log(1 - R)) - 0.25 - 0.25*R + 0.5*R^2); R=r/L; "
         f"kT={kT!r}; lp={lp!r}; L={l_spring!r}")
     force.setName("WormLikeChain")
+    if lp_ratio:
+        force.addGlobalParameter(WLC_LP_RATIO, 1.0)
     for i, j in bonds:
         force.addBond(i, j, [])
-    force.setUsesPeriodicBoundaryConditions(True)
+    force.setUsesPeriodicBoundaryConditions(periodic)
     return force
 
 
@@ -177,8 +188,9 @@ def _box_length(num_particles, density):
     return (num_particles / density) ** (1 / 3)
 
 
-def _make_scene(name, num_particles, density, positions, chains):
-    """System with unit masses in a cubic box, and its Topology (one residue per bead).
+def _make_scene(name, num_particles, density, positions, chains, box_lengths=None):
+    """System with unit masses in a cubic box (or one of box_lengths (Lx, Ly, Lz)), and its
+    Topology (one residue per bead).
 
     The chains must be the leading particles, in order, so that Topology atom indices
     equal particle indices.
@@ -186,12 +198,13 @@ def _make_scene(name, num_particles, density, positions, chains):
     flat = [i for chain in chains for i in chain]
     if flat != list(range(len(flat))):
         raise ValueError("chain particles must come first and in order")
-    box_length = _box_length(num_particles, density)
+    if box_lengths is None:
+        box_lengths = (_box_length(num_particles, density),) * 3
     system = openmm.System()
     for _ in range(num_particles):
         system.addParticle(1.0)
-    box = [openmm.Vec3(box_length, 0, 0), openmm.Vec3(0, box_length, 0),
-           openmm.Vec3(0, 0, box_length)]
+    box = [openmm.Vec3(box_lengths[0], 0, 0), openmm.Vec3(0, box_lengths[1], 0),
+           openmm.Vec3(0, 0, box_lengths[2])]
     system.setDefaultPeriodicBoxVectors(*box)
 
     topology = app.Topology()
@@ -310,7 +323,86 @@ def fene_chains_scene(chain_length=20, num_chains=4, num_particles=4000, density
     return scene
 
 
-_BUILDERS = {"ideal": ideal_scene, "soft": soft_scene, "polymer": polymer_scene, "fene-chains": fene_chains_scene}
+# lambda-phage DNA as paper 002 §3 models it (after Underhill and Doyle): contour length and
+# persistence length in micrometres.
+LAMBDA_DNA = {"contour_length": 21.1, "persistence_length": 0.053}
+
+
+def underhill_doyle_ratio(extension, num_beads):
+    """Paper 002 §3's linear fit to Underhill and Doyle's correction for M-bead Marko–Siggia
+    chains: lp_effective / lp_true = (1 - z) c (M - 1) + 1, c = 0.022 (M <= 20) or 0.025,
+    z in [0, 1] the fractional extension of the whole molecule (1 for a dumbbell, M = 2:
+    no correction)."""
+    if num_beads <= 2:
+        return 1.0
+    z = min(max(float(extension), 0.0), 1.0)
+    return (1.0 - z) * (0.022 if num_beads <= 20 else 0.025) * (num_beads - 1) + 1.0
+
+
+def fractional_extension(chain_positions, contour_length, axis=0):
+    """The chain's largest extent along `axis` (max - min of its beads, unwrapped as the
+    integrators keep molecules), over its contour length: paper 002 §8's <x>/L per frame."""
+    x = np.asarray(chain_positions, dtype=float)[:, axis]
+    return float((x.max() - x.min()) / contour_length)
+
+
+def update_persistence_ratio(context, chain_positions, contour_length, axis=0):
+    """Set the WLC force's WLC_LP_RATIO from the chain's current extension (Underhill–Doyle).
+
+    Paper 002 applies the correction at every step; calling this every few steps applies it
+    with that lag. Returns the ratio set."""
+    ratio = underhill_doyle_ratio(fractional_extension(chain_positions, contour_length, axis), len(chain_positions))
+    context.setParameter(WLC_LP_RATIO, ratio)
+    return ratio
+
+
+def wlc_shear_scene(num_particles=4000, box=(10.0, 20.0, 5.0), a=18.75, num_beads=5, l_spring=8.0, seed=1,
+                    native_force=True):
+    """One worm-like chain (λ-phage DNA) in a soft DPD solvent, for Lees–Edwards shear along x
+    with its gradient along y (paper 002 §8): num_particles in a box Lx x Ly x Lz (4000 in
+    10 x 20 x 5, density 4), soft repulsion a = 75 kT/rho = 18.75 between all particles
+    (solvent–solvent, bead–solvent and bead–bead: paper 002 models beads and solvent alike but
+    for the springs; no LJ between beads), the thermostat (the integrator's) on all pairs.
+    Particles 0..num_beads-1 are the chain.
+
+    The chain: num_beads beads joined by Marko–Siggia springs (wlc_bond_force) in force group
+    FAST_FORCE_GROUP, not periodic (a spring may be longer than half the box; the
+    integrators wrap molecules whole). λ-DNA as paper 002 takes it: contour length
+    L = 21.1 µm, persistence length lp = 0.053 µm, so each of the M - 1 springs has
+    Lspring/lp = 21.1/(0.053 (M - 1)) (99.5 for M = 5). Paper 002 does not say how it maps
+    µm to DPD lengths; here Lspring = l_spring (default 8 rc: L = 32 rc, lp = 0.0804 rc), chosen
+    so that the relaxation time is a few DPD time units, long enough for Weissenberg numbers
+    of a few at shear rates the DPD fluid takes. The Underhill–Doyle correction for M > 2
+    (paper 002 §3): lp_effective = lp (1 + 0.022 (M - 1)(1 - z)) (M <= 20), z the chain's
+    instantaneous fractional extension, enters as the global parameter WLC_LP_RATIO, set here
+    for the start and refreshed by update_persistence_ratio() during a run.
+
+    The chain starts as a random walk of steps sqrt(2 lp Lspring) (its rms spring length) from
+    the box centre; the solvent uniformly at random.
+    """
+    if num_beads < 2 or num_beads > num_particles:
+        raise ValueError("need 2 <= num_beads <= num_particles")
+    lengths = tuple(float(x) for x in box)
+    volume = lengths[0] * lengths[1] * lengths[2]
+    lp = l_spring * LAMBDA_DNA["persistence_length"] * (num_beads - 1) / LAMBDA_DNA["contour_length"]
+    rng = np.random.default_rng(seed)
+    chain = list(range(num_beads))
+    steps = rng.normal(size=(num_beads - 1, 3))
+    steps *= np.sqrt(2 * lp * l_spring) / np.linalg.norm(steps, axis=1)[:, None]
+    walk = 0.5 * np.array(lengths) + np.vstack([np.zeros(3), np.cumsum(steps, axis=0)])
+    positions = np.vstack([walk, rng.uniform(0.0, 1.0, size=(num_particles - num_beads, 3)) * lengths])
+    scene = _make_scene("wlc-shear", num_particles, num_particles / volume, positions, (chain,), lengths)
+    springs = wlc_bond_force(list(zip(chain[:-1], chain[1:])), lp, l_spring, periodic=False, lp_ratio=True)
+    ratio = underhill_doyle_ratio(fractional_extension(walk, l_spring * (num_beads - 1)), num_beads)
+    springs.setGlobalParameterDefaultValue(0, ratio)
+    springs.setForceGroup(FAST_FORCE_GROUP)
+    scene.system.addForce(springs)
+    scene.system.addForce(soft_repulsion_force(num_particles, a, native=native_force))
+    return scene
+
+
+_BUILDERS = {"ideal": ideal_scene, "soft": soft_scene, "polymer": polymer_scene, "fene-chains": fene_chains_scene,
+             "wlc-shear": wlc_shear_scene}
 
 
 def build_scene(name, **kwargs):

@@ -82,7 +82,7 @@ private:
     void evaluatePredictedForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long next);
     /** u_s <- u_s + Dt/(2m) (F_s + F^_s). */
     void kickSolvent(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
-    /** The polymer back to startPositions, then K sub-steps driven by b F + (1 - b) F^ and Fp. */
+    /** The polymer back to the start of the step (positions, velocities, box), then K sub-steps driven by b F + (1 - b) F^ and Fp. */
     void subCycle(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long next);
     /** Sub-step s of K: r_p, Fp at the new r_p, u_p. */
     void subStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, int s, long long next);
@@ -95,7 +95,8 @@ private:
     std::vector<OpenMM::Vec3> predicted, newForce;
     // Per polymer particle (index k of polymer[k]): the fast force, the one at the new
     // sub-step positions, the start of the outer step, the slow force driving the sub-steps.
-    std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, drivingForce, fastPositions;
+    std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, startVelocities, drivingForce, fastPositions;
+    OpenMM::Vec3 startBox[3];  // the box at the start of the outer step (it slides under shear)
     std::vector<OpenMM::Vec3> loadedFastForce;  // read from a checkpoint, until all of it is read
     std::unique_ptr<OpenMM::System> fastSystem;
     std::unique_ptr<OpenMM::VerletIntegrator> fastIntegrator;

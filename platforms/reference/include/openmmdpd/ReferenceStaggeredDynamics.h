@@ -30,6 +30,15 @@ protected:
     void commitExtraState() override { Fp.swap(loadedFp); }
 
 private:
+    /** The state at the start of the outer step, where the polymer's sub-cycle starts from. */
+    struct StepStart {
+        StepStart(OpenMM::ContextImpl& context, const std::vector<OpenMM::Vec3>& r, const std::vector<OpenMM::Vec3>& v) :
+                positions(r), velocities(v) {
+            context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        }
+        const std::vector<OpenMM::Vec3> positions, velocities;
+        OpenMM::Vec3 box[3];
+    };
     /** The polymer particles for the integrator's current fast groups and explicit list. */
     void updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator);
     bool isPolymer(int i) const { return polymer.index[i] >= 0; }
@@ -48,8 +57,8 @@ private:
     std::vector<OpenMM::Vec3> predict(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
     /** u_s <- u_s + Dt/(2m) (F_s + F^_s). */
     void kickSolvent(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, const std::vector<OpenMM::Vec3>& newF);
-    /** The K polymer sub-steps from `start`, driven by F^^ = b F + (1 - b) F^ and Fp. */
-    void subCycle(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, const std::vector<OpenMM::Vec3>& start,
+    /** The K polymer sub-steps from `start` (positions, velocities, box), driven by F^^ = b F + (1 - b) F^ and Fp. */
+    void subCycle(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, const StepStart& start,
                   const std::vector<OpenMM::Vec3>& newF);
     /** Sub-step s of K: r_p, then Fp at the new r_p, then u_p. */
     void subStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, int s,
