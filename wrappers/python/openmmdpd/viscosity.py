@@ -98,7 +98,7 @@ def green_kubo(series, interval, scale=1.0, max_lag=None, segments=8):
     interval, its columns' correlations averaged: a dict with the plateau lag (plateau_lag of
     the whole series' C), the integral there with its standard error from the spread over
     `segments` consecutive segments integrated to the same lag, the values at twice and four
-    times the lag, and the lags, C and running integral (scaled) for charts."""
+    times the lag, the lags, C and running integral (scaled) for charts, and the segments' values."""
     x = np.asarray(series, dtype=float)
     x = x.reshape(len(x), -1)
     if segments < 2 or len(x) // segments < 2:
@@ -111,7 +111,8 @@ def green_kubo(series, interval, scale=1.0, max_lag=None, segments=8):
                    for part in np.array_split(x, segments)]
     return dict(lag=lag, plateau_time=lag * interval, eta=float(running[lag]), eta_err=float(np.std(per_segment, ddof=1) / np.sqrt(segments)),
                 eta_2lag=float(running[min(2 * lag, max_lag)]), eta_4lag=float(running[min(4 * lag, max_lag)]),
-                lags=np.arange(max_lag + 1) * interval, correlation=c, running=running)
+                lags=np.arange(max_lag + 1) * interval, correlation=c, running=running,
+                segments=np.array(per_segment))
 
 
 # --- runs ----------------------------------------------------------------------------------------
@@ -197,7 +198,8 @@ def green_kubo_runs(scene, args):
     integrator, context, _ = start_run(scene, args, 0.0)
     tensors, _ = sample_blocks(integrator, context, args, _blocks(args.gk_time, args))
     interval = round(args.block / args.dt) * args.dt
-    volume = scene.system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(unit.nanometer) ** 3
+    box = scene.system.getDefaultPeriodicBoxVectors()
+    volume = box[0][0] * box[1][1] * box[2][2] / unit.nanometer**3
     scale = volume / kT_from_temperature(integrator.getTemperature())
     off = tensors[:, :, OFF_DIAGONAL]
     series = {name: off[:, k] for k, name in enumerate(PARTS)}
