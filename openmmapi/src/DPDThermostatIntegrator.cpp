@@ -81,6 +81,28 @@ void DPDThermostatIntegrator::setShearRate(double rate) {
     parametersVersion++;
 }
 
+void DPDThermostatIntegrator::setPressureTensorEnabled(bool enabled) {
+    require(!enabled || supportsPressureTensor(), name + ": the pressure tensor is not available for this integrator; "
+            "it is for DPDVVIntegrator, ShardlowIntegrator and LoweAndersenIntegrator");
+    pressureTensorEnabled = enabled;
+}
+
+std::vector<double> DPDThermostatIntegrator::getAveragePressureTensor(int part) const {
+    require(part >= PressureTotal && part <= PressureThermostat,
+            name + ": the pressure tensor part must be 0 (total), 1 (kinetic), 2 (conservative) or 3 (thermostat), got " +
+                    std::to_string(part));
+    return getStepKernel().getAs<const DPDStepKernel>().getAveragePressureTensor(part);
+}
+
+long long DPDThermostatIntegrator::getPressureTensorSampleCount() const {
+    return getStepKernel().getAs<const DPDStepKernel>().getPressureTensorSampleCount();
+}
+
+void DPDThermostatIntegrator::resetPressureTensor() {
+    getStepKernel();  // throws unless bound to a Context
+    kernel.getAs<DPDStepKernel>().resetPressureTensor();
+}
+
 namespace {
 
 /** Forces that act within molecules, which the shear wraps as a whole: they need not be periodic. */

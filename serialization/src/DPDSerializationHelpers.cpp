@@ -13,6 +13,7 @@ void DPDPlugin::serializeThermostatParameters(const DPDThermostatIntegrator& int
     node.setIntProperty("integrationForceGroups", integrator.getIntegrationForceGroups());
     node.setDoubleProperty("instabilityThreshold", integrator.getInstabilityThreshold());
     node.setDoubleProperty("shearRate", integrator.getShearRate());
+    node.setBoolProperty("pressureTensorEnabled", integrator.getPressureTensorEnabled());
     serializeTypeTable(integrator, node, "friction");
 }
 
@@ -23,5 +24,6 @@ void DPDPlugin::deserializeThermostatParameters(const SerializationNode& node, D
     integrator.setInstabilityThreshold(node.getDoubleProperty("instabilityThreshold", 0.0));
     // XML written before shear existed has none.
     integrator.setShearRate(node.getDoubleProperty("shearRate", 0.0));
+    integrator.setPressureTensorEnabled(node.getBoolProperty("pressureTensorEnabled", false));
     deserializeTypeTable(node, integrator, "friction");
 }

@@ -21,6 +21,7 @@
 %include "std_vector.i"
 %template(ParticleTypeMap) std::map<int, int>;
 %template(IntVector) std::vector<int>;
+%template(DoubleVector) std::vector<double>;
 
 // Errors reach Python as openmm.OpenMMException, as OpenMM's own do.
 %exception {
@@ -44,6 +45,7 @@ from openmmdpd.units import strip_units as _strip
 
 _K, _NM, _PS = _unit.kelvin, _unit.nanometer, _unit.picosecond
 _RATE, _FORCE = _unit.picosecond**-1, _unit.kilojoule_per_mole / _unit.nanometer
+_PRESSURE = _unit.kilojoule_per_mole / _unit.nanometer**3
 # den Otter-Clarke's averages: <FD.v> (a power), <FD.FD>, <FR.FR> (FR without 1/sqrt(dt))
 _POWER, _FORCE2, _FORCE2_TIME = _unit.kilojoule_per_mole / _unit.picosecond, _FORCE**2, _FORCE**2 * _unit.picosecond
 
@@ -216,6 +218,9 @@ def _arg(self, method, name, value, target_unit):
 %}
 
 // --- units out: getters return Quantities, like OpenMM's ---
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getAveragePressureTensor %{
+    val = _unit.Quantity(list(val), _PRESSURE)
+%}
 %pythonappend DPDPlugin::DPDThermostatIntegrator::getTemperature %{
     val = _unit.Quantity(val, _unit.kelvin)
 %}

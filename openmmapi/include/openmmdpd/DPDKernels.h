@@ -10,8 +10,10 @@
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/KernelImpl.h"
 #include "openmm/System.h"
+#include <array>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace DPDPlugin {
 
@@ -28,6 +30,10 @@ public:
     virtual void invalidateForces() = 0;
     virtual void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream) const = 0;
     virtual void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) = 0;
+    /** See DPDThermostatIntegrator::getAveragePressureTensor (part: a DPDThermostatIntegrator::PressurePart). */
+    virtual std::vector<double> getAveragePressureTensor(int part) const = 0;
+    virtual long long getPressureTensorSampleCount() const = 0;
+    virtual void resetPressureTensor() = 0;
 };
 
 /**
@@ -99,6 +105,11 @@ public:
     /** Add the forces to the Context's, if includeForces; return the energy (kJ/mol) if includeEnergy. */
     virtual double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) = 0;
     virtual void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) = 0;
+    /**
+     * The force's pair virial at the Context's positions: the sum over pairs of r_ij,a F_ij,b
+     * (kJ/mol, F_ij the force on i, r_ij = r_i - r_j the nearest image) as (xx, yy, zz, xy, xz, yz).
+     */
+    virtual std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) = 0;
 };
 
 } // namespace DPDPlugin

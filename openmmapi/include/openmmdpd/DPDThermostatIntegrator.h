@@ -141,6 +141,44 @@ public:
      * @param rate  the shear rate (1/ps), finite; its sign sets the direction of the flow
      */
     void setShearRate(double rate);
+    /** The parts of the pressure tensor (getAveragePressureTensor). */
+    enum PressurePart {
+        /** Their sum, the whole pressure tensor. */
+        PressureTotal = 0,
+        /** sum m u u / V, u the peculiar velocity v - rate (y - Ly/2) x less the centre-of-mass velocity. */
+        PressureKinetic = 1,
+        /** The virial of the integration force groups' forces, / V. */
+        PressureConservative = 2,
+        /** The virial of the dissipative and random pair forces (or pair impulses / dt), / V. */
+        PressureThermostat = 3
+    };
+    /** Get whether every step adds a sample to the pressure tensor (false by default). */
+    bool getPressureTensorEnabled() const { return pressureTensorEnabled; }
+    /**
+     * Sample the pressure tensor at the end of every step from now on (algorithms.md section
+     * 10): P = (1/V) [sum_i m_i u_i u_i + sum_{i<j} r_ij (FC + FD + FR)_ij], with the
+     * dissipative and random parts from the pair forces the step applied (for a scheme
+     * that sweeps pairs sequentially, the impulses J_ij of its sweeps: sum r_ij J_ij / dt).
+     * The conservative virial is exact for a force group that holds only
+     * DPDSoftRepulsionForces, and otherwise -dU/d(strain) by central differences of the
+     * groups' energy over an affine strain of the box and every particle (atomic virial; 12
+     * energy evaluations per step, so put a DPDSoftRepulsionForce in a group of its own).
+     * Costs an extra pass over the pairs per step; off, it costs nothing and no trajectory
+     * depends on it.  Not available with constraints, whose forces it leaves out.
+     */
+    void setPressureTensorEnabled(bool enabled);
+    /**
+     * Get the pressure tensor averaged over the steps sampled since the Context was created
+     * or resetPressureTensor() was last called, as (xx, yy, zz, xy, xz, yz) in kJ/mol/nm^3
+     * (positive is compressive; under shear the viscosity is -P_xy / rate).
+     *
+     * @param part  a PressurePart: the whole tensor (default) or one of its parts
+     */
+    std::vector<double> getAveragePressureTensor(int part = PressureTotal) const;
+    /** Get the number of steps averaged by getAveragePressureTensor(). */
+    long long getPressureTensorSampleCount() const;
+    /** Start a new average of the pressure tensor. */
+    void resetPressureTensor();
     /** The largest thermostat cutoff over the defaults and all type pairs (nm). */
     double getMaxCutoff() const { return types.getMaxCutoff(defaultCutoff); }
     /** The largest friction over the defaults and all type pairs (1/ps). */
@@ -167,6 +205,11 @@ public:
 protected:
     /** The name of the kernel that takes the steps. */
     virtual std::string kernelName() const = 0;
+    /**
+     * Whether this integrator's steps sample the pressure tensor; setPressureTensorEnabled(true)
+     * is refused otherwise.
+     */
+    virtual bool supportsPressureTensor() const { return true; }
     /** Initialize the step kernel (of this class's typed interface) for a System. */
     virtual void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const = 0;
     /** Take one step with the step kernel. */
@@ -190,6 +233,7 @@ private:
     void validateShear(const OpenMM::System& system) const;
     std::string name;
     double temperature, defaultFriction, defaultCutoff, instabilityThreshold = 0, shearRate = 0;
+    bool pressureTensorEnabled = false;
     int randomNumberSeed, parametersVersion = 0, seedVersion = 0;
     ParticleTypeTable types;
     OpenMM::Kernel kernel;

@@ -70,6 +70,8 @@ public:
     long long getNumPairVariables() const;
 
 protected:
+    /** Its steps do not sample the pressure tensor (yet). */
+    bool supportsPressureTensor() const override { return false; }
     std::string kernelName() const override;
     void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const override;
     void executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const override;

@@ -156,6 +156,8 @@ public:
     void validate(const OpenMM::System& system) const override;
 
 protected:
+    /** Its steps do not sample the pressure tensor (yet). */
+    bool supportsPressureTensor() const override { return false; }
     std::string kernelName() const override;
     void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const override;
     void executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const override;

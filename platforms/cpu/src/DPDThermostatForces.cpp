@@ -107,6 +107,27 @@ void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities
         sumOverPairs(DPDListForces<false, true, false>{pairs, velocities, random, step, invSqrtDt}, {&randomForce});
 }
 
+void DPDThermostatForces::addVirial(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
+                                    SymmetricTensor& virial) {
+    const double invSqrtDt = 1 / std::sqrt(dt);
+    std::vector<SymmetricTensor> workerVirial(executor.getNumWorkers(), SymmetricTensor{});
+    executor.execute([&](int w) {
+        size_t begin, end;
+        executor.range(w, pairs.size(), begin, end);
+        if (terms == (DissipativeTerm | RandomTerm))
+            addVirialAlongPairs(pairs, begin, end, DPDListForces<true, true, false>{pairs, velocities, random, step, invSqrtDt},
+                                parameters, workerVirial[w]);
+        else if (terms == DissipativeTerm)
+            addVirialAlongPairs(pairs, begin, end, DPDListForces<true, false, false>{pairs, velocities, random, step, invSqrtDt},
+                                parameters, workerVirial[w]);
+        else
+            addVirialAlongPairs(pairs, begin, end, DPDListForces<false, true, false>{pairs, velocities, random, step, invSqrtDt},
+                                parameters, workerVirial[w]);
+    });
+    for (const SymmetricTensor& t : workerVirial)
+        addTensor(virial, t);
+}
+
 template <class Evaluator>
 void DPDThermostatForces::sumOverPairs(const Evaluator& evaluator, std::array<std::vector<Vec3>*, Evaluator::OUTPUTS> out) {
     const int workers = executor.getNumWorkers();

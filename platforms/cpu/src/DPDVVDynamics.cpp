@@ -21,64 +21,84 @@ void DPDVVDynamics::computeInitialForce(OpenMM::ContextImpl& context, const DPDV
 
 void DPDVVDynamics::step(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    if (!carriedForceValid(*data.positions, *data.velocities))
+        computeInitialForce(context, integrator);
+    if (integrator.getVariant() == DPDVVIntegrator::GrootWarren)
+        grootWarrenStep(context, integrator);
+    else
+        dpdvvStep(context, integrator);
+    finishStep(data, integrator.getStepSize());
+}
+
+void DPDVVDynamics::grootWarrenStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     std::vector<Vec3>& r = *data.positions;
     std::vector<Vec3>& v = *data.velocities;
     const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
-    const size_t n = r.size();
+    const double dt = integrator.getStepSize(), lambda = integrator.getLambda();
+    const long long next = data.stepCount + 1;
+    // r += dt v + dt^2/(2m) F ;  v~ = v + lambda dt F/m (both corrected by the constraints)
+    movePositions(context, next, dt, [&](size_t i) {
+        predicted[i] = v[i] + force[i] * (lambda * dt * invMass[i]);
+        return v[i] * dt + force[i] * (0.5 * dt * dt * invMass[i]);
+    }, &predicted);
+    // F(t+dt) = FC(r) + FD(r, v~) + FR(r)
+    computeForceInOnePass(context, integrator.getIntegrationForceGroups(), predicted, next, dt, newForce);
+    if (thermostatVirial != nullptr) {
+        // The one pass left the pair list stale: find the same pairs again for the virial.
+        Vec3 box[3];
+        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        thermostat.updatePairs(r, box);
+        thermostat.addVirial(DissipativeTerm | RandomTerm, predicted, next, dt, *thermostatVirial);
+    }
+    // v += dt/(2m) [F + F(t+dt)]
+    forEachParticle(r.size(), [&](size_t i) {
+        v[i] += (force[i] + newForce[i]) * (0.5 * dt * invMass[i]);
+        force[i] = newForce[i];
+    });
+    constrainVelocities(context);
+}
+
+void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) {
+    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    std::vector<Vec3>& v = *data.velocities;
+    const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+    const size_t n = v.size();
     const double dt = integrator.getStepSize();
     const long long next = data.stepCount + 1;
-    if (!carriedForceValid(r, v))
-        computeInitialForce(context, integrator);
-
-    if (integrator.getVariant() == DPDVVIntegrator::GrootWarren) {
-        const double lambda = integrator.getLambda();
-        // r += dt v + dt^2/(2m) F ;  v~ = v + lambda dt F/m (both corrected by the constraints)
-        movePositions(context, next, dt, [&](size_t i) {
-            predicted[i] = v[i] + force[i] * (lambda * dt * invMass[i]);
-            return v[i] * dt + force[i] * (0.5 * dt * dt * invMass[i]);
-        }, &predicted);
-        // F(t+dt) = FC(r) + FD(r, v~) + FR(r)
-        computeForceInOnePass(context, integrator.getIntegrationForceGroups(), predicted, next, dt, newForce);
-        // v += dt/(2m) [F + F(t+dt)]
+    // (1) v += dt/(2m) (FC + FD + FR) ; (2) r += dt v
+    movePositions(context, next, dt, [&](size_t i) {
+        v[i] += force[i] * (0.5 * dt * invMass[i]);
+        return v[i] * dt;
+    });
+    // (3) FC(r), FD(r, v), FR(r) with the half-step v
+    computeConservativeAndPairs(context, integrator.getIntegrationForceGroups(), next);
+    thermostat.compute(DissipativeTerm | RandomTerm, v, next, dt, dissipative, random);
+    // (4a) v° = v + dt/(2m) (FC + FR)
+    forEachParticle(n, [&](size_t i) {
+        velocityNoFD[i] = v[i] + (conservative[i] + random[i]) * (0.5 * dt * invMass[i]);
+    });
+    // (4b) v = v° + dt/(2m) FD ; (5) FD <- FD(r, v).  SC-VV repeats both until the
+    // kinetic energy settles; DPD-VV does them once.
+    const int iterations = (integrator.getVariant() == DPDVVIntegrator::SelfConsistent ? integrator.getMaxIterations() : 1);
+    double previous = 0;
+    for (int it = 0; it < iterations; it++) {
         forEachParticle(n, [&](size_t i) {
-            v[i] += (force[i] + newForce[i]) * (0.5 * dt * invMass[i]);
-            force[i] = newForce[i];
+            v[i] = velocityNoFD[i] + dissipative[i] * (0.5 * dt * invMass[i]);
         });
         constrainVelocities(context);
-    }
-    else {
-        // (1) v += dt/(2m) (FC + FD + FR) ; (2) r += dt v
-        movePositions(context, next, dt, [&](size_t i) {
-            v[i] += force[i] * (0.5 * dt * invMass[i]);
-            return v[i] * dt;
-        });
-        // (3) FC(r), FD(r, v), FR(r) with the half-step v
-        computeConservativeAndPairs(context, integrator.getIntegrationForceGroups(), next);
-        thermostat.compute(DissipativeTerm | RandomTerm, v, next, dt, dissipative, random);
-        // (4a) v° = v + dt/(2m) (FC + FR)
-        forEachParticle(n, [&](size_t i) {
-            velocityNoFD[i] = v[i] + (conservative[i] + random[i]) * (0.5 * dt * invMass[i]);
-        });
-        // (4b) v = v° + dt/(2m) FD ; (5) FD <- FD(r, v).  SC-VV repeats both until the
-        // kinetic energy settles; DPD-VV does them once.
-        const int iterations = (integrator.getVariant() == DPDVVIntegrator::SelfConsistent ? integrator.getMaxIterations() : 1);
-        double previous = 0;
-        for (int it = 0; it < iterations; it++) {
-            forEachParticle(n, [&](size_t i) {
-                v[i] = velocityNoFD[i] + dissipative[i] * (0.5 * dt * invMass[i]);
-            });
-            constrainVelocities(context);
-            thermostat.compute(DissipativeTerm, v, next, dt, dissipative, random);
-            if (iterations > 1) {
-                const double kinetic = sumMV2(v);
-                if (it > 0 && std::fabs(kinetic - previous) <= integrator.getTolerance() * kinetic)
-                    break;
-                previous = kinetic;
-            }
+        thermostat.compute(DissipativeTerm, v, next, dt, dissipative, random);
+        if (iterations > 1) {
+            const double kinetic = sumMV2(v);
+            if (it > 0 && std::fabs(kinetic - previous) <= integrator.getTolerance() * kinetic)
+                break;
+            previous = kinetic;
         }
-        forEachParticle(n, [&](size_t i) {
-            force[i] = conservative[i] + random[i] + dissipative[i];
-        });
     }
-    finishStep(data, dt);
+    forEachParticle(n, [&](size_t i) {
+        force[i] = conservative[i] + random[i] + dissipative[i];
+    });
+    // the FD carried into the next step, at the final velocities
+    if (thermostatVirial != nullptr)
+        thermostat.addVirial(DissipativeTerm | RandomTerm, v, next, dt, *thermostatVirial);
 }

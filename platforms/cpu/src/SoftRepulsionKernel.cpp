@@ -1,5 +1,6 @@
 #include "openmmdpd/SoftRepulsionKernel.h"
 #include "openmmdpd/SlotAccumulation.h"
+#include "openmmdpd/PressureTensor.h"
 #include "openmm/internal/ContextImpl.h"
 #include "ReferencePlatform.h"
 #include <algorithm>
@@ -37,23 +38,27 @@ void SoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force) {
         force.getTypePairParameters(k, e.type1, e.type2, e.value, e.cutoff);
     }
     table.reset(new TypePairTable(numParticles, force.getParticleTypes(), force.getDefaultA(), force.getDefaultCutoff(), entries));
-    search.reset(new PairSearch(std::vector<bool>(numParticles, true), table->getMaxCutoff(), periodic));
+    pairSearch.reset(new PairSearch(std::vector<bool>(numParticles, true), table->getMaxCutoff(), periodic));
     version++;
+}
+
+void SoftRepulsionKernel::search(OpenMM::ContextImpl& context) {
+    OpenMM::ReferencePlatform::PlatformData& data = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    pairSearch->build(*data.positions, box);
+    const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
+    sortedType.resize(sortedIndex.size());
+    for (size_t k = 0; k < sortedIndex.size(); k++)
+        sortedType[k] = table->typeOf(sortedIndex[k]);
 }
 
 double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
     if (deferred)
         return 0.0;
-    OpenMM::ReferencePlatform::PlatformData& data = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
-    std::vector<Vec3>& forces = *data.forces;
-    Vec3 box[3];
-    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    search->build(*data.positions, box);
-    const std::vector<int>& sortedIndex = search->getSortedIndex();
+    search(context);
+    const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
     const size_t slots = sortedIndex.size();
-    sortedType.resize(slots);
-    for (size_t k = 0; k < slots; k++)
-        sortedType[k] = table->typeOf(sortedIndex[k]);
     const int workers = executor->getNumWorkers();
     // Each worker sums its cells' pairs into its own buffer, by sorted slot; the buffers are
     // then added to the Context's forces in worker order.
@@ -62,9 +67,9 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
         auto evaluate = [&](int p, const int* q, const Vec3* d, int count, int* slots, Vec3* pairForces) {
             int n = 0;
             for (int k = 0; k < count; k++) {
-                const int t = table->indexOfTypes(sortedType[p], sortedType[q[k]]);
                 const double r2 = d[k].dot(d[k]);
-                if (r2 >= table->cutoff2(t) || (hasExclusions && excluded(sortedIndex[p], sortedIndex[q[k]])))
+                int t;
+                if (!actsOn(p, q[k], r2, t))
                     continue;
                 const double a = table->value(t), r = std::sqrt(r2);
                 if (includeEnergy)
@@ -76,10 +81,11 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
             }
             return n;
         };
-        accumulateBySlot(*search, w, workers, evaluate, workerForces[w]);
+        accumulateBySlot(*pairSearch, w, workers, evaluate, workerForces[w]);
         workerEnergy[w] = energy;
     });
-    if (includeForces)
+    if (includeForces) {
+        std::vector<Vec3>& forces = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData())->forces;
         executor->execute([&](int w) {
             size_t begin, end;
             executor->range(w, slots, begin, end);
@@ -90,8 +96,33 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
                 forces[sortedIndex[k]] += f;
             }
         });
+    }
     double energy = 0;
     for (double e : workerEnergy)
         energy += e;
     return includeEnergy ? energy : 0.0;
+}
+
+std::array<double, 6> SoftRepulsionKernel::computeVirial(OpenMM::ContextImpl& context) {
+    search(context);
+    const int workers = executor->getNumWorkers();
+    std::vector<SymmetricTensor> workerVirial(workers, SymmetricTensor{});
+    executor->execute([&](int w) {
+        size_t begin, end;
+        pairSearch->workerCells(w, workers, begin, end);
+        pairSearch->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+            for (int k = 0; k < count; k++) {
+                const double r2 = d[k].dot(d[k]);
+                int t;
+                if (r2 > 0 && actsOn(p, q[k], r2, t)) {
+                    const double r = std::sqrt(r2);
+                    addAlong(workerVirial[w], d[k] / r, r * SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r));
+                }
+            }
+        });
+    });
+    SymmetricTensor virial{};
+    for (const SymmetricTensor& v : workerVirial)
+        addTensor(virial, v);
+    return virial;
 }

@@ -64,14 +64,14 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order.
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
-    withPairImpulse(context, [&](const auto& impulse) {
+    withPairImpulse(context, dt, [&](const auto& impulse) {
         sweep(*data.velocities, ShardlowPairUpdate<BatchNormals, decltype(impulse)>{normals(PairRandom::RandomForce, current), h, impulse},
               false);
     });
     constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder) {
-        withPairImpulse(context, [&](const auto& impulse) {
+        withPairImpulse(context, dt, [&](const auto& impulse) {
             sweep(*data.velocities, ShardlowPairUpdate<BatchNormals, decltype(impulse)>{normals(PairRandom::SecondSweep, current), h, impulse},
                   true);
         });
@@ -118,7 +118,7 @@ void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const L
     std::vector<Vec3>& v = *platformData(context).velocities;
     const double dt = integrator.getStepSize(), kT = thermostat.getParameters().getKT();
     const PairRandom& random = thermostat.getRandom();
-    withPairImpulse(context, [&](const auto& impulse) {
+    withPairImpulse(context, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
             sweep(v, LowePairUpdate<Impulse>{random, step, dt, kT, impulse}, false);

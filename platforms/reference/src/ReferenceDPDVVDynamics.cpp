@@ -5,11 +5,11 @@ using namespace DPDPlugin;
 using OpenMM::Vec3;
 
 std::vector<Vec3> ReferenceDPDVVDynamics::totalForce(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator,
-                                                     const std::vector<Vec3>& v, long long step) {
+                                                     const std::vector<Vec3>& v, long long step, SymmetricTensor* virial) {
     std::vector<Vec3> f = conservativeForce(context, integrator.getIntegrationForceGroups(), step);
     const std::vector<PairGeometry> pairs = findPairs(context);
-    addDissipative(pairs, v, f);
-    addRandom(pairs, step, integrator.getStepSize(), f);
+    addDissipative(pairs, v, f, virial);
+    addRandom(pairs, step, integrator.getStepSize(), f, virial);
     return f;
 }
 
@@ -43,7 +43,7 @@ void ReferenceDPDVVDynamics::grootWarrenStep(OpenMM::ContextImpl& context, const
     }
     movePositions(context, move, next, dt, &predicted);
     // F(t+dt) = FC(r) + FD(r, v~) + FR(r)
-    const std::vector<Vec3> newF = totalForce(context, integrator, predicted, next);
+    const std::vector<Vec3> newF = totalForce(context, integrator, predicted, next, thermostatVirial);
     // v(t+dt) = v + dt/(2m) [F + F(t+dt)]
     for (size_t i = 0; i < n; i++)
         v[i] += (F[i] + newF[i]) * (0.5 * dt * invMass[i]);
@@ -70,7 +70,7 @@ void ReferenceDPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVV
     const std::vector<PairGeometry> pairs = findPairs(context);
     std::vector<Vec3> FD(n), FR(n);
     addDissipative(pairs, v, FD);
-    addRandom(pairs, next, dt, FR);
+    addRandom(pairs, next, dt, FR, thermostatVirial);
     // (4a) v° <- v + dt/(2m) (FC + FR)
     std::vector<Vec3> vNoFD(n);
     for (size_t i = 0; i < n; i++)
@@ -92,6 +92,10 @@ void ReferenceDPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVV
         if (it > 0 && std::fabs(kinetic - previousKinetic) <= integrator.getTolerance() * kinetic)
             break;
         previousKinetic = kinetic;
+    }
+    if (thermostatVirial != nullptr) {
+        std::vector<Vec3> unused(n);
+        addDissipative(pairs, v, unused, thermostatVirial);  // the FD carried into the next step
     }
     for (size_t i = 0; i < n; i++)
         carried.force[i] = FC[i] + FR[i] + FD[i];

@@ -43,21 +43,25 @@ std::vector<Vec3> ReferenceDynamics::conservativeForce(OpenMM::ContextImpl& cont
     return force;
 }
 
-void ReferenceDynamics::addDissipative(const std::vector<PairGeometry>& pairs, const std::vector<Vec3>& v, std::vector<Vec3>& out) const {
+void ReferenceDynamics::addDissipative(const std::vector<PairGeometry>& pairs, const std::vector<Vec3>& v, std::vector<Vec3>& out,
+                                       SymmetricTensor* virial) const {
+    for (const PairGeometry& p : pairs)
+        addPairForce(p, DPDPairForce::dissipative(p, p.relativeVelocity(v[p.i], v[p.j])), out, virial);
+}
+
+void ReferenceDynamics::addRandom(const std::vector<PairGeometry>& pairs, long long step, double dt, std::vector<Vec3>& out,
+                                  SymmetricTensor* virial) const {
     for (const PairGeometry& p : pairs) {
-        const Vec3 f = DPDPairForce::dissipative(p, p.relativeVelocity(v[p.i], v[p.j]));
-        out[p.i] += f;
-        out[p.j] -= f;
+        const double xi = random.gaussian(PairRandom::RandomForce, step, p.i, p.j);
+        addPairForce(p, DPDPairForce::random(p, xi, 1 / std::sqrt(dt)), out, virial);
     }
 }
 
-void ReferenceDynamics::addRandom(const std::vector<PairGeometry>& pairs, long long step, double dt, std::vector<Vec3>& out) const {
-    for (const PairGeometry& p : pairs) {
-        const double xi = random.gaussian(PairRandom::RandomForce, step, p.i, p.j);
-        const Vec3 f = DPDPairForce::random(p, xi, 1 / std::sqrt(dt));
-        out[p.i] += f;
-        out[p.j] -= f;
-    }
+void ReferenceDynamics::addPairForce(const PairGeometry& p, const Vec3& f, std::vector<Vec3>& out, SymmetricTensor* virial) const {
+    out[p.i] += f;
+    out[p.j] -= f;
+    if (virial != nullptr)
+        addAlong(*virial, p.e, pairDistance(p, parameters) * f.dot(p.e));
 }
 
 void ReferenceDynamics::movePositions(OpenMM::ContextImpl& context, const std::vector<Vec3>& move, long long step, double dt,

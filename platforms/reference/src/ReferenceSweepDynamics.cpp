@@ -65,14 +65,16 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
     const double h = secondOrder ? 0.5 * dt : dt;
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
     // the pairs at the new positions and with numbers of their own.
-    withPairImpulse(context, [&](const auto& impulse) {
-        sweep(findPairs(context), ShardlowPairUpdate<DrawnNormals, decltype(impulse)>{{random, PairRandom::RandomForce, current}, h, impulse}, v);
+    const std::vector<PairGeometry> pairs = findPairs(context);
+    withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
+        sweep(pairs, ShardlowPairUpdate<DrawnNormals, decltype(impulse)>{{random, PairRandom::RandomForce, current}, h, impulse}, v);
     });
     constrainVelocities(context);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder) {
-        withPairImpulse(context, [&](const auto& impulse) {
-            sweepInReverse(findPairs(context),
+        const std::vector<PairGeometry> newPairs = findPairs(context);
+        withPairImpulse(context, newPairs, dt, [&](const auto& impulse) {
+            sweepInReverse(newPairs,
                            ShardlowPairUpdate<DrawnNormals, decltype(impulse)>{{random, PairRandom::SecondSweep, current}, h, impulse}, v);
         });
         constrainVelocities(context);
@@ -123,7 +125,7 @@ void ReferenceLoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context
     std::vector<Vec3>& v = *data(context).velocities;
     const double dt = integrator.getStepSize(), kT = parameters.getKT();
     const std::vector<PairGeometry> pairs = findPairs(context);
-    withPairImpulse(context, [&](const auto& impulse) {
+    withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
             sweep(pairs, LowePairUpdate<Impulse>{random, step, dt, kT, impulse}, v);

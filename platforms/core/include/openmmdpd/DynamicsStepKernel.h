@@ -5,6 +5,8 @@
 #include "openmmdpd/CheckpointTags.h"
 #include "openmmdpd/DPDKernels.h"
 #include "openmmdpd/PairRandom.h"
+#include "openmmdpd/PressureTensor.h"
+#include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
 #include <memory>
 #include <sstream>
@@ -43,7 +45,26 @@ public:
             dynamics->setSeed(PairRandom::seedFor(integrator.getRandomNumberSeed()));
             seedVersion = integrator.getRandomNumberSeedVersion();
         }
+        const bool samplePressure = integrator.getPressureTensorEnabled();
+        if (samplePressure && !pressure)
+            pressure.reset(new PressureTensorSampler(context.getSystem(), integrator.className()));
+        SymmetricTensor thermostatVirial{};
+        dynamics->recordThermostatVirial(samplePressure ? &thermostatVirial : nullptr);
         dynamics->step(context, integrator);
+        if (samplePressure)
+            pressure->addSample(context, integrator.getShearRate(), integrator.getIntegrationForceGroups(), thermostatVirial);
+    }
+    std::vector<double> getAveragePressureTensor(int part) const override {
+        if (getPressureTensorSampleCount() == 0)
+            throw OpenMM::OpenMMException(std::string(owner->className()) +
+                                          ": no step has sampled the pressure tensor since it was last reset "
+                                          "(setPressureTensorEnabled(true), then step)");
+        return pressure->average(part);
+    }
+    long long getPressureTensorSampleCount() const override { return pressure ? pressure->getCount() : 0; }
+    void resetPressureTensor() override {
+        if (pressure)
+            pressure->reset();
     }
     double computeKineticEnergy(OpenMM::ContextImpl& context) override { return dynamics->computeKineticEnergy(context); }
     void invalidateForces() override { dynamics->invalidateForces(); }
@@ -67,6 +88,7 @@ public:
 protected:
     virtual Dynamics* createDynamics(const OpenMM::System& system, const Integrator& integrator) = 0;
     std::unique_ptr<Dynamics> dynamics;
+    std::unique_ptr<PressureTensorSampler> pressure;  // made when the integrator first asks for it
     const Integrator* owner = nullptr;
     int parametersVersion = 0, seedVersion = 0;
 };

@@ -4,6 +4,7 @@
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/PairRandomBatch.h"
 #include "openmmdpd/PairSearch.h"
+#include "openmmdpd/PressureTensor.h"
 #include <algorithm>
 #include <vector>
 
@@ -31,6 +32,22 @@ void accumulateAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, 
             (*out[t])[p.i] += f[t];
             (*out[t])[p.j] -= f[t];
         }
+    }
+}
+
+/**
+ * The same loop for the pressure tensor: virial += sum over pairs k in [begin, end) of
+ * r_k f_k e_k e_k^T, f_k the first output of the evaluator (a force along e_k).
+ */
+template <class Evaluator>
+void addVirialAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, Evaluator evaluate,
+                         const DPDPairParameters& parameters, SymmetricTensor& virial) {
+    evaluate.start(begin, end);
+    OpenMM::Vec3 f[Evaluator::OUTPUTS];
+    for (size_t k = begin; k < end; k++) {
+        const PairGeometry& p = pairs[k];
+        evaluate(k, p, f);
+        addAlong(virial, p.e, pairDistance(p, parameters) * f[0].dot(p.e));
     }
 }
 

@@ -41,6 +41,11 @@ public:
     void compute(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
                  std::vector<OpenMM::Vec3>& dissipative, std::vector<OpenMM::Vec3>& random);
     /**
+     * virial += the virial sum r_ij F_ij of the pair forces compute() gives for these terms
+     * (both: FD + FR), over the current pair list; reads the velocities only.
+     */
+    void addVirial(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt, SymmetricTensor& virial);
+    /**
      * out[i] = sum over the pairs of c_k e_k, with + on the pair's particle i and - on j:
      * the per-particle force of pair forces c_k e_k given per pair (in getPairs() order).
      */

@@ -18,6 +18,8 @@ public:
 private:
     /** F <- FC + FD(v) + FR, at the current state (a start, or after outside changes). */
     void computeInitialForce(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
+    void grootWarrenStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
+    void dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
     std::vector<OpenMM::Vec3> dissipative, random, predicted, velocityNoFD, newForce;
 };
 

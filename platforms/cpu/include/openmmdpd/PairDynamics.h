@@ -5,6 +5,7 @@
 #include "openmmdpd/ConstrainedMotion.h"
 #include "openmmdpd/DPDThermostatForces.h"
 #include "openmmdpd/LeesEdwardsBoundary.h"
+#include "openmmdpd/PressureTensor.h"
 #include "openmmdpd/StepState.h"
 #include "openmm/internal/ContextImpl.h"
 #include "ReferencePlatform.h"
@@ -37,6 +38,11 @@ public:
     void invalidateForces() { carried.invalidate(); }
     /** The integrator's thermostat parameters changed on a live Context: use them from now on. */
     void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
+    /**
+     * The steps from now on add the virial of the thermostat's pair forces (or of its sweeps'
+     * pair impulses over dt) to `sink`, if not null (PressureTensorSampler).
+     */
+    void recordThermostatVirial(SymmetricTensor* sink) { thermostatVirial = sink; }
     /** The pair random numbers come from this seed from now on. */
     void setSeed(uint32_t seed) { thermostat.setSeed(seed); }
     void createCheckpoint(std::ostream& stream) const;
@@ -142,6 +148,7 @@ protected:
     ParallelExecutor& executor;
     DPDThermostatForces thermostat;
     CarriedForce carried;
+    SymmetricTensor* thermostatVirial = nullptr;  // see recordThermostatVirial
     std::vector<OpenMM::Vec3>& force;  // carried.force
     std::vector<OpenMM::Vec3> conservative;
     mutable std::vector<double> workerSums;

@@ -23,6 +23,7 @@ public:
     void initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) override;
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
+    std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
 
     /**
      * While deferred, execute() adds nothing: an integrator whose thermostat pair list holds
@@ -44,13 +45,21 @@ public:
 
 private:
     void setParameters(const DPDSoftRepulsionForce& force);
+    /** Sort the particles into the search's cells at the Context's positions. */
+    void search(OpenMM::ContextImpl& context);
+    /** Whether the force acts on the pair of sorted slots (p, q) at squared distance r2; t is its type pair. */
+    bool actsOn(int p, int q, double r2, int& t) const {
+        t = table->indexOfTypes(sortedType[p], sortedType[q]);
+        const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
+        return r2 < table->cutoff2(t) && !(hasExclusions && excluded(sortedIndex[p], sortedIndex[q]));
+    }
     bool excluded(int i, int j) const {
         const std::vector<int>& partners = exclusions[i];
         return !partners.empty() && std::binary_search(partners.begin(), partners.end(), j);
     }
     std::unique_ptr<ParallelExecutor> executor;
     std::unique_ptr<TypePairTable> table;
-    std::unique_ptr<PairSearch> search;
+    std::unique_ptr<PairSearch> pairSearch;
     bool periodic = false, deferred = false, hasExclusions = false;
     int numParticles = 0, version = 0;
     std::vector<std::vector<int>> exclusions;  // sorted partners of each particle

@@ -40,15 +40,19 @@ protected:
     void sweep(std::vector<OpenMM::Vec3>& v, const Rule& rule, bool reverse) {
         pairSweep.run(thermostat, v, rule, reverse);
     }
-    /** body(impulse) with the pair impulse of a sweep at the current positions (see withPairImpulse in core). */
+    /**
+     * body(impulse) with the pair impulse of a sweep over the current pair list at the current
+     * positions, in a step of length dt (see withRecordedPairImpulse in core).
+     */
     template <class Body>
-    void withPairImpulse(OpenMM::ContextImpl& context, Body body) {
-        DPDPlugin::withPairImpulse(constrainedImpulse, thermostat.getParameters().getInverseMasses(),
-                                   *platformData(context).positions, body);
+    void withPairImpulse(OpenMM::ContextImpl& context, double dt, Body body) {
+        withRecordedPairImpulse(constrainedImpulse, thermostat.getParameters(), *platformData(context).positions,
+                                thermostat.getPairs(), dt, thermostatVirial, impulses, body);
     }
 
 private:
     ConstrainedPairImpulse constrainedImpulse;
+    PairImpulseRecord impulses;
     PairSweep pairSweep;
     long long pairsStep;
     std::vector<double> pairNormals;

@@ -16,9 +16,9 @@ public:
     void step(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
 
 private:
-    /** FC + FD(v) + FR at the current positions, the random numbers keyed by step. */
+    /** FC + FD(v) + FR at the current positions, the random numbers keyed by step (FD + FR's virial added to `virial` if given). */
     std::vector<OpenMM::Vec3> totalForce(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator,
-                                         const std::vector<OpenMM::Vec3>& v, long long step);
+                                         const std::vector<OpenMM::Vec3>& v, long long step, SymmetricTensor* virial = nullptr);
     void grootWarrenStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
     void dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
 };

@@ -4,6 +4,7 @@
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ConstrainedMotion.h"
 #include "openmmdpd/LeesEdwardsBoundary.h"
+#include "openmmdpd/PressureTensor.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
@@ -33,6 +34,11 @@ public:
     void invalidateForces() { carried.invalidate(); }
     /** The integrator's thermostat parameters changed on a live Context: use them from now on. */
     void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
+    /**
+     * The steps from now on add the virial of the thermostat's pair forces (or of its sweeps'
+     * pair impulses over dt) to `sink`, if not null (PressureTensorSampler).
+     */
+    void recordThermostatVirial(SymmetricTensor* sink) { thermostatVirial = sink; }
     /** The pair random numbers come from this seed from now on. */
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     void createCheckpoint(std::ostream& stream) const;
@@ -58,10 +64,14 @@ protected:
     std::vector<PairGeometry> findPairs(OpenMM::ContextImpl& context) const;
     /** The force of the given force groups at the current positions (from the Context). */
     std::vector<OpenMM::Vec3> conservativeForce(OpenMM::ContextImpl& context, int forceGroups, long long step) const;
-    /** out += FD_ij(v) (e.g. dissipative) and/or FR_ij, over the pairs; the numbers keyed by step. */
+    /**
+     * out += FD_ij(v) (e.g. dissipative) and/or FR_ij, over the pairs; the numbers keyed by
+     * step.  Their virial sum r_ij F_ij is added to `virial` if given.
+     */
     void addDissipative(const std::vector<PairGeometry>& pairs, const std::vector<OpenMM::Vec3>& v,
-                        std::vector<OpenMM::Vec3>& out) const;
-    void addRandom(const std::vector<PairGeometry>& pairs, long long step, double dt, std::vector<OpenMM::Vec3>& out) const;
+                        std::vector<OpenMM::Vec3>& out, SymmetricTensor* virial = nullptr) const;
+    void addRandom(const std::vector<PairGeometry>& pairs, long long step, double dt, std::vector<OpenMM::Vec3>& out,
+                   SymmetricTensor* virial = nullptr) const;
     /**
      * The drift of a step of length dt ending at `step`: r += move[i] for every particle,
      * the blow-up checks, then the constraints and virtual sites (ConstrainedMotion::finishDrift,
@@ -84,8 +94,11 @@ protected:
     DPDPairParameters parameters;
     PairRandom random;
     CarriedForce carried;
+    SymmetricTensor* thermostatVirial = nullptr;  // see recordThermostatVirial
 
 private:
+    /** out[i] += f, out[j] -= f for a pair force f along e (and its virial, if asked for). */
+    void addPairForce(const PairGeometry& p, const OpenMM::Vec3& f, std::vector<OpenMM::Vec3>& out, SymmetricTensor* virial) const;
     ReferencePairList pairList;
     int cellMultiple;
     ConstrainedMotion motion;

@@ -16,9 +16,13 @@ public:
     void initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) override;
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
+    std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
 
 private:
     void setParameters(const DPDSoftRepulsionForce& force);
+    /** body(pair, type pair, r) for every pair the force acts on (within its cutoff, not excluded). */
+    template <class Body>
+    void forEachPair(OpenMM::ContextImpl& context, Body body) const;
     int numParticles = 0;
     bool periodic = false;
     std::unique_ptr<TypePairTable> table;

@@ -21,14 +21,18 @@ protected:
     void ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r) ; v += dt/2m F. */
     void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
-    /** body(impulse) with the pair impulse of a sweep at the current positions (see withPairImpulse in core). */
+    /**
+     * body(impulse) with the pair impulse of a sweep over these pairs at the current positions,
+     * in a step of length dt (see withRecordedPairImpulse in core).
+     */
     template <class Body>
-    void withPairImpulse(OpenMM::ContextImpl& context, Body body) {
-        DPDPlugin::withPairImpulse(constrainedImpulse, parameters.getInverseMasses(), *data(context).positions, body);
+    void withPairImpulse(OpenMM::ContextImpl& context, const std::vector<PairGeometry>& pairs, double dt, Body body) {
+        withRecordedPairImpulse(constrainedImpulse, parameters, *data(context).positions, pairs, dt, thermostatVirial, impulses, body);
     }
 
 private:
     ConstrainedPairImpulse constrainedImpulse;
+    PairImpulseRecord impulses;
 };
 
 /** Shardlow's S1 and S2 (ShardlowIntegrator, algorithms.md section 2). */

@@ -1,0 +1,134 @@
+#ifndef OPENMMDPD_PRESSURETENSOR_H_
+#define OPENMMDPD_PRESSURETENSOR_H_
+
+#include "openmmdpd/ConstrainedPairImpulse.h"
+#include "openmmdpd/PairParameters.h"
+#include "openmm/System.h"
+#include "openmm/Vec3.h"
+#include "openmm/internal/ContextImpl.h"
+#include <array>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace DPDPlugin {
+
+/** A symmetric 3x3 tensor as (xx, yy, zz, xy, xz, yz). */
+using SymmetricTensor = std::array<double, 6>;
+
+/** t += c e e^T for a unit vector e (the virial r F e e^T of a central pair force F e at distance r, c = r F). */
+inline void addAlong(SymmetricTensor& t, const OpenMM::Vec3& e, double c) {
+    t[0] += c * e[0] * e[0];
+    t[1] += c * e[1] * e[1];
+    t[2] += c * e[2] * e[2];
+    t[3] += c * e[0] * e[1];
+    t[4] += c * e[0] * e[2];
+    t[5] += c * e[1] * e[2];
+}
+
+inline void addTensor(SymmetricTensor& t, const SymmetricTensor& u, double scale = 1) {
+    for (int k = 0; k < 6; k++)
+        t[k] += scale * u[k];
+}
+
+/** The distance of a thermostat pair, from its weight wR = 1 - r/rc. */
+inline double pairDistance(const PairGeometry& p, const DPDPairParameters& parameters) {
+    return parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
+}
+
+/**
+ * The impulses J (along e, on i) that a pairwise-sequential sweep gives each pair of its
+ * list, for the thermostat part of the pressure tensor (algorithms.md section 10): the
+ * sweep's rules apply their impulses through RecordedImpulse, which adds J to the pair's
+ * own entry, so a sweep split over threads records without sharing an entry.
+ */
+class PairImpulseRecord {
+public:
+    /** Start recording a sweep over these pairs (the rules get references into the list). */
+    void start(const std::vector<PairGeometry>& pairs) {
+        first = pairs.data();
+        impulse.assign(pairs.size(), 0.0);
+    }
+    void add(const PairGeometry& p, double J) { impulse[&p - first] += J; }
+    /** virial += scale * sum over the pairs of r J e e^T. */
+    void addVirial(const std::vector<PairGeometry>& pairs, const DPDPairParameters& parameters, double scale,
+                   SymmetricTensor& virial) const {
+        for (size_t k = 0; k < pairs.size(); k++)
+            if (impulse[k] != 0)
+                addAlong(virial, pairs[k].e, scale * pairDistance(pairs[k], parameters) * impulse[k]);
+    }
+
+private:
+    const PairGeometry* first = nullptr;
+    std::vector<double> impulse;
+};
+
+/** A sweep's pair impulse that also records what it applies (Impulse: FreePairImpulse or ConstrainedPairImpulse). */
+template <class Impulse>
+struct RecordedImpulse {
+    const Impulse& impulse;
+    PairImpulseRecord& record;
+    double inverseReducedMass(const PairGeometry& p) const { return impulse.inverseReducedMass(p); }
+    void apply(const PairGeometry& p, double J, std::vector<OpenMM::Vec3>& v) const {
+        impulse.apply(p, J, v);
+        record.add(p, J);
+    }
+};
+
+/**
+ * withPairImpulse (ConstrainedPairImpulse.h) for a sweep over `pairs` of a step of length
+ * dt.  Given a virial, body gets a RecordedImpulse, and the virial of the impulses,
+ * sum r J e e^T / dt, is added to it afterwards.
+ */
+template <class Body>
+void withRecordedPairImpulse(ConstrainedPairImpulse& constrained, const DPDPairParameters& parameters,
+                             const std::vector<OpenMM::Vec3>& positions, const std::vector<PairGeometry>& pairs, double dt,
+                             SymmetricTensor* virial, PairImpulseRecord& record, Body body) {
+    if (virial == nullptr) {
+        withPairImpulse(constrained, parameters.getInverseMasses(), positions, body);
+        return;
+    }
+    record.start(pairs);
+    withPairImpulse(constrained, parameters.getInverseMasses(), positions, [&](const auto& impulse) {
+        body(RecordedImpulse<std::decay_t<decltype(impulse)>>{impulse, record});
+    });
+    record.addVirial(pairs, parameters, 1 / dt, *virial);
+}
+
+/**
+ * The pressure tensor of algorithms.md section 10, averaged over the steps since the last
+ * reset: P = (1/V) [sum_i m_i u_i u_i + sum_{i<j} r_ij (FC + FD + FR)_ij], one sample at the
+ * end of each step, kept as its three parts.
+ *  - kinetic: the peculiar velocities u = v - rate (y - Ly/2) x (OpenMM's positions as stored)
+ *    less their centre-of-mass velocity (the boundary jumps move the total momentum);
+ *  - conservative: the integration force groups' virial.  A group of DPDSoftRepulsionForces
+ *    only gives its exact pair virial (the force's kernel); any other group gives
+ *    -dU/d(epsilon) by central differences over an affine strain of every particle and the
+ *    box (atomic scaling: each particle's position is strained, molecules included);
+ *  - thermostat: given by the step (the pair forces it applied, or the impulses of its
+ *    sweeps over dt).
+ * Constraint forces have no part in it, so Systems with constraints are refused.
+ */
+class PressureTensorSampler {
+public:
+    /** @param name  the integrator's class, for error messages */
+    PressureTensorSampler(const OpenMM::System& system, const std::string& name);
+    /** Add the sample of the step just taken (thermostatVirial: its sum of r_ij F_ij, kJ/mol). */
+    void addSample(OpenMM::ContextImpl& context, double shearRate, int forceGroups, const SymmetricTensor& thermostatVirial);
+    /** The average of a part (DPDThermostatIntegrator::PressurePart), kJ/mol/nm^3. */
+    std::vector<double> average(int part) const;
+    long long getCount() const { return count; }
+    void reset();
+
+private:
+    SymmetricTensor kineticTerm(OpenMM::ContextImpl& context, double shearRate) const;
+    SymmetricTensor conservativeVirial(OpenMM::ContextImpl& context, int forceGroups) const;
+    SymmetricTensor strainDerivative(OpenMM::ContextImpl& context, int groups) const;
+    std::vector<double> mass;
+    std::array<SymmetricTensor, 3> sums{};  // kinetic, conservative, thermostat: sum of P over samples
+    long long count = 0;
+};
+
+} // namespace DPDPlugin
+
+#endif

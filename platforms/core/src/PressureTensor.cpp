@@ -1,0 +1,153 @@
+#include "openmmdpd/PressureTensor.h"
+#include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/internal/DPDSoftRepulsionForceImpl.h"
+#include "openmm/OpenMMException.h"
+#include "ReferencePlatform.h"
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+namespace {
+
+/**
+ * The positions and velocities as both platforms store them.  The strain writes positions
+ * there, not through ContextImpl::setPositions, which would tell the integrator that its
+ * carried forces are stale.
+ */
+OpenMM::ReferencePlatform::PlatformData& platformData(OpenMM::ContextImpl& context) {
+    return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+}
+
+/** The relative strain of the central differences (small against 1, large against float rounding of the energy). */
+constexpr double STRAIN_STEP = 1e-3;
+/** The strains x += e y etc. that keep OpenMM's box in its reduced (lower-triangular) form, in tensor order. */
+constexpr int STRAIN_AXES[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+
+/** Bring box vectors b and c back into OpenMM's reduced form after a strain (the same lattice). */
+void reduceBox(Vec3* box) {
+    for (int k = 2; k >= 1; k--)
+        for (int m = k - 1; m >= 0; m--) {
+            while (box[k][m] > 0.5 * box[m][m])
+                box[k] -= box[m];
+            while (box[k][m] < -0.5 * box[m][m])
+                box[k] += box[m];
+        }
+}
+
+} // namespace
+
+PressureTensorSampler::PressureTensorSampler(const OpenMM::System& system, const std::string& name) {
+    if (system.getNumConstraints() > 0)
+        throw OpenMM::OpenMMException(name + ": the pressure tensor (setPressureTensorEnabled) leaves out constraint forces, "
+                                      "so it is not available for a System with constraints");
+    for (int i = 0; i < system.getNumParticles(); i++)
+        mass.push_back(system.getParticleMass(i));
+}
+
+void PressureTensorSampler::addSample(OpenMM::ContextImpl& context, double shearRate, int forceGroups,
+                                      const SymmetricTensor& thermostatVirial) {
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    const double inverseVolume = 1 / (box[0][0] * box[1][1] * box[2][2]);
+    addTensor(sums[0], kineticTerm(context, shearRate), inverseVolume);
+    addTensor(sums[1], conservativeVirial(context, forceGroups), inverseVolume);
+    addTensor(sums[2], thermostatVirial, inverseVolume);
+    count++;
+}
+
+std::vector<double> PressureTensorSampler::average(int part) const {
+    SymmetricTensor total{};
+    if (part == DPDThermostatIntegrator::PressureTotal)
+        for (const SymmetricTensor& s : sums)
+            addTensor(total, s);
+    else
+        total = sums[part - 1];
+    std::vector<double> result(6);
+    for (int k = 0; k < 6; k++)
+        result[k] = total[k] / count;
+    return result;
+}
+
+void PressureTensorSampler::reset() {
+    sums = {};
+    count = 0;
+}
+
+SymmetricTensor PressureTensorSampler::kineticTerm(OpenMM::ContextImpl& context, double shearRate) const {
+    const std::vector<Vec3>& r = *platformData(context).positions;
+    const std::vector<Vec3>& v = *platformData(context).velocities;
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    std::vector<Vec3> u(v.size());
+    Vec3 momentum;
+    double totalMass = 0;
+    for (size_t i = 0; i < v.size(); i++) {
+        u[i] = v[i];
+        u[i][0] -= shearRate * (r[i][1] - 0.5 * box[1][1]);
+        momentum += u[i] * mass[i];
+        totalMass += mass[i];
+    }
+    const Vec3 mean = (totalMass > 0 ? momentum / totalMass : Vec3());
+    SymmetricTensor t{};
+    for (size_t i = 0; i < v.size(); i++) {
+        const Vec3 w = u[i] - mean;
+        t[0] += mass[i] * w[0] * w[0];
+        t[1] += mass[i] * w[1] * w[1];
+        t[2] += mass[i] * w[2] * w[2];
+        t[3] += mass[i] * w[0] * w[1];
+        t[4] += mass[i] * w[0] * w[2];
+        t[5] += mass[i] * w[1] * w[2];
+    }
+    return t;
+}
+
+SymmetricTensor PressureTensorSampler::conservativeVirial(OpenMM::ContextImpl& context, int forceGroups) const {
+    const OpenMM::System& system = context.getSystem();
+    int softGroups = 0, otherGroups = 0;
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const OpenMM::Force& force = system.getForce(k);
+        const int group = 1 << force.getForceGroup();
+        if ((forceGroups & group) != 0)
+            (dynamic_cast<const DPDSoftRepulsionForce*>(&force) != nullptr ? softGroups : otherGroups) |= group;
+    }
+    SymmetricTensor virial{};
+    const int exactGroups = softGroups & ~otherGroups;
+    for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
+        DPDSoftRepulsionForceImpl* soft = dynamic_cast<DPDSoftRepulsionForceImpl*>(impl);
+        if (soft != nullptr && (exactGroups & (1 << soft->getOwner().getForceGroup())) != 0)
+            addTensor(virial, soft->getKernel().getAs<CalcDPDSoftRepulsionForceKernel>().computeVirial(context));
+    }
+    if (otherGroups != 0)
+        addTensor(virial, strainDerivative(context, otherGroups));
+    return virial;
+}
+
+SymmetricTensor PressureTensorSampler::strainDerivative(OpenMM::ContextImpl& context, int groups) const {
+    std::vector<Vec3>& positions = *platformData(context).positions;
+    const std::vector<Vec3> original = positions;
+    Vec3 box0[3];
+    context.getPeriodicBoxVectors(box0[0], box0[1], box0[2]);
+    const int lastGroups = context.getLastForceGroups();
+    SymmetricTensor virial{};
+    for (int k = 0; k < 6; k++) {
+        const int a = STRAIN_AXES[k][0], b = STRAIN_AXES[k][1];
+        double energy[2];
+        for (int side = 0; side < 2; side++) {
+            const double strain = (side == 0 ? STRAIN_STEP : -STRAIN_STEP);
+            for (size_t i = 0; i < positions.size(); i++)
+                positions[i][a] = original[i][a] + strain * original[i][b];
+            Vec3 box[3] = {box0[0], box0[1], box0[2]};
+            for (Vec3& edge : box)
+                edge[a] += strain * edge[b];
+            reduceBox(box);
+            context.setPeriodicBoxVectors(box[0], box[1], box[2]);
+            energy[side] = context.calcForcesAndEnergy(false, true, groups);
+        }
+        // W_ab = sum r_b F_a = -dU/d(strain)
+        virial[k] = -(energy[0] - energy[1]) / (2 * STRAIN_STEP);
+        positions = original;
+    }
+    context.setPeriodicBoxVectors(box0[0], box0[1], box0[2]);
+    context.getLastForceGroups() = lastGroups;
+    return virial;
+}
