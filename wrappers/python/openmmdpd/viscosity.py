@@ -242,26 +242,32 @@ def write_csvs(args, nemd, gk):
                                  for t, c, i in zip(r["lags"], r["correlation"], r["running"]))
 
 
+def schedule(args):
+    """The runs in order, (scene, rate or None for Green–Kubo): each scene's Green–Kubo run and
+    lowest rate first (the pair the agreement check needs), then the other rates, so that a
+    run cut short has the comparison for every scene."""
+    first = [(name, rate) for name in args.scene for rate in ([None] if args.gk_time > 0 else []) + args.rates[:1]]
+    return first + [(name, rate) for rate in args.rates[1:] for name in args.scene]
+
+
 def run(args):
-    """Every scene: the Green–Kubo run and the NEMD sweep; the outputs are rewritten after each
-    run, so that a run cut short leaves what it finished."""
+    """The runs of schedule(args); the outputs are rewritten after each, so that a run cut
+    short leaves what it finished."""
     from .viscosity_report import write_report
     os.makedirs(args.out, exist_ok=True)
     began = time.perf_counter()
     nemd, gk = [], {}
-    for name in args.scene:
+    for name, rate in schedule(args):
         args.scene_name = name
         scene = build_scene("soft", num_particles=args.particles, seed=args.seed, **SCENES[name])
-        if args.gk_time > 0:
+        if rate is None:
             _say(args, f"{name}: Green–Kubo, {args.gk_time:g} time units")
             gk[name] = green_kubo_runs(scene, args)
-            write_csvs(args, nemd, gk)
-            write_report(args, nemd, gk, time.perf_counter() - began)
-        for rate in args.rates:
+        else:
             _say(args, f"{name}: NEMD at rate {rate:g}, {args.nemd_time:g} time units")
             nemd.append(nemd_row(scene, args, rate))
-            write_csvs(args, nemd, gk)
-            write_report(args, nemd, gk, time.perf_counter() - began)
+        write_csvs(args, nemd, gk)
+        write_report(args, nemd, gk, time.perf_counter() - began)
     return nemd, gk
 
 
