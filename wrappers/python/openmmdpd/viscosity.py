@@ -18,12 +18,14 @@ and its three components.
 
 Green–Kubo: at rate 0, eta = V/kT Delta [C(0)/2 + sum_{k>=1} C(k)], C the autocorrelation of
 the block-averaged off-diagonal components (averaged over xy, xz, yz, without subtracting the
-mean, which is 0 by symmetry), Delta = --block.  Block averaging leaves the integral unchanged
+mean, which is 0 by symmetry), Delta = --block (the block series goes to gk_series_SCENE.npz).
+Block averaging leaves the integral unchanged
 (the zero-frequency power of a series is that of its block means), and the C(0)/2 term carries
 the random force's white-noise stress, which has no correlation at lag >= 1.  The plateau is
-read at the first lag where C(k) <= 0 (where the correlation has decayed into its noise); the
-error is the spread over --segments independent consecutive segments, each integrated to the
-same lag.  The same integral without the thermostat part (total - thermostat) is reported to
+read at the first lag 2k such that |I(2k) - I(k)| is within 2 standard errors of 0 (the
+integral has stopped changing; DPD's stress correlation has a slow tail that keeps it rising past C's
+first zero); the error is the spread over --segments independent consecutive segments, each
+integrated to the same lag.  The same integral without the thermostat part (total - thermostat) is reported to
 show that the dissipative and random stress matters.
 """
 import argparse
@@ -85,34 +87,42 @@ def running_integral(correlation, interval):
     return interval * (np.cumsum(c) - 0.5 * c[0])
 
 
-def plateau_lag(correlation):
-    """The first lag k >= 1 with C(k) <= 0 (the correlation has decayed into noise); the last
-    lag if C stays positive."""
-    c = np.asarray(correlation, dtype=float)
-    below = np.nonzero(c[1:] <= 0)[0]
-    return int(below[0]) + 1 if len(below) else len(c) - 1
+def plateau_lag(running, segment_running, sigmas=2.0):
+    """The first lag L = 2k (k >= 1) over whose second half the integral has stopped changing:
+    |I(2k) - I(k)| within `sigmas` standard errors of 0, the error from the same difference
+    over the segments (rows of segment_running); the longest even lag if it never does.  Read
+    at 2k rather than k, so that what was still rising within the noise is included.  A slowly
+    decaying tail keeps DPD's integral rising past C's first zero: the first zero reads too low."""
+    running, segments = np.asarray(running, dtype=float), np.asarray(segment_running, dtype=float)
+    for k in range(1, (len(running) - 1) // 2 + 1):
+        rise = segments[:, 2 * k] - segments[:, k]
+        if abs(running[2 * k] - running[k]) <= sigmas * rise.std(ddof=1) / np.sqrt(len(rise)):
+            return 2 * k
+    return max(2, (len(running) - 1) // 2 * 2)
 
 
 def green_kubo(series, interval, scale=1.0, max_lag=None, segments=8):
     """Green–Kubo integral scale * Delta [C(0)/2 + sum C(k)] of series (n, m) sampled every
-    interval, its columns' correlations averaged: a dict with the plateau lag (plateau_lag of
-    the whole series' C), the integral there with its standard error from the spread over
-    `segments` consecutive segments integrated to the same lag, the values at twice and four
-    times the lag, the lags, C and running integral (scaled) for charts, and the segments' values."""
+    interval, its columns' correlations averaged: a dict with the plateau lag (plateau_lag), the
+    integral there with its standard error from the spread over `segments` consecutive segments,
+    the values at twice and four times the lag, the lags, C and running integral (scaled) for
+    charts, and the segments' values at the plateau."""
     x = np.asarray(series, dtype=float)
     x = x.reshape(len(x), -1)
-    if segments < 2 or len(x) // segments < 2:
-        raise ValueError(f"need at least 2 segments of 2 samples; got {len(x)} samples for {segments} segments")
+    if segments < 2 or len(x) // segments < 3:
+        raise ValueError(f"need at least 2 segments of 3 samples; got {len(x)} samples for {segments} segments")
     max_lag = min(len(x) // segments - 1, max_lag if max_lag is not None else len(x) // segments - 1)
+    if max_lag < 2:
+        raise ValueError(f"max_lag must be >= 2, got {max_lag}")
     c = autocorrelation(x, max_lag)
     running = scale * running_integral(c, interval)
-    lag = plateau_lag(c)
-    per_segment = [scale * running_integral(autocorrelation(part, lag), interval)[lag]
-                   for part in np.array_split(x, segments)]
-    return dict(lag=lag, plateau_time=lag * interval, eta=float(running[lag]), eta_err=float(np.std(per_segment, ddof=1) / np.sqrt(segments)),
+    per_segment = np.array([scale * running_integral(autocorrelation(part, max_lag), interval)
+                            for part in np.array_split(x, segments)])
+    lag = plateau_lag(running, per_segment)
+    return dict(lag=lag, plateau_time=lag * interval, eta=float(running[lag]),
+                eta_err=float(per_segment[:, lag].std(ddof=1) / np.sqrt(segments)),
                 eta_2lag=float(running[min(2 * lag, max_lag)]), eta_4lag=float(running[min(4 * lag, max_lag)]),
-                lags=np.arange(max_lag + 1) * interval, correlation=c, running=running,
-                segments=np.array(per_segment))
+                lags=np.arange(max_lag + 1) * interval, correlation=c, running=running, segments=per_segment[:, lag])
 
 
 # --- runs ----------------------------------------------------------------------------------------
@@ -201,6 +211,8 @@ def green_kubo_runs(scene, args):
     box = scene.system.getDefaultPeriodicBoxVectors()
     volume = box[0][0] * box[1][1] * box[2][2] / unit.nanometer**3
     scale = volume / kT_from_temperature(integrator.getTemperature())
+    np.savez_compressed(os.path.join(args.out, f"gk_series_{args.scene_name}.npz"), interval=interval,
+                        tensors=tensors.astype(np.float32), parts=PARTS)  # to re-read the plateau later
     off = tensors[:, :, OFF_DIAGONAL]
     series = {name: off[:, k] for k, name in enumerate(PARTS)}
     series["total - thermostat"] = off[:, 0] - off[:, 3]

@@ -64,7 +64,7 @@ def green_kubo_chart(path, gk):
             r = results[name]
             ax.plot(r["lags"][:shown], r["running"][:shown], color=f"C{k}", label=f"{name}")
             ax.errorbar([r["lags"][r["lag"]]], [r["eta"]], yerr=[r["eta_err"]], color=f"C{k}", marker="o", capsize=3)
-        ax.axvline(total["lags"][total["lag"]], color="0.5", ls=":", label="plateau: first lag with C <= 0")
+        ax.axvline(total["lags"][total["lag"]], color="0.5", ls=":", label="plateau 2k: |I(2k) - I(k)| < 2 sigma")
         ax.set_xlabel("lag (ps)")
         ax.set_ylabel("V/kT Delta [C(0)/2 + sum C(k)]")
         ax.set_title(f"{scene}, Green–Kubo")
@@ -164,8 +164,9 @@ read as block averages over Delta. NEMD errors: standard error of the block seri
 from its statistical inefficiency (pymbar). Green–Kubo: eta = V/kT Delta [C(0)/2 + sum_k C(k)],
 C averaged over xy, xz, yz; block averaging leaves this integral unchanged (the zero-frequency
 power of a series is that of its block means); the C(0)/2 term holds the random force's
-white-noise stress. Plateau: the first lag where C(k) <= 0; error: the spread of the same
-integral over independent consecutive segments. The values at 2× and 4× the plateau lag
+white-noise stress. Plateau: the first lag 2k such that |I(2k) - I(k)| is within 2 standard
+errors of 0 (the integral has stopped changing over the second half of the lag); error: the spread of the same integral over
+independent consecutive segments. The values at 2× and 4× the plateau lag
 show how flat the plateau is."""
 
 
