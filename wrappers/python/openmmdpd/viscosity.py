@@ -19,14 +19,14 @@ and its three components.
 Green–Kubo: at rate 0, eta = V/kT Delta [C(0)/2 + sum_{k>=1} C(k)], C the autocorrelation of
 the block-averaged off-diagonal components (averaged over xy, xz, yz, without subtracting the
 mean, which is 0 by symmetry), Delta = --block (the block series goes to gk_series_SCENE.npz).
-Block averaging leaves the integral unchanged
-(the zero-frequency power of a series is that of its block means), and the C(0)/2 term carries
-the random force's white-noise stress, which has no correlation at lag >= 1.  The plateau is
-read at the first lag 2k such that |I(2k) - I(k)| is within 2 standard errors of 0 (the
-integral has stopped changing; DPD's stress correlation has a slow tail that keeps it rising past C's
-first zero); the error is the spread over --segments independent consecutive segments, each
-integrated to the same lag.  The same integral without the thermostat part (total - thermostat) is reported to
-show that the dissipative and random stress matters.
+Block averaging leaves the integral unchanged (the zero-frequency power of a series is that of
+its block means), and the C(0)/2 term carries the random force's white-noise stress, which has
+no correlation at lag >= 1. The plateau is read at the first lag 2k such that |I(2k) - I(k)| is
+within 2 standard errors of 0 (the integral has stopped changing; DPD's stress correlation has
+a slow tail that keeps it rising past C's first zero); the error is the spread over --segments
+independent consecutive segments, each integrated to the same lag. The same integral without
+the thermostat part (total - thermostat) is reported to show that the dissipative and random
+stress matters.
 """
 import argparse
 import csv
