@@ -22,7 +22,7 @@ mean, which is 0 by symmetry), Delta = --block (the block series goes to gk_seri
 Block averaging leaves the integral unchanged (the zero-frequency power of a series is that of
 its block means), and the C(0)/2 term carries the random force's white-noise stress, which has
 no correlation at lag >= 1. The plateau is read at the first lag 2k such that |I(2k) - I(k)| is
-within 2 standard errors of 0 (the integral has stopped changing; DPD's stress correlation has
+within 1 standard error of 0 (the integral has stopped changing; DPD's stress correlation has
 a slow tail that keeps it rising past C's first zero); the error is the spread over --segments
 independent consecutive segments, each integrated to the same lag. The same integral without
 the thermostat part (total - thermostat) is reported to show that the dissipative and random
@@ -87,7 +87,7 @@ def running_integral(correlation, interval):
     return interval * (np.cumsum(c) - 0.5 * c[0])
 
 
-def plateau_lag(running, segment_running, sigmas=2.0):
+def plateau_lag(running, segment_running, sigmas=1.0):
     """The first lag L = 2k (k >= 1) over whose second half the integral has stopped changing:
     |I(2k) - I(k)| within `sigmas` standard errors of 0, the error from the same difference
     over the segments (rows of segment_running); the longest even lag if it never does.  Read
@@ -106,7 +106,7 @@ def green_kubo(series, interval, scale=1.0, max_lag=None, segments=8):
     interval, its columns' correlations averaged: a dict with the plateau lag (plateau_lag), the
     integral there with its standard error from the spread over `segments` consecutive segments,
     the values at twice and four times the lag, the lags, C and running integral (scaled) for
-    charts, and the segments' values at the plateau."""
+    charts, and each segment's running integral (rows)."""
     x = np.asarray(series, dtype=float)
     x = x.reshape(len(x), -1)
     if segments < 2 or len(x) // segments < 3:
@@ -122,7 +122,7 @@ def green_kubo(series, interval, scale=1.0, max_lag=None, segments=8):
     return dict(lag=lag, plateau_time=lag * interval, eta=float(running[lag]),
                 eta_err=float(per_segment[:, lag].std(ddof=1) / np.sqrt(segments)),
                 eta_2lag=float(running[min(2 * lag, max_lag)]), eta_4lag=float(running[min(4 * lag, max_lag)]),
-                lags=np.arange(max_lag + 1) * interval, correlation=c, running=running, segments=per_segment[:, lag])
+                lags=np.arange(max_lag + 1) * interval, correlation=c, running=running, segment_running=per_segment)
 
 
 # --- runs ----------------------------------------------------------------------------------------
@@ -203,20 +203,26 @@ def nemd_row(scene, args, rate):
 
 
 def green_kubo_runs(scene, args):
-    """An equilibrium run's Green–Kubo results: {series name: green_kubo dict} for the total,
-    each part, and the total without the thermostat part."""
+    """An equilibrium run's Green–Kubo results (green_kubo_results); its block series is saved
+    in args.out/gk_series_SCENE.npz (see --reanalyse)."""
     integrator, context, _ = start_run(scene, args, 0.0)
     tensors, _ = sample_blocks(integrator, context, args, _blocks(args.gk_time, args))
     interval = round(args.block / args.dt) * args.dt
     box = scene.system.getDefaultPeriodicBoxVectors()
     volume = box[0][0] * box[1][1] * box[2][2] / unit.nanometer**3
-    scale = volume / kT_from_temperature(integrator.getTemperature())
+    kT = kT_from_temperature(integrator.getTemperature())
     np.savez_compressed(os.path.join(args.out, f"gk_series_{args.scene_name}.npz"), interval=interval,
-                        tensors=tensors.astype(np.float32), parts=PARTS)  # to re-read the plateau later
+                        volume=volume, kT=kT, tensors=tensors.astype(np.float32))
+    return green_kubo_results(tensors, interval, volume / kT, args)
+
+
+def green_kubo_results(tensors, interval, scale, args):
+    """{series name: green_kubo dict} of block tensors (blocks, parts, 6) for the total, each
+    part, and the total without the thermostat part."""
     off = tensors[:, :, OFF_DIAGONAL]
     series = {name: off[:, k] for k, name in enumerate(PARTS)}
     series["total - thermostat"] = off[:, 0] - off[:, 3]
-    max_lag = max(1, round(args.gk_max_lag / interval))
+    max_lag = max(2, round(args.gk_max_lag / interval))
     results = {name: green_kubo(x, interval, scale, max_lag, args.segments) for name, x in series.items()}
     for result in results.values():
         result.update(time=len(off) * interval, block=interval)
@@ -283,6 +289,27 @@ def run(args):
     return nemd, gk
 
 
+def reanalyse(args):
+    """Rewrites the outputs in args.out from what a run left there: nemd.csv and the saved
+    Green–Kubo block series of each scene (a new plateau rule or --segments without rerunning)."""
+    from .viscosity_report import write_report
+    nemd = []
+    if os.path.exists(os.path.join(args.out, "nemd.csv")):
+        with open(os.path.join(args.out, "nemd.csv")) as f:
+            nemd = [{k: v if k in ("scene", "integrator") else float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+    gk = {}
+    for name in args.scene:
+        path = os.path.join(args.out, f"gk_series_{name}.npz")
+        if os.path.exists(path):
+            saved = np.load(path)
+            volume = float(saved["volume"]) if "volume" in saved else args.particles / SCENES[name]["density"]
+            kT = float(saved["kT"]) if "kT" in saved else 1.0
+            gk[name] = green_kubo_results(saved["tensors"].astype(float), float(saved["interval"]), volume / kT, args)
+    write_csvs(args, nemd, gk)
+    write_report(args, nemd, gk, None)
+    return nemd, gk
+
+
 def _say(args, message):
     if not args.quiet:
         print(f"[{time.strftime('%H:%M:%S')}] {message}", flush=True)
@@ -315,6 +342,7 @@ def _parser():
     add("--seed", type=int, default=2024)
     add("--out", default=os.path.join("results", "viscosity"), help="output folder")
     add("--quiet", action="store_true", help="no progress lines")
+    add("--reanalyse", action="store_true", help="no runs: rewrite the outputs from --out's nemd.csv and saved series")
     return parser
 
 
@@ -328,6 +356,10 @@ def main(argv=None):
         raise SystemExit(f"unknown or non-DPD integrator {args.integrator!r}; available: "
                          f"{', '.join(n for n in integrators(None) if n != 'Langevin')}")
     start = time.perf_counter()
+    if args.reanalyse:
+        reanalyse(args)
+        print(f"outputs in {args.out}/ rewritten from its nemd.csv and gk_series_*.npz")
+        return 0
     nemd, gk = run(args)
     print(f"{len(nemd)} NEMD runs and {len(args.scene) if args.gk_time > 0 else 0} Green–Kubo runs in "
           f"{time.perf_counter() - start:.0f} s; results, charts and report in {args.out}/")

@@ -64,7 +64,7 @@ def green_kubo_chart(path, gk):
             r = results[name]
             ax.plot(r["lags"][:shown], r["running"][:shown], color=f"C{k}", label=f"{name}")
             ax.errorbar([r["lags"][r["lag"]]], [r["eta"]], yerr=[r["eta_err"]], color=f"C{k}", marker="o", capsize=3)
-        ax.axvline(total["lags"][total["lag"]], color="0.5", ls=":", label="plateau 2k: |I(2k) - I(k)| < 2 sigma")
+        ax.axvline(total["lags"][total["lag"]], color="0.5", ls=":", label="plateau 2k: |I(2k) - I(k)| < 1 sigma")
         ax.set_xlabel("lag (ps)")
         ax.set_ylabel("V/kT Delta [C(0)/2 + sum C(k)]")
         ax.set_title(f"{scene}, Green–Kubo")
@@ -135,13 +135,15 @@ def _checks(rows, results):
                      f"({z:.1f} combined standard errors): they {verdict} within {AGREEMENT_SIGMAS}.")
     if results:
         total, without = results["total"], results["total - thermostat"]
-        paired = total["segments"] - without["segments"]
+        lag = total["lag"]
+        paired = total["segment_running"][:, lag] - without["segment_running"][:, lag]
         err = float(paired.std(ddof=1) / np.sqrt(len(paired)))
-        diff = total["eta"] - without["eta"]
-        lines.append(f"- The dissipative and random (thermostat) stress is present: Green–Kubo from the total "
-                     f"{_pm(total['eta'], total['eta_err'])}, without the thermostat part "
-                     f"{_pm(without['eta'], without['eta_err'])}, difference {diff:+.3f} ± {err:.3f} "
-                     f"({abs(diff) / err:.1f} sigma, error from the segments' paired differences).")
+        diff = total["eta"] - without["running"][lag]
+        lines.append(f"- The dissipative and random (thermostat) stress is present: at the total's plateau lag "
+                     f"{total['lags'][lag]:g}, Green–Kubo from the total {_pm(total['eta'], total['eta_err'])}, "
+                     f"without the thermostat part {without['running'][lag]:.3f}, difference {diff:+.3f} ± {err:.3f} "
+                     f"({abs(diff) / err:.1f} sigma, error from the segments' paired differences); without it, read "
+                     f"at its own plateau ({without['lags'][without['lag']]:g}): {_pm(without['eta'], without['eta_err'])}.")
     return lines
 
 
@@ -164,8 +166,8 @@ read as block averages over Delta. NEMD errors: standard error of the block seri
 from its statistical inefficiency (pymbar). Green–Kubo: eta = V/kT Delta [C(0)/2 + sum_k C(k)],
 C averaged over xy, xz, yz; block averaging leaves this integral unchanged (the zero-frequency
 power of a series is that of its block means); the C(0)/2 term holds the random force's
-white-noise stress. Plateau: the first lag 2k such that |I(2k) - I(k)| is within 2 standard
-errors of 0 (the integral has stopped changing over the second half of the lag); error: the spread of the same integral over
+white-noise stress. Plateau: the first lag 2k such that |I(2k) - I(k)| is within 1 standard
+error of 0 (the integral has stopped changing over the second half of the lag); error: the spread of the same integral over
 independent consecutive segments. The values at 2× and 4× the plateau lag
 show how flat the plateau is."""
 
@@ -181,7 +183,7 @@ def write_report(args, nemd, gk, seconds):
         temperature_chart(os.path.join(out, "temperature.png"), nemd)
     lines = ["# Shear viscosity: NEMD, Green–Kubo and the Groot–Warren estimate", "",
              f"`python3 -m openmmdpd.viscosity {' '.join(args.command)}` — {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
-             f"{seconds / 60:.1f} min; integrator {args.integrator}, dt {args.dt:g}, N {args.particles}, "
+             f"{'re-read from the saved series' if seconds is None else f'{seconds / 60:.1f} min'}; integrator {args.integrator}, dt {args.dt:g}, N {args.particles}, "
              f"{args.platform} platform ({args.threads} thread(s)), block Delta {args.block:g}, "
              f"equilibration {args.equilibrate:g} per run, seed {args.seed}. Reduced units (kT, rc, m = 1).", "",
              METHODS, ""]
