@@ -1,0 +1,195 @@
+"""Charts (PNG) and the Markdown report of a viscosity run (see viscosity.py)."""
+import math
+import os
+import time
+
+import matplotlib
+import numpy as np
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from .catalog import FRICTION  # noqa: E402
+from .viscosity import SCENES, groot_warren_estimate  # noqa: E402
+
+AGREEMENT_SIGMAS = 3  # NEMD at the lowest rate and Green–Kubo agree within this many combined standard errors
+
+
+def _scenes(nemd, gk):
+    return list(dict.fromkeys([row["scene"] for row in nemd] + list(gk)))
+
+
+def _rows(nemd, scene):
+    return sorted((row for row in nemd if row["scene"] == scene), key=lambda row: row["rate"])
+
+
+def _panels(count):
+    fig, axes = plt.subplots(1, count, figsize=(5.5 * count, 4.3), squeeze=False)
+    return fig, axes.flat
+
+
+def viscosity_chart(path, nemd, gk):
+    """eta against the rate (NEMD), the Green–Kubo value as a band, Groot–Warren's estimate dashed."""
+    scenes = _scenes(nemd, gk)
+    fig, axes = _panels(len(scenes))
+    for ax, scene in zip(axes, scenes):
+        rows = _rows(nemd, scene)
+        if rows:
+            ax.errorbar([r["rate"] for r in rows], [r["eta"] for r in rows], yerr=[r["eta_err"] for r in rows],
+                        marker="o", capsize=3, label="NEMD -<P_xy>/rate")
+        if scene in gk:
+            total = gk[scene]["total"]
+            ax.axhspan(total["eta"] - total["eta_err"], total["eta"] + total["eta_err"], color="C1", alpha=0.3,
+                       label=f"Green–Kubo {total['eta']:.3f} ± {total['eta_err']:.3f}")
+        ax.axhline(groot_warren_estimate(SCENES[scene]["density"]), color="k", ls="--", lw=1,
+                   label="Groot–Warren estimate")
+        ax.set_xlim(left=0)
+        ax.set_xlabel("shear rate (1/ps)")
+        ax.set_ylabel("eta (kT ps / nm^3, reduced)")
+        ax.set_title(scene)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def green_kubo_chart(path, gk):
+    """The running Green–Kubo integral against the lag, with and without the thermostat part; the
+    plateau lag as a vertical line and the value read there with its error."""
+    fig, axes = _panels(len(gk))
+    for ax, (scene, results) in zip(axes, gk.items()):
+        total = results["total"]
+        shown = min(len(total["lags"]), 8 * total["lag"] + 2)
+        for k, name in enumerate(("total", "total - thermostat")):
+            r = results[name]
+            ax.plot(r["lags"][:shown], r["running"][:shown], color=f"C{k}", label=f"{name}")
+            ax.errorbar([r["lags"][r["lag"]]], [r["eta"]], yerr=[r["eta_err"]], color=f"C{k}", marker="o", capsize=3)
+        ax.axvline(total["lags"][total["lag"]], color="0.5", ls=":", label="plateau 2k: |I(2k) - I(k)| < 1 sigma")
+        ax.set_xlabel("lag (ps)")
+        ax.set_ylabel("V/kT Delta [C(0)/2 + sum C(k)]")
+        ax.set_title(f"{scene}, Green–Kubo")
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def temperature_chart(path, nemd):
+    """Peculiar kT and its components against the rate."""
+    scenes = _scenes(nemd, {})
+    fig, axes = _panels(len(scenes))
+    for ax, scene in zip(axes, scenes):
+        rows = _rows(nemd, scene)
+        rates = [r["rate"] for r in rows]
+        ax.errorbar(rates, [r["kT"] for r in rows], yerr=[r["kT_err"] for r in rows], marker="o", capsize=3,
+                    color="k", label="kT")
+        for k, axis in enumerate("xyz"):
+            ax.plot(rates, [r[f"kT_{axis}"] for r in rows], marker="os^"[k], ls="--", color=f"C{k}", label=f"kT_{axis}")
+        ax.axhline(1, color="0.5", lw=0.8)
+        ax.set_xlabel("shear rate (1/ps)")
+        ax.set_ylabel("peculiar kT")
+        ax.set_title(scene)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _pm(value, error, digits=3):
+    return f"{value:.{digits}f} ± {error:.{digits}f}"
+
+
+def _nemd_table(rows):
+    lines = ["| rate | sampled | eta (NEMD) | kinetic | conservative | thermostat | slope/rate | profile rms/U "
+             "| N1 = Pxx − Pyy | peculiar kT | kT_x, kT_y, kT_z |", "|" + "---|" * 11]
+    for r in rows:
+        lines.append(f"| {r['rate']:g} | {r['time']:g} | {_pm(r['eta'], r['eta_err'])} | {r['eta_kinetic']:.3f} "
+                     f"| {r['eta_conservative']:.3f} | {r['eta_thermostat']:.3f} "
+                     f"| {_pm(r['slope_ratio'], r['slope_ratio_err'], 4)} | {r['profile_rms']:.4f} "
+                     f"| {_pm(r['N1'], r['N1_err'])} | {_pm(r['kT'], r['kT_err'], 4)} "
+                     f"| {r['kT_x']:.4f}, {r['kT_y']:.4f}, {r['kT_z']:.4f} |")
+    return lines
+
+
+def _gk_table(results):
+    lines = ["| series | sampled | Delta | plateau lag | eta (Green–Kubo) | at 2× lag | at 4× lag |", "|" + "---|" * 7]
+    for name, r in results.items():
+        lines.append(f"| {name} | {r['time']:g} | {r['block']:g} | {r['lags'][r['lag']]:g} | "
+                     f"{_pm(r['eta'], r['eta_err'])} | {r['eta_2lag']:.3f} | {r['eta_4lag']:.3f} |")
+    return lines
+
+
+def _difference(a, a_err, b, b_err):
+    combined = math.hypot(a_err, b_err)
+    return a - b, combined, abs(a - b) / combined if combined > 0 else float("inf")
+
+
+def _checks(rows, results):
+    """The two comparisons the issue asks for, as report lines."""
+    lines = []
+    if rows and results:
+        low, total = rows[0], results["total"]
+        diff, err, z = _difference(low["eta"], low["eta_err"], total["eta"], total["eta_err"])
+        verdict = "agree" if z <= AGREEMENT_SIGMAS else "DISAGREE"
+        lines.append(f"- NEMD at the lowest rate ({low['rate']:g}) minus Green–Kubo: {diff:+.3f} ± {err:.3f} "
+                     f"({z:.1f} combined standard errors): they {verdict} within {AGREEMENT_SIGMAS}.")
+    if results:
+        total, without = results["total"], results["total - thermostat"]
+        lag = total["lag"]
+        paired = total["segment_running"][:, lag] - without["segment_running"][:, lag]
+        err = float(paired.std(ddof=1) / np.sqrt(len(paired)))
+        diff = total["eta"] - without["running"][lag]
+        lines.append(f"- The dissipative and random (thermostat) stress is present: at the total's plateau lag "
+                     f"{total['lags'][lag]:g}, Green–Kubo from the total {_pm(total['eta'], total['eta_err'])}, "
+                     f"without the thermostat part {without['running'][lag]:.3f}, difference {diff:+.3f} ± {err:.3f} "
+                     f"({abs(diff) / err:.1f} sigma, error from the segments' paired differences); without it, read "
+                     f"at its own plateau ({without['lags'][without['lag']]:g}): {_pm(without['eta'], without['eta_err'])}.")
+    return lines
+
+
+def _scene_section(scene, rows, results):
+    density = SCENES[scene]["density"]
+    estimate = groot_warren_estimate(density)
+    lines = [f"## {scene} (rho {density:g}, a {SCENES[scene]['a']:g}, gamma {FRICTION:g})", "",
+             f"Groot–Warren kinetic-theory estimate (no conservative force): eta ≈ {estimate:.3f}.", ""]
+    if results:
+        lines += ["### Green–Kubo (equilibrium)", ""] + _gk_table(results) + [""]
+    if rows:
+        lines += ["### NEMD (Lees–Edwards)", "",
+                  "eta per part is −<P_xy part>/rate (kinetic, conservative, thermostat = dissipative + random); "
+                  "they sum to eta.", ""] + _nemd_table(rows) + [""]
+    return lines + ["### Checks", ""] + _checks(rows, results) + [""]
+
+
+METHODS = """Methods (see `openmmdpd/viscosity.py`): the integrator's pressure tensor (algorithms.md §10),
+read as block averages over Delta. NEMD errors: standard error of the block series of P_xy
+from its statistical inefficiency (pymbar). Green–Kubo: eta = V/kT Delta [C(0)/2 + sum_k C(k)],
+C averaged over xy, xz, yz; block averaging leaves this integral unchanged (the zero-frequency
+power of a series is that of its block means); the C(0)/2 term holds the random force's
+white-noise stress. Plateau: the first lag 2k such that |I(2k) - I(k)| is within 1 standard
+error of 0 (the integral has stopped changing over the second half of the lag); error: the spread of the same integral over
+independent consecutive segments. The values at 2× and 4× the plateau lag
+show how flat the plateau is."""
+
+
+def write_report(args, nemd, gk, seconds):
+    """report.md and the charts in args.out."""
+    out = args.out
+    if nemd or gk:
+        viscosity_chart(os.path.join(out, "viscosity.png"), nemd, gk)
+    if gk:
+        green_kubo_chart(os.path.join(out, "green_kubo.png"), gk)
+    if nemd:
+        temperature_chart(os.path.join(out, "temperature.png"), nemd)
+    lines = ["# Shear viscosity: NEMD, Green–Kubo and the Groot–Warren estimate", "",
+             f"`python3 -m openmmdpd.viscosity {' '.join(args.command)}` — {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
+             f"{'re-read from the saved series' if seconds is None else f'{seconds / 60:.1f} min'}; integrator {args.integrator}, dt {args.dt:g}, N {args.particles}, "
+             f"{args.platform} platform ({args.threads} thread(s)), block Delta {args.block:g}, "
+             f"equilibration {args.equilibrate:g} per run, seed {args.seed}. Reduced units (kT, rc, m = 1).", "",
+             METHODS, ""]
+    for scene in _scenes(nemd, gk):
+        lines += _scene_section(scene, _rows(nemd, scene), gk.get(scene))
+    lines += ["Charts: `viscosity.png` (eta against rate), `green_kubo.png` (running integral and plateau), "
+              "`temperature.png` (peculiar kT against rate). Data: `nemd.csv`, `gk.csv`, `gk_running.csv`.", ""]
+    with open(os.path.join(out, "report.md"), "w") as f:
+        f.write("\n".join(lines))

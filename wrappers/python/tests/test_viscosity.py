@@ -1,0 +1,255 @@
+"""Viscosity tools (issue 14, points 3-4): the Green–Kubo integral against series whose
+integral is known exactly, Groot–Warren's estimate, the pressure-tensor reporter's block
+averages, and a smoke run of `python3 -m openmmdpd.viscosity --quick`."""
+import csv
+import io
+import math
+import os
+
+import numpy as np
+import openmm
+import pytest
+from scipy.signal import lfilter
+from openmm import app, unit
+
+import openmmdpd
+from openmmdpd import pressure, viscosity
+from openmmdpd.scenes import build_scene
+
+HAS_TENSOR = hasattr(openmmdpd.DPDThermostatIntegrator, "getAveragePressureTensor")
+needs_tensor = pytest.mark.skipif(not HAS_TENSOR, reason="the C++ pressure-tensor API is not built in")
+
+
+# --- Green–Kubo on synthetic series -------------------------------------------------------------
+
+def ar1(rng, phi, n, columns=3):
+    """x_k = phi x_{k-1} + e_k, unit-variance noise, started from its stationary distribution:
+    C(k) = phi^k / (1 - phi^2)."""
+    noise = rng.standard_normal((n, columns))
+    noise[0] /= math.sqrt(1 - phi**2)
+    return lfilter([1.0], [1.0, -phi], noise, axis=0)
+
+
+def ar1_integral(phi, interval):
+    """Delta [C(0)/2 + sum_{k>=1} C(k)] = Delta C(0) (1 + phi) / (2 (1 - phi)), C(0) = 1/(1 - phi^2)."""
+    return interval * (1 + phi) / (2 * (1 - phi)) / (1 - phi**2)
+
+
+def test_running_integral_of_an_exact_correlation():
+    phi, interval = 0.8, 0.05
+    c = np.power(phi, np.arange(400)) / (1 - phi**2)
+    assert viscosity.running_integral(c, interval)[-1] == pytest.approx(ar1_integral(phi, interval), rel=1e-12)
+    assert viscosity.running_integral(c, interval)[0] == pytest.approx(interval * c[0] / 2)
+
+
+def test_green_kubo_of_an_ar1_series_within_three_sigma():
+    """200000 samples of 3 AR(1) columns: the plateau value lies within 3 sigma (sigma from the
+    segments, about 3 % here) of the exact integral, the scale multiplies it, and the plateau
+    lag is past where the exact C has fallen to the noise (phi^k ~ 1e-2 at k ~ 20)."""
+    phi, interval, scale = 0.8, 0.05, 7.0
+    result = viscosity.green_kubo(ar1(np.random.default_rng(5), phi, 200000), interval, scale, max_lag=200)
+    exact = scale * ar1_integral(phi, interval)
+    print(f"AR(1): {result['eta']:.4f} ± {result['eta_err']:.4f}, exact {exact:.4f}, plateau lag {result['lag']}")
+    assert 0 < result["eta_err"] < 0.05 * exact
+    assert abs(result["eta"] - exact) < 3 * result["eta_err"]
+    assert 20 < result["lag"] < 200
+
+
+def test_block_averaging_keeps_the_green_kubo_integral():
+    """Block means of 10 samples of an AR(1) series, at 10 times the interval, integrate to the
+    same value as the series itself (the zero-frequency power is unchanged), within 3 sigma."""
+    phi, interval = 0.95, 0.01
+    x = ar1(np.random.default_rng(9), phi, 400000)
+    blocks = x.reshape(-1, 10, 3).mean(axis=1)
+    result = viscosity.green_kubo(blocks, 10 * interval, max_lag=100)
+    exact = ar1_integral(phi, interval)
+    print(f"AR(1) in blocks of 10: {result['eta']:.4f} ± {result['eta_err']:.4f}, exact {exact:.4f}")
+    assert abs(result["eta"] - exact) < 3 * result["eta_err"]
+    assert result["eta_err"] < 0.05 * exact
+
+
+def test_green_kubo_error_matches_the_scatter_of_independent_runs():
+    """The segments' standard error is the scatter of the integral over 30 independent AR(1)
+    series (their standard deviation is known to ~13 %, the mean error to ~5 %): the ratio is
+    within [0.6, 1.6]."""
+    rng = np.random.default_rng(10)
+    results = [viscosity.green_kubo(ar1(rng, 0.5, 20000), 0.1, max_lag=40) for _ in range(30)]
+    scatter = np.std([r["eta"] for r in results], ddof=1)
+    ratio = np.mean([r["eta_err"] for r in results]) / scatter
+    print(f"error / scatter {ratio:.2f}")
+    assert 0.6 < ratio < 1.6
+
+
+def test_green_kubo_keeps_the_lag_zero_half_of_white_noise():
+    """White noise (a random force's stress) has C(k) = sigma^2 delta_k0: its whole integral,
+    Delta sigma^2 / 2, comes from the C(0)/2 term (without it: 0; with C(0) whole: twice)."""
+    sigma, interval = 3.0, 0.02
+    series = sigma * np.random.default_rng(6).standard_normal((100000, 3))
+    result = viscosity.green_kubo(series, interval, max_lag=50)
+    exact = interval * sigma**2 / 2
+    print(f"white noise: {result['eta']:.5f} ± {result['eta_err']:.5f}, exact {exact:.5f}")
+    assert result["eta_err"] < 0.05 * exact
+    assert abs(result["eta"] - exact) < 3 * result["eta_err"]
+
+
+def test_plateau_lag_is_where_the_integral_stops_changing():
+    """Segments whose integral rises by 1 per lag, with spread 0.1 (standard error 0.05), to
+    lag 3 and is flat after: |I(2k) - I(k)| > 2 sigma up to k = 2, 0 from k = 3 on: read at 6."""
+    lags = np.arange(13)
+    running = np.minimum(lags, 3).astype(float)
+    segments = running + 0.1 * np.array([[1], [-1], [1], [-1]]) * (lags % 2)
+    assert viscosity.plateau_lag(running, segments) == 6
+    assert viscosity.plateau_lag(running + 0.1 * lags, segments) == 12  # never flat: the longest even lag
+
+
+def test_autocorrelation_against_a_direct_sum():
+    x = np.random.default_rng(7).standard_normal((50, 3))
+    direct = [np.mean([np.mean(x[t] * x[t + k]) for t in range(50 - k)]) for k in range(6)]
+    assert viscosity.autocorrelation(x, 5) == pytest.approx(direct, rel=1e-12)
+
+
+def test_groot_warren_estimate():
+    """algorithms.md §10: 45 kT/(4 pi gamma rc^3) + 2 pi gamma rho^2 rc^5/1575, 1.08 at rho 4,
+    gamma 4.5 (1.0830); 0.9573 for Groot–Warren's own fluid at rho 3."""
+    assert viscosity.groot_warren_estimate(4.0, 4.5) == pytest.approx(45 / (4 * math.pi * 4.5) + 2 * math.pi * 4.5 * 16 / 1575)
+    assert round(viscosity.groot_warren_estimate(4.0, 4.5), 2) == 1.08
+    assert viscosity.groot_warren_estimate(3.0, 4.5) == pytest.approx(0.9573, abs=1e-4)
+
+
+# --- the reporter ---------------------------------------------------------------------------------
+
+class FakeIntegrator:
+    """The DPD pressure-tensor API over a known sequence of per-step tensors (part p is
+    (p + 1) times the step's base tensor)."""
+
+    def __init__(self, samples):
+        self.samples, self.step_count, self.since, self.enabled = samples, 0, 0, False
+
+    def setPressureTensorEnabled(self, enabled):
+        self.enabled = enabled
+
+    def step(self, steps):
+        self.step_count += steps
+
+    def resetPressureTensor(self):
+        self.since = self.step_count
+
+    def getAveragePressureTensor(self, part=0):
+        assert self.enabled
+        mean = self.samples[self.since:self.step_count].mean(axis=0) * (part + 1)
+        return list(mean) * pressure.PRESSURE_UNIT
+
+
+class FakeSimulation:
+    """Simulation.step's reporting loop, for one reporter."""
+
+    def __init__(self, integrator, dt=0.01):
+        self.integrator, self.currentStep, self.dt = integrator, 0, dt
+
+    def step(self, steps, reporter):
+        end = self.currentStep + steps
+        while self.currentStep < end:
+            todo = min(reporter.describeNextReport(self)[0], end - self.currentStep)
+            self.integrator.step(todo)
+            self.currentStep += todo
+            if self.currentStep % reporter._interval == 0:
+                state = type("State", (), {"getTime": lambda s, t=self.currentStep * self.dt: t * unit.picosecond})()
+                reporter.report(self, state)
+
+
+def test_reporter_rows_are_block_averages():
+    samples = np.random.default_rng(8).standard_normal((40, 6))
+    out = io.StringIO()
+    simulation = FakeSimulation(FakeIntegrator(samples))
+    reporter = pressure.PressureTensorReporter(out, 10, parts=True)
+    simulation.step(25, reporter)
+    simulation.step(15, reporter)
+    rows = list(csv.DictReader(io.StringIO(out.getvalue())))
+    assert [int(r["step"]) for r in rows] == [10, 20, 30, 40]
+    assert float(rows[1]["time_ps"]) == pytest.approx(0.2)
+    for k, row in enumerate(rows):
+        block = samples[10 * k:10 * (k + 1)].mean(axis=0)
+        for p, part in enumerate(pressure.PARTS):
+            prefix = "" if p == 0 else part + "_"
+            got = [float(row[f"{prefix}P{c}"]) for c in pressure.COMPONENTS]
+            assert got == pytest.approx(block * (p + 1), rel=1e-14)
+
+
+def test_reporter_columns_without_parts():
+    out = io.StringIO()
+    FakeSimulation(FakeIntegrator(np.ones((5, 6)))).step(5, pressure.PressureTensorReporter(out, 5))
+    assert out.getvalue().splitlines()[0] == "step,time_ps,Pxx,Pyy,Pzz,Pxy,Pxz,Pyz"
+
+
+def test_reporter_refuses_bad_input():
+    for interval in (0, -3, 2.5, True, "10"):
+        with pytest.raises(ValueError, match="reportInterval must be an integer >= 1"):
+            pressure.PressureTensorReporter(io.StringIO(), interval)
+    simulation = FakeSimulation(openmm.VerletIntegrator(0.001))
+    with pytest.raises(TypeError, match="needs a DPD integrator .*got VerletIntegrator"):
+        pressure.PressureTensorReporter(io.StringIO(), 10).describeNextReport(simulation)
+
+
+# --- with the C++ pressure tensor -------------------------------------------------------------------
+
+def _simulation(seed=4):
+    scene = build_scene("soft", num_particles=200, seed=seed)
+    integrator = openmmdpd.DPDVVIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, 0.01)
+    integrator.setRandomNumberSeed(seed)
+    simulation = app.Simulation(scene.topology, scene.system, integrator, openmm.Platform.getPlatformByName("Reference"))
+    simulation.context.setPositions(scene.positions)
+    simulation.context.setVelocitiesToTemperature(openmmdpd.KT_TEMPERATURE, seed)
+    return simulation
+
+
+@needs_tensor
+def test_reporter_block_averages_match_the_integrators_average():
+    """After 5 steps already sampled, four rows of 5 steps average to what the integrator
+    accumulates over the same 20 steps of an identical run (Reference platform, same seed;
+    sampling leaves the trajectory unchanged), for every part: the reporter starts its own
+    average and resets it after each row."""
+    out = io.StringIO()
+    reported = _simulation()
+    reported.integrator.setPressureTensorEnabled(True)
+    reported.step(5)
+    reported.reporters.append(pressure.PressureTensorReporter(out, 5, parts=True))
+    reported.step(20)
+    rows = np.array([[float(v) for v in line.split(",")] for line in out.getvalue().splitlines()[1:]])
+    assert rows[:, 0].tolist() == [10, 15, 20, 25]
+    plain = _simulation()
+    plain.step(5)
+    plain.integrator.setPressureTensorEnabled(True)
+    plain.step(20)
+    assert plain.integrator.getPressureTensorSampleCount() == 20
+    for part in range(len(pressure.PARTS)):
+        columns = slice(2 + 6 * part, 8 + 6 * part)
+        assert rows[:, columns].mean(axis=0) == pytest.approx(pressure.pressure_tensor(plain.integrator, part), rel=1e-9)
+
+
+@needs_tensor
+def test_viscosity_quick_smoke(tmp_path):
+    out = str(tmp_path / "visc")
+    viscosity.main(["--quick", "--out", out, "--quiet", "--platform", "Reference"])
+    with open(os.path.join(out, "nemd.csv")) as f:
+        rows = list(csv.DictReader(f))
+    assert [float(r["rate"]) for r in rows] == viscosity.QUICK["rates"]
+    row = rows[0]
+    assert float(row["eta"]) > 0 and float(row["eta_err"]) > 0
+    parts = sum(float(row[f"eta_{p}"]) for p in ("kinetic", "conservative", "thermostat"))
+    assert parts == pytest.approx(float(row["eta"]), rel=1e-6)
+    assert 0.8 < float(row["slope_ratio"]) < 1.2
+    with open(os.path.join(out, "gk.csv")) as f:
+        series = {r["series"]: r for r in csv.DictReader(f)}
+    assert set(series) == {"total", "kinetic", "conservative", "thermostat", "total - thermostat"}
+    for filename in ("report.md", "viscosity.png", "green_kubo.png", "temperature.png", "gk_running.csv",
+                     "gk_series_model-b.npz"):
+        assert os.path.getsize(os.path.join(out, filename)) > 0
+    # --reanalyse reads the same numbers back from nemd.csv and the saved (float32) series
+    viscosity.main(["--quick", "--out", out, "--reanalyse"])
+    with open(os.path.join(out, "gk.csv")) as f:
+        again = {r["series"]: r for r in csv.DictReader(f)}
+    for name, row in series.items():
+        assert float(again[name]["eta"]) == pytest.approx(float(row["eta"]), rel=1e-4)
+    with open(os.path.join(out, "nemd.csv")) as f:
+        assert float(next(csv.DictReader(f))["eta"]) == pytest.approx(float(rows[0]["eta"]))
+    assert "re-read from the saved series" in open(os.path.join(out, "report.md")).read()
