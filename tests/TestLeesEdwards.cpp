@@ -172,22 +172,28 @@ TEST_P(LeesEdwards, ShearRateIsLive) {
 }
 
 #if OPENMMDPD_HAVE_CPU
-TEST_P(LeesEdwards, CpuOnOneAndTwoThreadsFollowsTheReferenceTrajectory) {
-    std::vector<Vec3> positions, velocities;
-    std::unique_ptr<System> system(makeShearFluid(500, positions, velocities));
-    std::unique_ptr<DPDThermostatIntegrator> reference(GetParam().make());
-    std::unique_ptr<Context> expected = shearedContext(*system, *reference, "Reference", positions, velocities);
+/** 20 sheared steps on the CPU platform with 1 and 2 threads follow the Reference platform's to 1e-10. */
+void expectCpuFollowsReference(System& system, const Scheme& scheme, const std::vector<Vec3>& positions,
+                               const std::vector<Vec3>& velocities) {
+    std::unique_ptr<DPDThermostatIntegrator> reference(scheme.make());
+    std::unique_ptr<Context> expected = shearedContext(system, *reference, "Reference", positions, velocities);
     reference->step(20);
     const State want = expected->getState(State::Positions | State::Velocities);
     for (int threads : {1, 2}) {
-        std::unique_ptr<DPDThermostatIntegrator> integrator(GetParam().make());
+        std::unique_ptr<DPDThermostatIntegrator> integrator(scheme.make());
         std::unique_ptr<Context> context =
-                shearedContext(*system, *integrator, "CPU", positions, velocities, {{"Threads", std::to_string(threads)}});
+                shearedContext(system, *integrator, "CPU", positions, velocities, {{"Threads", std::to_string(threads)}});
         integrator->step(20);
         const State got = context->getState(State::Positions | State::Velocities);
-        EXPECT_LT(relativeDifference(want.getPositions(), got.getPositions()), 1e-10) << GetParam().name << ", " << threads;
-        EXPECT_LT(relativeDifference(want.getVelocities(), got.getVelocities()), 1e-10) << GetParam().name << ", " << threads;
+        EXPECT_LT(relativeDifference(want.getPositions(), got.getPositions()), 1e-10) << scheme.name << ", " << threads;
+        EXPECT_LT(relativeDifference(want.getVelocities(), got.getVelocities()), 1e-10) << scheme.name << ", " << threads;
     }
+}
+
+TEST_P(LeesEdwards, CpuOnOneAndTwoThreadsFollowsTheReferenceTrajectory) {
+    std::vector<Vec3> positions, velocities;
+    std::unique_ptr<System> system(makeShearFluid(500, positions, velocities));
+    expectCpuFollowsReference(*system, GetParam(), positions, velocities);
 }
 #endif
 
@@ -376,19 +382,7 @@ TEST_P(StaggeredLeesEdwards, CheckpointContinuesBitForBit) {
 TEST_P(StaggeredLeesEdwards, CpuOnOneAndTwoThreadsFollowsTheReferenceTrajectory) {
     std::vector<Vec3> positions, velocities;
     std::unique_ptr<System> system(makeShearChains(500, positions, velocities));
-    std::unique_ptr<DPDThermostatIntegrator> reference(GetParam().make());
-    std::unique_ptr<Context> expected = shearedContext(*system, *reference, "Reference", positions, velocities);
-    reference->step(20);
-    const State want = expected->getState(State::Positions | State::Velocities);
-    for (int threads : {1, 2}) {
-        std::unique_ptr<DPDThermostatIntegrator> integrator(GetParam().make());
-        std::unique_ptr<Context> context =
-                shearedContext(*system, *integrator, "CPU", positions, velocities, {{"Threads", std::to_string(threads)}});
-        integrator->step(20);
-        const State got = context->getState(State::Positions | State::Velocities);
-        EXPECT_LT(relativeDifference(want.getPositions(), got.getPositions()), 1e-10) << GetParam().name << ", " << threads;
-        EXPECT_LT(relativeDifference(want.getVelocities(), got.getVelocities()), 1e-10) << GetParam().name << ", " << threads;
-    }
+    expectCpuFollowsReference(*system, GetParam(), positions, velocities);
 }
 #endif
 
