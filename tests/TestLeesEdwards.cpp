@@ -98,43 +98,53 @@ TEST_P(LeesEdwards, PairAcrossTheBoundaryFeelsTheImageVelocity) {
     }
 }
 
-/** Total x momentum changes only by m U per boundary crossing (counted from the y jumps); y and z stay. */
-TEST_P(LeesEdwards, MomentumChangesOnlyByTheBoundaryJumps) {
+/**
+ * `steps` sheared steps of the scheme on each platform: at every step the total x momentum of
+ * the unit-mass particles changes by exactly U per boundary crossing (counted from the y
+ * jumps) and y and z momentum not at all; at the end the box has slid by U t, reduced to
+ * |offset| <= L/2.  crossings[p][i]: the crossings of particle i on platform p.
+ */
+void expectMomentumChangesOnlyByTheJumps(System& system, const Scheme& scheme, const std::vector<Vec3>& positions,
+                                         const std::vector<Vec3>& velocities, int steps, std::vector<std::vector<int>>& crossings) {
     const double U = RATE * L;
-    std::vector<Vec3> positions, velocities;
-    std::unique_ptr<System> system(makeShearFluid(500, positions, velocities));
     for (const std::string& platform : platforms()) {
-        std::unique_ptr<DPDThermostatIntegrator> integrator(GetParam().make());
-        std::unique_ptr<Context> context = shearedContext(*system, *integrator, platform, positions, velocities);
+        crossings.push_back(std::vector<int>(system.getNumParticles()));
+        std::unique_ptr<DPDThermostatIntegrator> integrator(scheme.make());
+        std::unique_ptr<Context> context = shearedContext(system, *integrator, platform, positions, velocities);
         const double tolerance = (platform == "Reference" ? 1e-10 : 1e-4);  // the CPU sums forces in float
         State before = context->getState(State::Positions | State::Velocities);
-        int crossings = 0;
-        for (int step = 0; step < 100; step++) {
+        for (int step = 0; step < steps; step++) {
             integrator->step(1);
             const State after = context->getState(State::Positions | State::Velocities);
             double jump = 0;
-            for (int i = 0; i < system->getNumParticles(); i++) {
+            Vec3 p0, p1;
+            for (int i = 0; i < system.getNumParticles(); i++) {
                 const double n = std::round((after.getPositions()[i][1] - before.getPositions()[i][1]) / L);
                 jump += n * U;
-                crossings += (n != 0);
-            }
-            Vec3 p0, p1;
-            for (int i = 0; i < system->getNumParticles(); i++) {
+                crossings.back()[i] += (n != 0);
                 p0 += before.getVelocities()[i];
                 p1 += after.getVelocities()[i];
             }
-            ASSERT_NEAR(p1[0] - p0[0], jump, tolerance) << GetParam().name << " on " << platform << ", step " << step;
-            ASSERT_NEAR(p1[1], p0[1], tolerance) << GetParam().name << " on " << platform;
-            ASSERT_NEAR(p1[2], p0[2], tolerance) << GetParam().name << " on " << platform;
+            ASSERT_NEAR(p1[0] - p0[0], jump, tolerance) << scheme.name << " on " << platform << ", step " << step;
+            ASSERT_NEAR(p1[1], p0[1], tolerance) << scheme.name << " on " << platform;
+            ASSERT_NEAR(p1[2], p0[2], tolerance) << scheme.name << " on " << platform;
             before = after;
         }
-        EXPECT_GT(crossings, 10) << GetParam().name << " on " << platform;
-        // The box slid by U t, reduced to |offset| <= L/2.
         Vec3 a, b, c;
         context->getState(0).getPeriodicBoxVectors(a, b, c);
-        const double slid = U * 100 * integrator->getStepSize();
-        EXPECT_NEAR(b[0], slid - L * std::round(slid / L), 1e-9) << GetParam().name;
+        const double slid = U * steps * integrator->getStepSize();
+        EXPECT_NEAR(b[0], slid - L * std::round(slid / L), 1e-9) << scheme.name;
     }
+}
+
+/** Total x momentum changes only by m U per boundary crossing (counted from the y jumps); y and z stay. */
+TEST_P(LeesEdwards, MomentumChangesOnlyByTheBoundaryJumps) {
+    std::vector<Vec3> positions, velocities;
+    std::unique_ptr<System> system(makeShearFluid(500, positions, velocities));
+    std::vector<std::vector<int>> crossings;
+    ASSERT_NO_FATAL_FAILURE(expectMomentumChangesOnlyByTheJumps(*system, GetParam(), positions, velocities, 100, crossings));
+    for (size_t p = 0; p < crossings.size(); p++)
+        EXPECT_GT(std::accumulate(crossings[p].begin(), crossings[p].end(), 0), 10) << GetParam().name << " on " << platforms()[p];
 }
 
 TEST_P(LeesEdwards, CheckpointContinuesBitForBit) {
@@ -312,38 +322,13 @@ TEST_P(StaggeredLeesEdwards, CrossingMoleculesMoveAsInsideTheBox) {
 
 /** x momentum changes only by the counted boundary jumps, polymer crossings included; the box slides at U. */
 TEST_P(StaggeredLeesEdwards, MomentumChangesOnlyByTheBoundaryJumps) {
-    const double U = RATE * L;
     std::vector<Vec3> positions, velocities;
     std::unique_ptr<System> system(makeShearChains(500, positions, velocities));
-    for (const std::string& platform : platforms()) {
-        std::unique_ptr<DPDThermostatIntegrator> integrator(GetParam().make());
-        std::unique_ptr<Context> context = shearedContext(*system, *integrator, platform, positions, velocities);
-        const double tolerance = (platform == "Reference" ? 1e-10 : 1e-4);
-        State before = context->getState(State::Positions | State::Velocities);
-        int polymerCrossings = 0;
-        for (int step = 0; step < 40; step++) {
-            integrator->step(1);
-            const State after = context->getState(State::Positions | State::Velocities);
-            double jump = 0;
-            Vec3 p0, p1;
-            for (int i = 0; i < system->getNumParticles(); i++) {
-                const double n = std::round((after.getPositions()[i][1] - before.getPositions()[i][1]) / L);
-                jump += n * U;
-                polymerCrossings += (n != 0 && i < CHAINS * BEADS);
-                p0 += before.getVelocities()[i];
-                p1 += after.getVelocities()[i];
-            }
-            ASSERT_NEAR(p1[0] - p0[0], jump, tolerance) << GetParam().name << " on " << platform << ", step " << step;
-            ASSERT_NEAR(p1[1], p0[1], tolerance) << GetParam().name << " on " << platform;
-            ASSERT_NEAR(p1[2], p0[2], tolerance) << GetParam().name << " on " << platform;
-            before = after;
-        }
-        EXPECT_GE(polymerCrossings, CHAINS * BEADS) << GetParam().name << " on " << platform;
-        Vec3 a, b, c;
-        context->getState(0).getPeriodicBoxVectors(a, b, c);
-        const double slid = U * 40 * integrator->getStepSize();
-        EXPECT_NEAR(b[0], slid - L * std::round(slid / L), 1e-9) << GetParam().name;
-    }
+    std::vector<std::vector<int>> crossings;
+    ASSERT_NO_FATAL_FAILURE(expectMomentumChangesOnlyByTheJumps(*system, GetParam(), positions, velocities, 40, crossings));
+    for (size_t p = 0; p < crossings.size(); p++)
+        EXPECT_GE(std::accumulate(crossings[p].begin(), crossings[p].begin() + CHAINS * BEADS, 0), CHAINS * BEADS)
+                << GetParam().name << " on " << platforms()[p];
 }
 
 /** Chains straddling the boundary cross it whole: no bond is ever stretched across the box. */
