@@ -48,9 +48,7 @@ def viscosity_chart(path, nemd, gk):
         ax.set_ylabel("eta (kT ps / nm^3, reduced)")
         ax.set_title(scene)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def green_kubo_chart(path, gk):
@@ -69,9 +67,7 @@ def green_kubo_chart(path, gk):
         ax.set_ylabel("V/kT Delta [C(0)/2 + sum C(k)]")
         ax.set_title(f"{scene}, Green–Kubo")
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def temperature_chart(path, nemd):
@@ -90,6 +86,10 @@ def temperature_chart(path, nemd):
         ax.set_ylabel("peculiar kT")
         ax.set_title(scene)
         ax.legend(fontsize=8)
+    _save(fig, path)
+
+
+def _save(fig, path):
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
