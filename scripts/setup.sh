@@ -9,6 +9,7 @@ PACKAGES=(
   librandom123-dev libeigen3-dev libgtest-dev
   python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib python3-tqdm
   python3-pymbar python3-mdanalysis
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers
 )
 
 missing=()
