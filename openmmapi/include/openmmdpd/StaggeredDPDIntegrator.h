@@ -68,9 +68,11 @@ namespace DPDPlugin {
  * Cost: for K > 1 the fast forces are evaluated in a second Context holding only the
  * polymer particles and copies of the fast forces (HarmonicBond, CustomBond, and
  * CustomNonbonded with interaction groups can be copied; otherwise the fast groups are
- * evaluated in the Context itself), and the slow forces in a third one holding the System
- * without its fast forces, both on the Context's platform with its properties and kept in
- * step with its positions, box and global parameters.  K = 1 uses the Context alone.
+ * evaluated in the Context itself), on the Reference platform for a small polymer (a
+ * CustomNonbondedForce there as bonds over Verlet-listed pairs) and on the Context's
+ * platform otherwise, and the slow forces in a third one holding the System without its fast
+ * forces, on the Context's platform with its properties; both are kept in step with its
+ * positions, box and global parameters.  K = 1 uses the Context alone.
  *
  * The defaults are paper 002's recommendation for the velocity-Verlet base: weighted,
  * (mu, a, b) = (0, 0.6, 0), lambda = 0.65.  useRecommendedParameters() applies the

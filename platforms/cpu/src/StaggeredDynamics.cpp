@@ -2,9 +2,6 @@
 #include "openmmdpd/StaggeredDynamics.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
-#include "openmm/CustomBondForce.h"
-#include "openmm/CustomNonbondedForce.h"
-#include "openmm/HarmonicBondForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
 #include "openmm/State.h"
@@ -32,158 +29,13 @@ StaggeredDynamics::StaggeredDynamics(const OpenMM::System& system, const Stagger
 
 void StaggeredDynamics::updatePolymer(const OpenMM::System& system, const StaggeredDPDIntegrator& integrator) {
     polymer.select(system, integrator);
-    for (auto* v : {&fastForce, &newFastForce, &startPositions, &startVelocities, &drivingForce, &fastPositions})
+    for (auto* v : {&fastForce, &newFastForce, &startPositions, &startVelocities, &drivingForce})
         v->assign(polymer.particles.size(), Vec3());
-    fastContext.reset();
-    fastIntegrator.reset();
-    fastSystem.reset();
+    fastForces.reset();
     slowContext.reset();
     slowIntegrator.reset();
     slowSystem.reset();
     fastContextTried = false;
-}
-
-namespace {
-
-// Copies of the fast forces over the polymer particles only (particle i becomes index[i],
-// -1 for a particle outside the polymer), for the Context of the polymer alone: each returns
-// null when the force touches a particle outside the polymer or cannot be copied faithfully.
-
-OpenMM::Force* copyHarmonicBonds(const OpenMM::HarmonicBondForce& bond, const std::vector<int>& index) {
-    std::unique_ptr<OpenMM::HarmonicBondForce> copy(new OpenMM::HarmonicBondForce());
-    for (int k = 0; k < bond.getNumBonds(); k++) {
-        int i, j;
-        double length, kb;
-        bond.getBondParameters(k, i, j, length, kb);
-        if (index[i] < 0 || index[j] < 0)
-            return nullptr;
-        copy->addBond(index[i], index[j], length, kb);
-    }
-    copy->setUsesPeriodicBoundaryConditions(bond.usesPeriodicBoundaryConditions());
-    return copy.release();
-}
-
-OpenMM::Force* copyCustomBonds(const OpenMM::CustomBondForce& bond, const std::vector<int>& index) {
-    if (bond.getNumEnergyParameterDerivatives() > 0)
-        return nullptr;
-    std::unique_ptr<OpenMM::CustomBondForce> copy(new OpenMM::CustomBondForce(bond.getEnergyFunction()));
-    for (int p = 0; p < bond.getNumPerBondParameters(); p++)
-        copy->addPerBondParameter(bond.getPerBondParameterName(p));
-    for (int p = 0; p < bond.getNumGlobalParameters(); p++)
-        copy->addGlobalParameter(bond.getGlobalParameterName(p), bond.getGlobalParameterDefaultValue(p));
-    std::vector<double> parameters;
-    for (int k = 0; k < bond.getNumBonds(); k++) {
-        int i, j;
-        bond.getBondParameters(k, i, j, parameters);
-        if (index[i] < 0 || index[j] < 0)
-            return nullptr;
-        copy->addBond(index[i], index[j], parameters);
-    }
-    copy->setUsesPeriodicBoundaryConditions(bond.usesPeriodicBoundaryConditions());
-    return copy.release();
-}
-
-/** A CustomNonbondedForce with the energy, parameters, functions and settings of `force`, and no particles. */
-OpenMM::CustomNonbondedForce* emptyNonbondedLike(const OpenMM::CustomNonbondedForce& force) {
-    std::unique_ptr<OpenMM::CustomNonbondedForce> copy(new OpenMM::CustomNonbondedForce(force.getEnergyFunction()));
-    for (int p = 0; p < force.getNumPerParticleParameters(); p++)
-        copy->addPerParticleParameter(force.getPerParticleParameterName(p));
-    for (int p = 0; p < force.getNumGlobalParameters(); p++)
-        copy->addGlobalParameter(force.getGlobalParameterName(p), force.getGlobalParameterDefaultValue(p));
-    for (int f = 0; f < force.getNumTabulatedFunctions(); f++)
-        copy->addTabulatedFunction(force.getTabulatedFunctionName(f),
-                                   OpenMM::XmlSerializer::clone<OpenMM::TabulatedFunction>(force.getTabulatedFunction(f)));
-    copy->setNonbondedMethod(force.getNonbondedMethod());
-    copy->setCutoffDistance(force.getCutoffDistance());
-    copy->setUseSwitchingFunction(force.getUseSwitchingFunction());
-    copy->setSwitchingDistance(force.getSwitchingDistance());
-#if OPENMMDPD_OPENMM_MAJOR >= 8
-    // Per-particle values computed from the parameters (OpenMM 8): without them the copy's
-    // energy names unknown variables and the polymer Context could not be made.
-    for (int v = 0; v < force.getNumComputedValues(); v++) {
-        std::string name, expression;
-        force.getComputedValueParameters(v, name, expression);
-        copy->addComputedValue(name, expression);
-    }
-#endif
-    return copy.release();
-}
-
-/** The particles (in polymer order: index[particles[k]] == k) and the exclusions within the polymer. */
-void copyNonbondedParticles(const OpenMM::CustomNonbondedForce& force, const std::vector<int>& index,
-                            OpenMM::CustomNonbondedForce& copy) {
-    std::vector<double> parameters;
-    for (size_t i = 0; i < index.size(); i++)
-        if (index[i] >= 0) {
-            force.getParticleParameters((int) i, parameters);
-            copy.addParticle(parameters);
-        }
-    for (int k = 0; k < force.getNumExclusions(); k++) {
-        int i, j;
-        force.getExclusionParticles(k, i, j);
-        if (index[i] >= 0 && index[j] >= 0)
-            copy.addExclusion(index[i], index[j]);
-    }
-}
-
-/** Whether the force's one interaction group is every polymer particle with every other. */
-bool isWholePolymerGroup(const OpenMM::CustomNonbondedForce& force, const std::vector<int>& index, size_t numPolymer) {
-    if (force.getNumInteractionGroups() != 1)
-        return false;
-    std::set<int> set1, set2;
-    force.getInteractionGroupParameters(0, set1, set2);
-    return set1 == set2 && set1.size() == numPolymer && std::all_of(set1.begin(), set1.end(), [&](int i) { return index[i] >= 0; });
-}
-
-/** set, renumbered by index; false if a particle is outside the polymer. */
-bool mapToPolymer(const std::set<int>& set, const std::vector<int>& index, std::set<int>& mapped) {
-    for (int i : set) {
-        if (index[i] < 0)
-            return false;
-        mapped.insert(index[i]);
-    }
-    return true;
-}
-
-/** The interaction groups, renumbered; false if one reaches outside the polymer. */
-bool copyInteractionGroups(const OpenMM::CustomNonbondedForce& force, const std::vector<int>& index,
-                           OpenMM::CustomNonbondedForce& copy) {
-    for (int g = 0; g < force.getNumInteractionGroups(); g++) {
-        std::set<int> set1, set2, mapped1, mapped2;
-        force.getInteractionGroupParameters(g, set1, set2);
-        if (!mapToPolymer(set1, index, mapped1) || !mapToPolymer(set2, index, mapped2))
-            return false;
-        copy.addInteractionGroup(mapped1, mapped2);
-    }
-    return true;
-}
-
-OpenMM::Force* copyCustomNonbonded(const OpenMM::CustomNonbondedForce& nonbonded, const std::vector<int>& index) {
-    // Only interaction groups confine it to the polymer; a long-range correction depends on
-    // the whole System.
-    if (nonbonded.getNumInteractionGroups() == 0 || nonbonded.getUseLongRangeCorrection() ||
-        nonbonded.getNumEnergyParameterDerivatives() > 0)
-        return nullptr;
-    std::unique_ptr<OpenMM::CustomNonbondedForce> copy(emptyNonbondedLike(nonbonded));
-    copyNonbondedParticles(nonbonded, index, *copy);
-    // One group of every polymer particle with every other is no restriction in the copy:
-    // leave it out, so that OpenMM uses its neighbour list rather than all pairs.
-    if (!isWholePolymerGroup(nonbonded, index, (size_t) copy->getNumParticles()) &&
-        !copyInteractionGroups(nonbonded, index, *copy))
-        return nullptr;
-    return copy.release();
-}
-
-} // namespace
-
-OpenMM::Force* DPDPlugin::copyOverPolymer(const OpenMM::Force& force, const std::vector<int>& index) {
-    if (auto* bond = dynamic_cast<const OpenMM::HarmonicBondForce*>(&force))
-        return copyHarmonicBonds(*bond, index);
-    if (auto* bond = dynamic_cast<const OpenMM::CustomBondForce*>(&force))
-        return copyCustomBonds(*bond, index);
-    if (auto* nonbonded = dynamic_cast<const OpenMM::CustomNonbondedForce*>(&force))
-        return copyCustomNonbonded(*nonbonded, index);
-    return nullptr;
 }
 
 namespace {
@@ -198,33 +50,6 @@ std::map<std::string, std::string> contextProperties(OpenMM::ContextImpl& contex
 }
 
 } // namespace
-
-void StaggeredDynamics::makeFastContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
-    fastContextTried = true;
-    const OpenMM::System& system = context.getSystem();
-    std::unique_ptr<OpenMM::System> reduced(new OpenMM::System());
-    for (int p : polymer.particles)
-        reduced->addParticle(system.getParticleMass(p));
-    Vec3 box[3];
-    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    reduced->setDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    for (int f = 0; f < system.getNumForces(); f++) {
-        const OpenMM::Force& force = system.getForce(f);
-        if ((integrator.getFastForceGroups() & (1 << force.getForceGroup())) == 0)
-            continue;
-        OpenMM::Force* copy = copyOverPolymer(force, polymer.index);
-        if (copy == nullptr)
-            return;  // the full Context evaluates the fast groups
-        reduced->addForce(copy);
-    }
-    if (reduced->getNumForces() == 0)
-        return;
-    fastSystem = std::move(reduced);
-    fastIntegrator.reset(new OpenMM::VerletIntegrator(1.0));
-    fastContext.reset(new OpenMM::Context(*fastSystem, *fastIntegrator, context.getPlatform(), contextProperties(context)));
-    fastContext->getState(0).getPeriodicBoxVectors(fastBox[0], fastBox[1], fastBox[2]);
-    makeSlowContext(context, integrator);
-}
 
 void StaggeredDynamics::makeSlowContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
     std::unique_ptr<OpenMM::System> system(OpenMM::XmlSerializer::clone<OpenMM::System>(context.getSystem()));
@@ -244,21 +69,6 @@ void StaggeredDynamics::makeSlowContext(OpenMM::ContextImpl& context, const Stag
     slowContext->getState(0).getPeriodicBoxVectors(slowBox[0], slowBox[1], slowBox[2]);
 }
 
-void StaggeredDynamics::syncContext(OpenMM::ContextImpl& context, OpenMM::Context& target, Vec3* box) {
-    Vec3 current[3];
-    context.getPeriodicBoxVectors(current[0], current[1], current[2]);
-    if (current[0] != box[0] || current[1] != box[1] || current[2] != box[2]) {
-        target.setPeriodicBoxVectors(current[0], current[1], current[2]);
-        std::copy(current, current + 3, box);
-    }
-    const std::map<std::string, double>& targetParameters = target.getParameters();
-    for (const auto& parameter : context.getParameters()) {
-        auto it = targetParameters.find(parameter.first);
-        if (it != targetParameters.end() && it->second != parameter.second)
-            target.setParameter(parameter.first, parameter.second);
-    }
-}
-
 void StaggeredDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {
     if (!slowContext || numSubSteps == 1) {
         PairDynamics::computeConservative(context, forceGroups);
@@ -274,7 +84,9 @@ void StaggeredDynamics::computeConservative(OpenMM::ContextImpl& context, int fo
         }
         addSoftForceFromPairs(soft);
     }
-    syncContext(context, *slowContext, slowBox);
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    syncBoxAndParameters(*slowContext, box, context.getParameters(), slowBox);
     slowContext->setPositions(*platformData(context).positions);
     conservative = slowContext->getState(OpenMM::State::Forces, false, forceGroups).getForces();
 }
@@ -282,13 +94,10 @@ void StaggeredDynamics::computeConservative(OpenMM::ContextImpl& context, int fo
 void StaggeredDynamics::computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
                                          std::vector<Vec3>& fast) {
     // K = 1 evaluates them in the full Context, as the base integrators do.
-    if (fastContext && integrator.getNumSubSteps() > 1) {
-        const std::vector<Vec3>& r = *platformData(context).positions;
-        for (size_t k = 0; k < polymer.particles.size(); k++)
-            fastPositions[k] = r[polymer.particles[k]];
-        syncContext(context, *fastContext, fastBox);
-        fastContext->setPositions(fastPositions);
-        fast = fastContext->getState(OpenMM::State::Forces).getForces();
+    if (fastForces && integrator.getNumSubSteps() > 1) {
+        Vec3 box[3];
+        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        fastForces->compute(*platformData(context).positions, box, context.getParameters(), fast);
         checkFinite(fast, polymer.particles, false, "fast force", step);
         return;
     }
@@ -358,10 +167,13 @@ void StaggeredDynamics::makeSideContexts(OpenMM::ContextImpl& context, const Sta
     // Only a cost: if a force cannot be copied (no serialization proxy, ...), the main
     // Context evaluates everything.
     try {
-        makeFastContext(context, integrator);
+        fastForces = PolymerForceContext::create(context.getSystem(), integrator.getFastForceGroups(), polymer,
+                                                 context.getPlatform(), contextProperties(context));
+        if (fastForces)
+            makeSlowContext(context, integrator);
     }
     catch (const OpenMM::OpenMMException&) {
-        fastContext.reset();
+        fastForces.reset();
         slowContext.reset();
     }
 }

@@ -3,6 +3,7 @@
 
 #include "openmmdpd/PairDynamics.h"
 #include "openmmdpd/PairSweep.h"
+#include "openmmdpd/PolymerForceContext.h"
 #include "openmmdpd/PolymerSelection.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/Context.h"
@@ -10,13 +11,6 @@
 #include <memory>
 
 namespace DPDPlugin {
-
-/**
- * A copy of `force` over the polymer particles only (particle i becomes index[i], -1 for a
- * particle outside the polymer), for the Context of the polymer alone; null when the force
- * touches a particle outside the polymer or cannot be copied faithfully.
- */
-OpenMM::Force* copyOverPolymer(const OpenMM::Force& force, const std::vector<int>& index);
 
 /**
  * The time-staggered schemes (algorithms.md section 6): one slow-force evaluation (and one
@@ -53,21 +47,12 @@ private:
     void computeFastForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step,
                           std::vector<OpenMM::Vec3>& fast);
     /**
-     * A Context holding only the polymer particles and copies of the fast forces (indices
-     * remapped), so that a sub-step costs what the fast forces on the polymer cost and not a
-     * pass over the whole System; null if a fast force cannot be copied (then the full
-     * Context evaluates the fast force groups).
-     */
-    void makeFastContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
-    /**
      * A Context of a copy of the System without the forces of the fast groups.  On the CPU
      * platform a CustomNonbondedForce (e.g. the polymer's WCA) makes every force evaluation
      * maintain a neighbour list of all particles, whichever groups are evaluated; the slow
      * evaluations are made where the fast forces are absent so that they do not pay for it.
      */
     void makeSlowContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
-    /** Copy the box and the global parameter values of the main Context to `target`. */
-    static void syncContext(OpenMM::ContextImpl& context, OpenMM::Context& target, OpenMM::Vec3* box);
     /** force <- the slow force, fastForce <- the fast one, at the current state. */
     void computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
 
@@ -95,13 +80,12 @@ private:
     std::vector<OpenMM::Vec3> predicted, newForce;
     // Per polymer particle (index k of polymer[k]): the fast force, the one at the new
     // sub-step positions, the start of the outer step, the slow force driving the sub-steps.
-    std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, startVelocities, drivingForce, fastPositions;
+    std::vector<OpenMM::Vec3> fastForce, newFastForce, startPositions, startVelocities, drivingForce;
     OpenMM::Vec3 startBox[3];  // the box at the start of the outer step (it slides under shear)
     std::vector<OpenMM::Vec3> loadedFastForce;  // read from a checkpoint, until all of it is read
-    std::unique_ptr<OpenMM::System> fastSystem;
-    std::unique_ptr<OpenMM::VerletIntegrator> fastIntegrator;
-    std::unique_ptr<OpenMM::Context> fastContext;
-    OpenMM::Vec3 fastBox[3], slowBox[3];
+    // The fast forces on the polymer alone (K > 1; null: the Context evaluates the fast groups).
+    std::unique_ptr<PolymerForceContext> fastForces;
+    OpenMM::Vec3 slowBox[3];
     bool fastContextTried;
     std::unique_ptr<OpenMM::System> slowSystem;
     std::unique_ptr<OpenMM::VerletIntegrator> slowIntegrator;
