@@ -51,12 +51,18 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
     // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
     // copied by one thread it would be a serial part of every step).  One dispatch.
-    executor.executePhases(3, [&](int w, int phase) {
-        if (phase == 0)
+    sortedTypes.resize(search.getSortedIndex().size());
+    executor.executePhases(4, [&](int w, int phase) {
+        if (phase == 0) {
+            size_t begin, end;
+            executor.range(w, sortedTypes.size(), begin, end);
+            sortTypes(begin, end, nullptr);
+        }
+        else if (phase == 1)
             findWorkerPairs(w);
-        else if (phase == 1 && w == 0)
+        else if (phase == 2 && w == 0)
             pairs.resize(workerPairsBefore(executor.getNumWorkers()));
-        else if (phase == 2)
+        else if (phase == 3)
             copyWorkerPairs(w);
     });
     cellPairStart[search.getNumCells()] = (int) pairs.size();
@@ -68,10 +74,13 @@ void DPDThermostatForces::findWorkerPairs(int w) {
     std::vector<PairGeometry>& out = workerPairs[w];
     out.clear();
     PairGeometry g;
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const TypePairTable& table = parameters.getTable();
     for (size_t cell = begin; cell < end; cell++) {
         cellPairStart[cell] = (int) out.size();  // local offset, made global by copyWorkerPairs
-        search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
-            if (parameters.pairGeometry(i, j, d, g, imageVelocityX(i, j, d)))
+        search.forEachSortedPair((int) cell, (int) cell + 1, [&](int p, int q, const Vec3& d) {
+            const int i = sortedIndex[p], j = sortedIndex[q];
+            if (parameters.pairGeometry(i, j, table.indexOfTypes(sortedTypes[p], sortedTypes[q]), d, g, imageVelocityX(i, j, d)))
                 out.push_back(g);
         });
     }
@@ -177,6 +186,8 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
     sortedVelocities.resize(sortedIndex.size());
     const bool sheared = (parameters.getShearRate() != 0);
     sortedHeights.resize(sheared ? sortedIndex.size() : 0);
+    sortedTypes.resize(sortedIndex.size());
+    sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : 0);
     if (sortedIndex.size() < out.size())  // particles outside the thermostat get no pair force
         for (size_t i = 0; i < out.size(); i++)
             out[i] = (base != nullptr ? (*base)[i] : Vec3());
@@ -187,17 +198,29 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
         size_t begin, end;
         executor.range(w, sortedIndex.size(), begin, end);
         if (phase == 0)
+        {
             for (size_t k = begin; k < end; k++) {
                 sortedVelocities[k] = velocities[sortedIndex[k]];
                 if (sheared)
                     sortedHeights[k] = positions[sortedIndex[k]][1];
             }
+            sortTypes(begin, end, soft);
+        }
         else if (phase == 1)
             sumPairForcesBySlot(w, step, dt, soft);
         else
             for (size_t k = begin; k < end; k++)
                 out[sortedIndex[k]] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[sortedIndex[k]] : Vec3());
     });
+}
+
+void DPDThermostatForces::sortTypes(size_t begin, size_t end, const SoftRepulsionKernel* soft) {
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    for (size_t k = begin; k < end; k++)
+        sortedTypes[k] = parameters.getTable().typeOf(sortedIndex[k]);
+    if (soft != nullptr)
+        for (size_t k = begin; k < end; k++)
+            sortedSoftTypes[k] = soft->getTable().typeOf(sortedIndex[k]);
 }
 
 Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& buffers, size_t k) const {
@@ -218,6 +241,8 @@ struct DPDSlotForces {
     const PairRandom& random;
     const std::vector<int>& sortedIndex;
     const std::vector<Vec3>& sortedVelocities;
+    const std::vector<int>& sortedTypes;      // the thermostat's type of each slot's particle
+    const std::vector<int>& sortedSoftTypes;  // the soft force's (with soft only)
     const double* sortedHeights;  // null without shear
     double boxHeight;
     const SoftRepulsionKernel* soft;
@@ -226,16 +251,19 @@ struct DPDSlotForces {
     PairGeometry g[PairSearch::MAX_BLOCK];
     int first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
-    double xi[PairSearch::MAX_BLOCK];
+    double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
 
     int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3* forces) {
         const int i = sortedIndex[p];
+        const TypePairTable& table = parameters.getTable();
         int n = 0;
         for (int k = 0; k < count; k++) {
             const int j = sortedIndex[q[k]];
             const double imageVx =
                     sortedHeights ? parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q[k]], d[k][1], boxHeight) : 0.0;
-            if (parameters.pairGeometry(i, j, d[k], g[n], imageVx)) {
+            const int t = table.indexOfTypes(sortedTypes[p], sortedTypes[q[k]]);
+            if (parameters.pairGeometry(i, j, t, d[k], g[n], imageVx)) {
+                cutoff[n] = table.cutoff(t);
                 slots[n] = q[k];
                 first[n] = i;
                 second[n++] = j;
@@ -247,8 +275,10 @@ struct DPDSlotForces {
         for (int k = 0; k < n; k++) {
             forces[k] = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[slots[k]])) +
                         DPDPairForce::random(g[k], xi[k], invSqrtDt);
-            if (soft != nullptr)
-                forces[k] += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
+            if (soft != nullptr) {
+                const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[slots[k]]);
+                forces[k] += g[k].e * soft->pairForce(i, g[k].j, t, cutoff[k] * (1 - g[k].wR));
+            }
         }
         return n;
     }
@@ -258,7 +288,7 @@ struct DPDSlotForces {
 
 void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
     std::unique_ptr<DPDSlotForces> evaluate(
-            new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities,
+            new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, sortedTypes, sortedSoftTypes,
                               sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft, step,
                               1 / std::sqrt(dt)});
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, workerDissipative[w]);

@@ -81,6 +81,8 @@ private:
     void findWorkerPairs(int w);
     size_t workerPairsBefore(int w) const;
     void copyWorkerPairs(int w);
+    /** sortedTypes (and sortedSoftTypes, given soft) for the slots [begin, end) of the last search. */
+    void sortTypes(size_t begin, size_t end, const SoftRepulsionKernel* soft);
     /** computeInOnePass' pair pass: worker w's cells' pair forces into its buffer, by sorted slot. */
     void sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft);
     /** The x velocity of the image of j at r_i - d (DPDPairParameters::imageVelocityX), for the positions searched. */
@@ -99,6 +101,9 @@ private:
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
     std::vector<OpenMM::Vec3> sortedVelocities;
     std::vector<double> sortedHeights;  // y of each slot's particle as stored (under shear only)
+    // Each slot's particle's type in the thermostat's table and in the soft force's: read
+    // per pair, where a lookup by particle index would hit memory at random.
+    std::vector<int> sortedTypes, sortedSoftTypes;
     const std::vector<OpenMM::Vec3>* searched = nullptr;  // the positions and box height of the last search
     double searchedHeight = 0;
 };
