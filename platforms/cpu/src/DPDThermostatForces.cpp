@@ -52,11 +52,12 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
     // copied by one thread it would be a serial part of every step).  One dispatch.
     sortedTypes.resize(search.getSortedIndex().size());
+    slotsSorted = softSorted = false;  // sortTypes below sorts neither the heights nor a soft force's types
     executor.executePhases(4, [&](int w, int phase) {
         if (phase == 0) {
             size_t begin, end;
             executor.range(w, sortedTypes.size(), begin, end);
-            sortTypes(begin, end, nullptr);
+            sortTypes(begin, end, false);
         }
         else if (phase == 1)
             findWorkerPairs(w);
@@ -178,49 +179,82 @@ void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vecto
 void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<Vec3>& velocities,
                                            long long step, double dt, const SoftRepulsionKernel* soft,
                                            const std::vector<Vec3>* base, std::vector<Vec3>& out) {
+    searchSlots(positions, box);
+    sumBySlot(DissipativeTerm | RandomTerm, velocities, step, dt, soft, base, out);
+}
+
+void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const Vec3* box) {
     checkCutoffFitsBox(box);
     search.build(positions, box);
     searched = &positions;
     searchedHeight = box[1][1];
+    slotsSorted = softSorted = false;
+}
+
+void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
+                                    const SoftRepulsionKernel* soft, const std::vector<Vec3>* base, std::vector<Vec3>& out,
+                                    std::vector<Vec3>* dissipativeOut) {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const bool sheared = (parameters.getShearRate() != 0), sortTypesNow = !slotsSorted;
+    const SoftRepulsionKernel* sortSoft = (soft != nullptr && (!softSorted || soft != sortedSoft) ? soft : nullptr);
     sortedVelocities.resize(sortedIndex.size());
-    const bool sheared = (parameters.getShearRate() != 0);
     sortedHeights.resize(sheared ? sortedIndex.size() : 0);
     sortedTypes.resize(sortedIndex.size());
-    sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : 0);
+    sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : sortedSoftTypes.size());
+    slotsSorted = true;
+    softSorted = softSorted || soft != nullptr;
+    sortedSoft = (soft != nullptr ? soft : sortedSoft);
+    if (dissipativeOut != nullptr) {
+        workerRandom.resize(executor.getNumWorkers());
+        for (std::vector<Vec3>& buffer : workerRandom)
+            buffer.resize(out.size());
+    }
     if (sortedIndex.size() < out.size())  // particles outside the thermostat get no pair force
-        for (size_t i = 0; i < out.size(); i++)
+        for (size_t i = 0; i < out.size(); i++) {
             out[i] = (base != nullptr ? (*base)[i] : Vec3());
+            if (dissipativeOut != nullptr)
+                (*dissipativeOut)[i] = Vec3();
+        }
     // Three phases in one dispatch (waking a thread pool costs tens of microseconds):
-    // velocities by slot; each worker's cells' pairs summed into its own buffer, by slot
-    // (neighbouring pairs touch neighbouring slots); the buffers added in worker order.
+    // velocities (and after a search the types) by slot; each worker's cells' pairs summed
+    // into its own buffers, by slot (neighbouring pairs touch neighbouring slots); the
+    // buffers added in worker order.
     executor.executePhases(3, [&](int w, int phase) {
         size_t begin, end;
         executor.range(w, sortedIndex.size(), begin, end);
-        if (phase == 0)
-        {
-            for (size_t k = begin; k < end; k++) {
+        if (phase == 0) {
+            for (size_t k = begin; k < end; k++)
                 sortedVelocities[k] = velocities[sortedIndex[k]];
-                if (sheared)
-                    sortedHeights[k] = positions[sortedIndex[k]][1];
-            }
-            sortTypes(begin, end, soft);
+            if (sortTypesNow)
+                sortTypes(begin, end, sheared);
+            if (sortSoft != nullptr)
+                sortSoftTypes(begin, end, *sortSoft);
         }
         else if (phase == 1)
-            sumPairForcesBySlot(w, step, dt, soft);
+            sumPairForcesBySlot(w, terms, dissipativeOut != nullptr, soft, step, dt);
         else
-            for (size_t k = begin; k < end; k++)
-                out[sortedIndex[k]] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[sortedIndex[k]] : Vec3());
+            for (size_t k = begin; k < end; k++) {
+                const int i = sortedIndex[k];
+                out[i] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[i] : Vec3());
+                if (dissipativeOut != nullptr)
+                    (*dissipativeOut)[i] = sumOverWorkers(workerRandom, k);
+            }
     });
 }
 
-void DPDThermostatForces::sortTypes(size_t begin, size_t end, const SoftRepulsionKernel* soft) {
+void DPDThermostatForces::sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft) {
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    for (size_t k = begin; k < end; k++)
+        sortedSoftTypes[k] = soft.getTable().typeOf(sortedIndex[k]);
+}
+
+void DPDThermostatForces::sortTypes(size_t begin, size_t end, bool heights) {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     for (size_t k = begin; k < end; k++)
         sortedTypes[k] = parameters.getTable().typeOf(sortedIndex[k]);
-    if (soft != nullptr)
+    if (heights)
         for (size_t k = begin; k < end; k++)
-            sortedSoftTypes[k] = soft->getTable().typeOf(sortedIndex[k]);
+            sortedHeights[k] = (*searched)[sortedIndex[k]][1];
 }
 
 Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& buffers, size_t k) const {
@@ -233,8 +267,9 @@ Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& b
 namespace {
 
 /**
- * FD(v) + FR (+ the soft force, if given) of the pairs within their thermostat cutoff.  One
- * per worker: its scratch arrays are set up once, not per block (a Vec3 zeroes itself).
+ * FD(v) and/or FR (per `terms`; + the soft force, if given) of the pairs within their
+ * thermostat cutoff, summed, or with FD as a second output (separate).  One per worker: its
+ * scratch arrays are set up once, not per block (a Vec3 zeroes itself).
  */
 struct DPDSlotForces {
     const DPDPairParameters& parameters;
@@ -246,6 +281,8 @@ struct DPDSlotForces {
     const double* sortedHeights;  // null without shear
     double boxHeight;
     const SoftRepulsionKernel* soft;
+    int terms;
+    bool separate;
     long long step;
     double invSqrtDt;
     PairGeometry g[PairSearch::MAX_BLOCK];
@@ -269,12 +306,18 @@ struct DPDSlotForces {
                 second[n++] = j;
             }
         }
-        // The same numbers as random.gaussian(), drawn for the whole block at once.
-        PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
-        PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+        if (terms & RandomTerm) {
+            // The same numbers as random.gaussian(), drawn for the whole block at once.
+            PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
+            PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+        }
+        Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
         for (int k = 0; k < n; k++) {
-            forces[k] = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[slots[k]])) +
-                        DPDPairForce::random(g[k], xi[k], invSqrtDt);
+            forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
+            const Vec3 fd = (terms & DissipativeTerm ? DPDPairForce::dissipative(
+                                     g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[slots[k]]))
+                                                     : Vec3());
+            dissipative[k] = (separate ? fd : fd + forces[k]);
             if (soft != nullptr) {
                 const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[slots[k]]);
                 forces[k] += g[k].e * soft->pairForce(i, g[k].j, t, cutoff[k] * (1 - g[k].wR));
@@ -286,12 +329,14 @@ struct DPDSlotForces {
 
 } // namespace
 
-void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
+void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step,
+                                              double dt) {
     std::unique_ptr<DPDSlotForces> evaluate(
             new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, sortedTypes, sortedSoftTypes,
-                              sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft, step,
-                              1 / std::sqrt(dt)});
-    accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, workerDissipative[w]);
+                              sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft, terms, separate,
+                              step, 1 / std::sqrt(dt)});
+    std::vector<Vec3>* out[2] = {&workerDissipative[w], separate ? &workerRandom[w] : nullptr};
+    accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);
 }
 
 void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {

@@ -144,7 +144,13 @@ void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int
 
 void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int forceGroups, const std::vector<Vec3>& velocities,
                                          long long step, double dt, std::vector<Vec3>& out) {
-    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    const SoftRepulsionKernel* soft;
+    const std::vector<Vec3>* base = prepareSlotPasses(context, forceGroups, step, soft);
+    thermostat.sumBySlot(DissipativeTerm | RandomTerm, velocities, step, dt, soft, base, out);
+}
+
+const std::vector<Vec3>* PairDynamics::prepareSlotPasses(OpenMM::ContextImpl& context, int forceGroups, long long step,
+                                                         const SoftRepulsionKernel*& soft) {
     softForceFromPairs = nullptr;
     conservativeIsZero = false;
     computeConservative(context, forceGroups);
@@ -152,8 +158,9 @@ void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int force
         checkFinite(conservative, "conservative force", step);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    thermostat.computeInOnePass(*data.positions, box, velocities, step, dt, softForceFromPairs,
-                                conservativeIsZero ? nullptr : &conservative, out);
+    thermostat.searchSlots(*platformData(context).positions, box);
+    soft = softForceFromPairs;
+    return conservativeIsZero ? nullptr : &conservative;
 }
 
 void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {

@@ -54,13 +54,27 @@ public:
      * out = base + FD(velocities) + FR at these positions, plus soft's pair forces when soft
      * is given (its pairs must all lie within the thermostat's; base may be null): the same
      * pairs and numbers as updatePairs() and compute(), for update rules that use every
-     * pair once per evaluation.  Pairs are found and used in one pass over the cell-sorted
-     * slots, so no pair list is written and read back; getPairs() is left stale.
+     * pair once per evaluation: searchSlots() and one sumBySlot().
      */
     void computeInOnePass(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
                           const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
                           const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base,
                           std::vector<OpenMM::Vec3>& out);
+    /**
+     * Sort the particles into cells at these positions (which must stay alive and unchanged
+     * until the last sumBySlot() that follows) for passes over the pairs with sumBySlot().
+     * getPairs() is left stale.
+     */
+    void searchSlots(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    /**
+     * out = base + the forces of `terms` at these velocities + soft's pair forces (if soft is
+     * given; see computeInOnePass), or with dissipativeOut FD there and the rest in out (base
+     * may be null): the pairs of the last searchSlots() found and used in one pass over the
+     * cell-sorted slots, so no pair list is written and read back.
+     */
+    void sumBySlot(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
+                   const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base, std::vector<OpenMM::Vec3>& out,
+                   std::vector<OpenMM::Vec3>* dissipativeOut = nullptr);
     /** xi[k] = getRandom().gaussian(stream, step, pair k), for every pair of the list, in batches. */
     void drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
@@ -81,10 +95,11 @@ private:
     void findWorkerPairs(int w);
     size_t workerPairsBefore(int w) const;
     void copyWorkerPairs(int w);
-    /** sortedTypes (and sortedSoftTypes, given soft) for the slots [begin, end) of the last search. */
-    void sortTypes(size_t begin, size_t end, const SoftRepulsionKernel* soft);
-    /** computeInOnePass' pair pass: worker w's cells' pair forces into its buffer, by sorted slot. */
-    void sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft);
+    /** sortedTypes (and sortedHeights if asked), or sortedSoftTypes, for the slots [begin, end) of the last search. */
+    void sortTypes(size_t begin, size_t end, bool heights);
+    void sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft);
+    /** sumBySlot's pair pass: worker w's cells' pair forces into its buffers (FD into the second if separate), by slot. */
+    void sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step, double dt);
     /** The x velocity of the image of j at r_i - d (DPDPairParameters::imageVelocityX), for the positions searched. */
     double imageVelocityX(int i, int j, const OpenMM::Vec3& d) const {
         return parameters.imageVelocityX((*searched)[i][1] - (*searched)[j][1], d[1], searchedHeight);
@@ -104,6 +119,10 @@ private:
     // Each slot's particle's type in the thermostat's table and in the soft force's: read
     // per pair, where a lookup by particle index would hit memory at random.
     std::vector<int> sortedTypes, sortedSoftTypes;
+    // Whether the sorted types (and heights) are those of the last search, and the soft
+    // force's too (of sortedSoft).
+    bool slotsSorted = false, softSorted = false;
+    const SoftRepulsionKernel* sortedSoft = nullptr;
     const std::vector<OpenMM::Vec3>* searched = nullptr;  // the positions and box height of the last search
     double searchedHeight = 0;
 };
