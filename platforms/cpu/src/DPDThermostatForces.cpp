@@ -193,7 +193,7 @@ void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const 
 
 void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
                                     const SoftRepulsionKernel* soft, const std::vector<Vec3>* base, std::vector<Vec3>& out,
-                                    std::vector<Vec3>* dissipativeOut) {
+                                    std::vector<Vec3>* dissipativeOut, PairSource source) {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const bool sheared = (parameters.getShearRate() != 0), sortTypesNow = !slotsSorted;
     const SoftRepulsionKernel* sortSoft = (soft != nullptr && (!softSorted || soft != sortedSoft) ? soft : nullptr);
@@ -230,8 +230,10 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
             if (sortSoft != nullptr)
                 sortSoftTypes(begin, end, *sortSoft);
         }
+        else if (phase == 1 && source == KeptPairs)
+            sumKeptDissipative(w);
         else if (phase == 1)
-            sumPairForcesBySlot(w, terms, dissipativeOut != nullptr, soft, step, dt);
+            sumPairForcesBySlot(w, terms, dissipativeOut != nullptr, soft, step, dt, source == FindAndKeepPairs);
         else
             for (size_t k = begin; k < end; k++) {
                 const int i = sortedIndex[k];
@@ -281,6 +283,7 @@ struct DPDSlotForces {
     const double* sortedHeights;  // null without shear
     double boxHeight;
     const SoftRepulsionKernel* soft;
+    std::vector<DPDThermostatForces::KeptPair>* keep;  // where the accepted pairs go (null: nowhere)
     int terms;
     bool separate;
     long long step;
@@ -318,6 +321,8 @@ struct DPDSlotForces {
                                      g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[slots[k]]))
                                                      : Vec3());
             dissipative[k] = (separate ? fd : fd + forces[k]);
+            if (keep != nullptr)
+                keep->push_back({p, slots[k], g[k].e, g[k].gammaWD, g[k].imageVx});
             if (soft != nullptr) {
                 const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[slots[k]]);
                 forces[k] += g[k].e * soft->pairForce(i, g[k].j, t, cutoff[k] * (1 - g[k].wR));
@@ -330,13 +335,29 @@ struct DPDSlotForces {
 } // namespace
 
 void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step,
-                                              double dt) {
+                                              double dt, bool keep) {
+    keptPairs.resize(executor.getNumWorkers());
+    keptPairs[w].clear();
     std::unique_ptr<DPDSlotForces> evaluate(
             new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, sortedTypes, sortedSoftTypes,
-                              sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft, terms, separate,
-                              step, 1 / std::sqrt(dt)});
+                              sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft,
+                              keep ? &keptPairs[w] : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
     std::vector<Vec3>* out[2] = {&workerDissipative[w], separate ? &workerRandom[w] : nullptr};
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);
+}
+
+void DPDThermostatForces::sumKeptDissipative(int w) {
+    std::vector<Vec3>& out = workerDissipative[w];
+    std::fill(out.begin(), out.begin() + search.getSortedIndex().size(), Vec3());
+    PairGeometry g;
+    for (const KeptPair& pair : keptPairs[w]) {
+        g.e = pair.e;
+        g.gammaWD = pair.gammaWD;
+        g.imageVx = pair.imageVx;
+        const Vec3 f = DPDPairForce::dissipative(g, g.relativeVelocity(sortedVelocities[pair.p], sortedVelocities[pair.q]));
+        out[pair.p] += f;
+        out[pair.q] -= f;
+    }
 }
 
 void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {

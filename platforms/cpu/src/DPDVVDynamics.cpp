@@ -72,10 +72,11 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
         return v[i] * dt;
     });
     // (3) FC(r), FD(r, v), FR(r) with the half-step v: FC + FR and FD in one pass over
-    // the pairs, and (5) each FD in another over the same cell-sorted slots.
+    // the pairs, which keeps them for (5), each FD at new velocities.
     const SoftRepulsionKernel* soft;
     const std::vector<Vec3>* base = prepareSlotPasses(context, integrator.getIntegrationForceGroups(), next, soft);
-    thermostat.sumBySlot(DissipativeTerm | RandomTerm, v, next, dt, soft, base, conservativeAndRandom, &dissipative);
+    thermostat.sumBySlot(DissipativeTerm | RandomTerm, v, next, dt, soft, base, conservativeAndRandom, &dissipative,
+                         DPDThermostatForces::FindAndKeepPairs);
     // (4a) v° = v + dt/(2m) (FC + FR)
     forEachParticle(n, [&](size_t i) {
         velocityNoFD[i] = v[i] + conservativeAndRandom[i] * (0.5 * dt * invMass[i]);
@@ -89,7 +90,7 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
             v[i] = velocityNoFD[i] + dissipative[i] * (0.5 * dt * invMass[i]);
         });
         constrainVelocities(context);
-        thermostat.sumBySlot(DissipativeTerm, v, next, dt, nullptr, nullptr, dissipative);
+        thermostat.sumBySlot(DissipativeTerm, v, next, dt, nullptr, nullptr, dissipative, nullptr, DPDThermostatForces::KeptPairs);
         if (iterations > 1) {
             const double kinetic = sumMV2(v);
             if (it > 0 && std::fabs(kinetic - previous) <= integrator.getTolerance() * kinetic)

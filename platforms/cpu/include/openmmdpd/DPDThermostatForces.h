@@ -61,6 +61,13 @@ public:
                           const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base,
                           std::vector<OpenMM::Vec3>& out);
     /**
+     * Where a slot pass gets its pairs: found in the cells (FindPairs), found and kept by
+     * each worker (FindAndKeepPairs), or those kept by the last FindAndKeepPairs pass since
+     * searchSlots() (KeptPairs: FD only, no soft force, no base), read back in order
+     * (cheaper than finding them again, when the same pairs need FD at new velocities).
+     */
+    enum PairSource { FindPairs, FindAndKeepPairs, KeptPairs };
+    /**
      * Sort the particles into cells at these positions (which must stay alive and unchanged
      * until the last sumBySlot() that follows) for passes over the pairs with sumBySlot().
      * getPairs() is left stale.
@@ -74,7 +81,13 @@ public:
      */
     void sumBySlot(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
                    const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base, std::vector<OpenMM::Vec3>& out,
-                   std::vector<OpenMM::Vec3>* dissipativeOut = nullptr);
+                   std::vector<OpenMM::Vec3>* dissipativeOut = nullptr, PairSource source = FindPairs);
+    /** A pair that a FindAndKeepPairs pass accepted: what FD needs of it, by slot (48 bytes). */
+    struct KeptPair {
+        int p, q;
+        OpenMM::Vec3 e;
+        double gammaWD, imageVx;
+    };
     /** xi[k] = getRandom().gaussian(stream, step, pair k), for every pair of the list, in batches. */
     void drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
@@ -99,7 +112,10 @@ private:
     void sortTypes(size_t begin, size_t end, bool heights);
     void sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft);
     /** sumBySlot's pair pass: worker w's cells' pair forces into its buffers (FD into the second if separate), by slot. */
-    void sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step, double dt);
+    void sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step, double dt,
+                             bool keep);
+    /** The KeptPairs pass: FD of worker w's kept pairs into its buffer, by slot. */
+    void sumKeptDissipative(int w);
     /** The x velocity of the image of j at r_i - d (DPDPairParameters::imageVelocityX), for the positions searched. */
     double imageVelocityX(int i, int j, const OpenMM::Vec3& d) const {
         return parameters.imageVelocityX((*searched)[i][1] - (*searched)[j][1], d[1], searchedHeight);
@@ -119,6 +135,7 @@ private:
     // Each slot's particle's type in the thermostat's table and in the soft force's: read
     // per pair, where a lookup by particle index would hit memory at random.
     std::vector<int> sortedTypes, sortedSoftTypes;
+    std::vector<std::vector<KeptPair>> keptPairs;  // each worker's, by its FindAndKeepPairs pass
     // Whether the sorted types (and heights) are those of the last search, and the soft
     // force's too (of sortedSoft).
     bool slotsSorted = false, softSorted = false;
