@@ -42,34 +42,50 @@ void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {
         requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), box);
 }
 
-void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
+void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box, const SoftRepulsionKernel* soft,
+                                      std::vector<Vec3>* softOut, bool bySlot) {
     checkCutoffFitsBox(box);
+    pairsBySlot = bySlot;
     search.build(positions, box);
     searched = &positions;
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    sortedTypes.resize(sortedIndex.size());
+    sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : sortedSoftTypes.size());
+    slotsSorted = softSorted = false;  // sortTypes below sorts not the heights
+    if (soft != nullptr && sortedIndex.size() < softOut->size())
+        std::fill(softOut->begin(), softOut->end(), Vec3());
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
     // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
-    // copied by one thread it would be a serial part of every step).  One dispatch.
-    sortedTypes.resize(search.getSortedIndex().size());
-    slotsSorted = softSorted = false;  // sortTypes below sorts neither the heights nor a soft force's types
+    // copied by one thread it would be a serial part of every step); one worker's list is
+    // the list.  The soft force is summed by slot, as in sumBySlot.  One dispatch.
+    const int workers = executor.getNumWorkers();
     executor.executePhases(4, [&](int w, int phase) {
+        size_t begin, end;
+        executor.range(w, sortedIndex.size(), begin, end);
         if (phase == 0) {
-            size_t begin, end;
-            executor.range(w, sortedTypes.size(), begin, end);
             sortTypes(begin, end, false);
+            if (soft != nullptr)
+                sortSoftTypes(begin, end, *soft);
         }
         else if (phase == 1)
-            findWorkerPairs(w);
+            findWorkerPairs(w, soft);
+        else if (phase == 2 && w == 0 && workers == 1)
+            std::swap(pairs, workerPairs[0]);
         else if (phase == 2 && w == 0)
-            pairs.resize(workerPairsBefore(executor.getNumWorkers()));
-        else if (phase == 3)
-            copyWorkerPairs(w);
+            pairs.resize(workerPairsBefore(workers));
+        else if (phase == 3) {
+            if (workers > 1)
+                copyWorkerPairs(w);
+            for (size_t k = begin; soft != nullptr && k < end; k++)
+                (*softOut)[sortedIndex[k]] = sumOverWorkers(workerDissipative, k);
+        }
     });
     cellPairStart[search.getNumCells()] = (int) pairs.size();
 }
 
-void DPDThermostatForces::findWorkerPairs(int w) {
+void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
     std::vector<PairGeometry>& out = workerPairs[w];
@@ -77,12 +93,26 @@ void DPDThermostatForces::findWorkerPairs(int w) {
     PairGeometry g;
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const TypePairTable& table = parameters.getTable();
+    std::vector<Vec3>& softForce = workerDissipative[w];
+    if (soft != nullptr)
+        std::fill(softForce.begin(), softForce.begin() + sortedIndex.size(), Vec3());
     for (size_t cell = begin; cell < end; cell++) {
         cellPairStart[cell] = (int) out.size();  // local offset, made global by copyWorkerPairs
         search.forEachSortedPair((int) cell, (int) cell + 1, [&](int p, int q, const Vec3& d) {
-            const int i = sortedIndex[p], j = sortedIndex[q];
-            if (parameters.pairGeometry(i, j, table.indexOfTypes(sortedTypes[p], sortedTypes[q]), d, g, imageVelocityX(i, j, d)))
-                out.push_back(g);
+            const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
+            if (!parameters.pairGeometry(i, j, t, d, g, imageVelocityX(i, j, d)))
+                return;
+            if (pairsBySlot) {
+                g.i = p;
+                g.j = q;
+            }
+            out.push_back(g);
+            if (soft != nullptr) {
+                const int softType = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
+                const Vec3 f = g.e * soft->pairForce(i, j, softType, table.cutoff(t) * (1 - g.wR));
+                softForce[p] += f;
+                softForce[q] -= f;
+            }
         });
     }
 }
@@ -372,8 +402,8 @@ void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step,
         for (size_t c = begin; c < end; c++) {
             const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
             for (size_t k = 0; k < n; k++) {
-                first[k] = pairs[start + k].i;
-                second[k] = pairs[start + k].j;
+                first[k] = particleOf(pairs[start + k].i);
+                second[k] = particleOf(pairs[start + k].j);
             }
             PairRandomBatch::bits(random, stream, step, first, second, (int) n, bits);
             PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], (int) n, 4, &xi[start]);

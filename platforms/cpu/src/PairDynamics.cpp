@@ -124,21 +124,10 @@ void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int
     computeConservative(context, forceGroups);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    thermostat.updatePairs(*data.positions, box);
-    if (softForceFromPairs != nullptr) {
-        const SoftRepulsionKernel& soft = *softForceFromPairs;
-        const std::vector<PairGeometry>& pairs = thermostat.getPairs();
-        const DPDPairParameters& parameters = thermostat.getParameters();
-        pairSoftForce.resize(pairs.size());
-        softForce.resize(conservative.size());
-        forEachParticle(pairs.size(), [&](size_t k) {
-            const PairGeometry& p = pairs[k];
-            const double r = parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
-            pairSoftForce[k] = soft.pairForce(p.i, p.j, r);
-        });
-        thermostat.sumAlongPairs(pairSoftForce, softForce);
+    softForce.resize(conservative.size());
+    thermostat.updatePairs(*data.positions, box, softForceFromPairs, &softForce, wantsPairsBySlot());
+    if (softForceFromPairs != nullptr)
         forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += softForce[i]; });
-    }
     checkFinite(conservative, "conservative force", step);
 }
 

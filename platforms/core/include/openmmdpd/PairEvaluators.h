@@ -127,17 +127,23 @@ struct ShardlowPairUpdate {
     }
 };
 
+/** The particle a pair's i or j names: itself (a platform may number them otherwise). */
+struct SameParticle {
+    int operator()(int k) const { return k; }
+};
+
 /** Lowe-Andersen: with probability Gamma h, the pair's relative normal velocity is drawn anew. */
-template <class Impulse = FreePairImpulse>
+template <class Impulse = FreePairImpulse, class Particle = SameParticle>
 struct LowePairUpdate {
     const PairRandom& random;
     long long step;
     double h, kT;
     Impulse impulse;
+    Particle particle = Particle();  // the random numbers are keyed by particle(p.i), particle(p.j)
 
     void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
         // One draw gives both numbers; the Gaussian is only made for the pairs that collide.
-        const r123::Philox4x32::ctr_type bits = random.bits(PairRandom::PairThermalisation, step, p.i, p.j);
+        const r123::Philox4x32::ctr_type bits = random.bits(PairRandom::PairThermalisation, step, particle(p.i), particle(p.j));
         if (PairRandom::toUniform(bits[2]) >= p.rate * h)
             return;
         const double inverseMu = impulse.inverseReducedMass(p);

@@ -27,9 +27,24 @@ public:
     const DPDPairParameters& getParameters() const { return parameters; }
     /** New thermostat parameters (a live change): the pairs are found anew from the next search. */
     void setParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
-    /** Find the pairs within their cutoffs at these positions. */
-    void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    /**
+     * Find the pairs within their cutoffs at these positions; given soft (whose pairs must
+     * all lie within the thermostat's), softOut = its forces, summed in the same pass.
+     * bySlot: the pairs' i and j are their cell-sorted slots (see arePairsBySlot).
+     */
+    void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
+                     const SoftRepulsionKernel* soft = nullptr, std::vector<OpenMM::Vec3>* softOut = nullptr,
+                     bool bySlot = false);
     const std::vector<PairGeometry>& getPairs() const { return pairs; }
+    /**
+     * Whether the pairs' i and j name cell-sorted slots (particle getSearch().getSortedIndex()[i])
+     * instead of particles: a sweep over velocities in slot order touches neighbouring
+     * memory, where by particle index it would hit memory at random in a large system.
+     * Only drawNormals() and the sweeps take such a list.
+     */
+    bool arePairsBySlot() const { return pairsBySlot; }
+    /** The particle that a pair's i or j names. */
+    int particleOf(int k) const { return pairsBySlot ? search.getSortedIndex()[k] : k; }
     /** The pairs found from cell c are [getCellPairStart()[c], getCellPairStart()[c + 1]). */
     const std::vector<int>& getCellPairStart() const { return cellPairStart; }
     const PairSearch& getSearch() const { return search; }
@@ -105,7 +120,7 @@ private:
     /** The sum of the buffers at index k, in worker order. */
     OpenMM::Vec3 sumOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const;
     /** updatePairs' steps: worker w's pairs; the pairs of the workers before w; w's part copied into pairs. */
-    void findWorkerPairs(int w);
+    void findWorkerPairs(int w, const SoftRepulsionKernel* soft);
     size_t workerPairsBefore(int w) const;
     void copyWorkerPairs(int w);
     /** sortedTypes (and sortedHeights if asked), or sortedSoftTypes, for the slots [begin, end) of the last search. */
@@ -127,6 +142,7 @@ private:
     int cellMultiple;
     PairRandom random;
     std::vector<PairGeometry> pairs;
+    bool pairsBySlot = false;
     std::vector<int> cellPairStart;
     std::vector<std::vector<PairGeometry>> workerPairs;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;

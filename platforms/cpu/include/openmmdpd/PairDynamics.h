@@ -52,6 +52,8 @@ public:
     void resetState();
 
 protected:
+    /** Whether computeConservativeAndPairs finds the pairs by slot (DPDThermostatForces::arePairsBySlot). */
+    virtual bool wantsPairsBySlot() const { return false; }
     /** Called after a checkpoint was loaded or refused (state kept beyond the carried force is stale). */
     virtual void stateRestored() {}
     /** Called after the thermostat parameters changed (state derived from them is stale). */
@@ -182,7 +184,6 @@ private:
     int fusedForceGroups = 0, fusedVersion = -1;
     bool fusedIsAlone = false;        // the fused force is the only force in fusedForceGroups
     bool conservativeIsZero = false;  // this step's computeConservative had nothing to add
-    std::vector<double> pairSoftForce;
     std::vector<OpenMM::Vec3> softForce;
 };
 
