@@ -51,9 +51,13 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
     const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const bool sheared = (parameters.getShearRate() != 0);
     sortedTypes.resize(sortedIndex.size());
+    sortedHeights.resize(sheared ? sortedIndex.size() : 0);
     sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : sortedSoftTypes.size());
-    slotsSorted = softSorted = false;  // sortTypes below sorts not the heights
+    slotsSorted = true;
+    softSorted = (soft != nullptr);
+    sortedSoft = soft;
     if (soft != nullptr && sortedIndex.size() < softOut->size())
         std::fill(softOut->begin(), softOut->end(), Vec3());
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
@@ -65,7 +69,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         size_t begin, end;
         executor.range(w, sortedIndex.size(), begin, end);
         if (phase == 0) {
-            sortTypes(begin, end, false);
+            sortTypes(begin, end, sheared);
             if (soft != nullptr)
                 sortSoftTypes(begin, end, *soft);
         }
@@ -100,7 +104,9 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
         cellPairStart[cell] = (int) out.size();  // local offset, made global by copyWorkerPairs
         search.forEachSortedPair((int) cell, (int) cell + 1, [&](int p, int q, const Vec3& d) {
             const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
-            if (!parameters.pairGeometry(i, j, t, d, g, imageVelocityX(i, j, d)))
+            const double imageVx =
+                    sortedHeights.empty() ? 0.0 : parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q], d[1], searchedHeight);
+            if (!parameters.pairGeometry(i, j, t, d, g, imageVx))
                 return;
             if (pairsBySlot) {
                 g.i = p;

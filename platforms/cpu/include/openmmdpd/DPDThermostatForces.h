@@ -131,10 +131,6 @@ private:
                              bool keep);
     /** The KeptPairs pass: FD of worker w's kept pairs into its buffer, by slot. */
     void sumKeptDissipative(int w);
-    /** The x velocity of the image of j at r_i - d (DPDPairParameters::imageVelocityX), for the positions searched. */
-    double imageVelocityX(int i, int j, const OpenMM::Vec3& d) const {
-        return parameters.imageVelocityX((*searched)[i][1] - (*searched)[j][1], d[1], searchedHeight);
-    }
     std::string name;  // the integrator's class, for error messages
     DPDPairParameters parameters;
     ParallelExecutor& executor;
