@@ -397,22 +397,15 @@ void DPDThermostatForces::sumKeptDissipative(int w) {
 }
 
 void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {
-    constexpr size_t CHUNK = 64;
     xi.resize(pairs.size());
-    const size_t chunks = (pairs.size() + CHUNK - 1) / CHUNK;
-    executor.execute([&](int w) {
-        size_t begin, end;
-        executor.range(w, chunks, begin, end);
-        int first[CHUNK], second[CHUNK];
-        r123::Philox4x32::ctr_type bits[CHUNK];
-        for (size_t c = begin; c < end; c++) {
-            const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
-            for (size_t k = 0; k < n; k++) {
-                first[k] = particleOf(pairs[start + k].i);
-                second[k] = particleOf(pairs[start + k].j);
-            }
-            PairRandomBatch::bits(random, stream, step, first, second, (int) n, bits);
-            PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], (int) n, 4, &xi[start]);
-        }
+    forEachChunkOfBits(stream, step, [&](size_t start, size_t n, const r123::Philox4x32::ctr_type* bits) {
+        PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], (int) n, 4, &xi[start]);
+    });
+}
+
+void DPDThermostatForces::drawBits(PairRandom::Stream stream, long long step, std::vector<r123::Philox4x32::ctr_type>& words) {
+    words.resize(pairs.size());
+    forEachChunkOfBits(stream, step, [&](size_t start, size_t n, const r123::Philox4x32::ctr_type* bits) {
+        std::copy(bits, bits + n, &words[start]);
     });
 }

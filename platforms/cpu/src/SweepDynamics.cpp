@@ -56,6 +56,11 @@ SweepDynamics::BatchNormals SweepDynamics::normals(PairRandom::Stream stream, lo
     return BatchNormals{pairNormals, thermostat.getPairs().data()};
 }
 
+SweepDynamics::BatchBits SweepDynamics::bits(PairRandom::Stream stream, long long step) {
+    thermostat.drawBits(stream, step, pairBits);
+    return BatchBits{pairBits, thermostat.getPairs().data()};
+}
+
 void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     const double dt = integrator.getStepSize();
@@ -121,7 +126,8 @@ void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const L
     withPairImpulse(context, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
-            sweep(v, LowePairUpdate<Impulse, ListParticle>{random, step, dt, kT, impulse, {&thermostat}}, false);
+            sweep(v, LowePairUpdate<Impulse, BatchBits>{random, step, dt, kT, impulse, bits(PairRandom::PairThermalisation, step)},
+                  false);
         else
             sweep(v, PairOrnsteinUhlenbeckUpdate<BatchNormals, Impulse>{normals(PairRandom::PairThermalisation, step), dt, kT, impulse},
                   false);

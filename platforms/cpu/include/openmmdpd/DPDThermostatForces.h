@@ -105,11 +105,34 @@ public:
     };
     /** xi[k] = getRandom().gaussian(stream, step, pair k), for every pair of the list, in batches. */
     void drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi);
+    /** words[k] = getRandom().bits(stream, step, pair k), for every pair of the list, in batches. */
+    void drawBits(PairRandom::Stream stream, long long step, std::vector<r123::Philox4x32::ctr_type>& words);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     uint32_t getSeed() const { return random.getSeed(); }
 
 
 private:
+    /** use(start, n, bits): the words of the pairs [start, start + n) of the list, drawn a chunk at a time, in parallel. */
+    template <class Use>
+    void forEachChunkOfBits(PairRandom::Stream stream, long long step, Use use) {
+        constexpr size_t CHUNK = 64;
+        const size_t chunks = (pairs.size() + CHUNK - 1) / CHUNK;
+        executor.execute([&](int w) {
+            size_t begin, end;
+            executor.range(w, chunks, begin, end);
+            int first[CHUNK], second[CHUNK];
+            r123::Philox4x32::ctr_type bits[CHUNK];
+            for (size_t c = begin; c < end; c++) {
+                const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
+                for (size_t k = 0; k < n; k++) {
+                    first[k] = particleOf(pairs[start + k].i);
+                    second[k] = particleOf(pairs[start + k].j);
+                }
+                PairRandomBatch::bits(random, stream, step, first, second, (int) n, bits);
+                use(start, n, bits);
+            }
+        });
+    }
     /** The pair search needs the cutoff to fit in half the periodic box. */
     void checkCutoffFitsBox(const OpenMM::Vec3* box) const;
     /** out[i] = the sum of the workers' buffers at i, in worker order, for worker w's range of i. */

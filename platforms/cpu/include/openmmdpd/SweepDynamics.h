@@ -71,11 +71,14 @@ protected:
     }
     /** Sweeps take their pairs by slot where they need no particle indices: no constraints, no virial. */
     bool wantsPairsBySlot() const override { return !constrainedImpulse.hasConstraints() && thermostatVirial == nullptr; }
-    /** The particle a pair's i or j names, for rules that key random numbers by it. */
-    struct ListParticle {
-        const DPDThermostatForces* thermostat;
-        int operator()(int k) const { return thermostat->particleOf(k); }
+    /** The random words of the current pair list, drawn ahead in batches (the same words as DrawnBits). */
+    struct BatchBits {
+        const std::vector<r123::Philox4x32::ctr_type>& words;
+        const PairGeometry* first;  // the pair list's first pair: a pair's index is its offset
+        r123::Philox4x32::ctr_type operator()(const PairRandom&, long long, const PairGeometry& p) const { return words[&p - first]; }
     };
+    /** Draw this step's words of a stream for every pair of the current list. */
+    BatchBits bits(PairRandom::Stream stream, long long step);
 
 private:
     ConstrainedPairImpulse constrainedImpulse;
@@ -83,6 +86,7 @@ private:
     PairSweep pairSweep;
     long long pairsStep;
     std::vector<double> pairNormals;
+    std::vector<r123::Philox4x32::ctr_type> pairBits;
     std::vector<OpenMM::Vec3> slotVelocities;
     std::vector<double> slotInverseMasses;
 };
