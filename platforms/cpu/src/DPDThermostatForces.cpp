@@ -42,37 +42,83 @@ void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {
         requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), box);
 }
 
-void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box) {
+void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box, const SoftRepulsionKernel* soft,
+                                      std::vector<Vec3>* softOut, bool bySlot) {
     checkCutoffFitsBox(box);
+    pairsBySlot = bySlot;
     search.build(positions, box);
     searched = &positions;
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const bool sheared = (parameters.getShearRate() != 0);
+    sortedTypes.resize(sortedIndex.size());
+    sortedHeights.resize(sheared ? sortedIndex.size() : 0);
+    sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : sortedSoftTypes.size());
+    slotsSorted = true;
+    softSorted = (soft != nullptr);
+    sortedSoft = soft;
+    if (soft != nullptr && sortedIndex.size() < softOut->size())
+        std::fill(softOut->begin(), softOut->end(), Vec3());
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
     // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
-    // copied by one thread it would be a serial part of every step).  One dispatch.
-    executor.executePhases(3, [&](int w, int phase) {
-        if (phase == 0)
-            findWorkerPairs(w);
-        else if (phase == 1 && w == 0)
-            pairs.resize(workerPairsBefore(executor.getNumWorkers()));
-        else if (phase == 2)
-            copyWorkerPairs(w);
+    // copied by one thread it would be a serial part of every step); one worker's list is
+    // the list.  The soft force is summed by slot, as in sumBySlot.  One dispatch.
+    const int workers = executor.getNumWorkers();
+    executor.executePhases(4, [&](int w, int phase) {
+        size_t begin, end;
+        executor.range(w, sortedIndex.size(), begin, end);
+        if (phase == 0) {
+            sortTypes(begin, end, sheared);
+            if (soft != nullptr)
+                sortSoftTypes(begin, end, *soft);
+        }
+        else if (phase == 1)
+            findWorkerPairs(w, soft);
+        else if (phase == 2 && w == 0 && workers == 1)
+            std::swap(pairs, workerPairs[0]);
+        else if (phase == 2 && w == 0)
+            pairs.resize(workerPairsBefore(workers));
+        else if (phase == 3) {
+            if (workers > 1)
+                copyWorkerPairs(w);
+            for (size_t k = begin; soft != nullptr && k < end; k++)
+                (*softOut)[sortedIndex[k]] = sumOverWorkers(workerDissipative, k);
+        }
     });
     cellPairStart[search.getNumCells()] = (int) pairs.size();
 }
 
-void DPDThermostatForces::findWorkerPairs(int w) {
+void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
     std::vector<PairGeometry>& out = workerPairs[w];
     out.clear();
     PairGeometry g;
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const TypePairTable& table = parameters.getTable();
+    std::vector<Vec3>& softForce = workerDissipative[w];
+    if (soft != nullptr)
+        std::fill(softForce.begin(), softForce.begin() + sortedIndex.size(), Vec3());
     for (size_t cell = begin; cell < end; cell++) {
         cellPairStart[cell] = (int) out.size();  // local offset, made global by copyWorkerPairs
-        search.forEachPair((int) cell, (int) cell + 1, [&](int i, int j, const Vec3& d) {
-            if (parameters.pairGeometry(i, j, d, g, imageVelocityX(i, j, d)))
-                out.push_back(g);
+        search.forEachSortedPair((int) cell, (int) cell + 1, [&](int p, int q, const Vec3& d) {
+            const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
+            const double imageVx =
+                    sortedHeights.empty() ? 0.0 : parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q], d[1], searchedHeight);
+            if (!parameters.pairGeometry(i, j, t, d, g, imageVx))
+                return;
+            if (pairsBySlot) {
+                g.i = p;
+                g.j = q;
+            }
+            out.push_back(g);
+            if (soft != nullptr) {
+                const int softType = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
+                const Vec3 f = g.e * soft->pairForce(i, j, softType, table.cutoff(t) * (1 - g.wR));
+                softForce[p] += f;
+                softForce[q] -= f;
+            }
         });
     }
 }
@@ -169,35 +215,84 @@ void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vecto
 void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<Vec3>& velocities,
                                            long long step, double dt, const SoftRepulsionKernel* soft,
                                            const std::vector<Vec3>* base, std::vector<Vec3>& out) {
+    searchSlots(positions, box);
+    sumBySlot(DissipativeTerm | RandomTerm, velocities, step, dt, soft, base, out);
+}
+
+void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const Vec3* box) {
     checkCutoffFitsBox(box);
     search.build(positions, box);
     searched = &positions;
     searchedHeight = box[1][1];
+    slotsSorted = softSorted = false;
+}
+
+void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
+                                    const SoftRepulsionKernel* soft, const std::vector<Vec3>* base, std::vector<Vec3>& out,
+                                    std::vector<Vec3>* dissipativeOut, PairSource source) {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const bool sheared = (parameters.getShearRate() != 0), sortTypesNow = !slotsSorted;
+    const SoftRepulsionKernel* sortSoft = (soft != nullptr && (!softSorted || soft != sortedSoft) ? soft : nullptr);
     sortedVelocities.resize(sortedIndex.size());
-    const bool sheared = (parameters.getShearRate() != 0);
     sortedHeights.resize(sheared ? sortedIndex.size() : 0);
+    sortedTypes.resize(sortedIndex.size());
+    sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : sortedSoftTypes.size());
+    slotsSorted = true;
+    softSorted = softSorted || soft != nullptr;
+    sortedSoft = (soft != nullptr ? soft : sortedSoft);
+    if (dissipativeOut != nullptr) {
+        workerRandom.resize(executor.getNumWorkers());
+        for (std::vector<Vec3>& buffer : workerRandom)
+            buffer.resize(out.size());
+    }
     if (sortedIndex.size() < out.size())  // particles outside the thermostat get no pair force
-        for (size_t i = 0; i < out.size(); i++)
+        for (size_t i = 0; i < out.size(); i++) {
             out[i] = (base != nullptr ? (*base)[i] : Vec3());
+            if (dissipativeOut != nullptr)
+                (*dissipativeOut)[i] = Vec3();
+        }
     // Three phases in one dispatch (waking a thread pool costs tens of microseconds):
-    // velocities by slot; each worker's cells' pairs summed into its own buffer, by slot
-    // (neighbouring pairs touch neighbouring slots); the buffers added in worker order.
+    // velocities (and after a search the types) by slot; each worker's cells' pairs summed
+    // into its own buffers, by slot (neighbouring pairs touch neighbouring slots); the
+    // buffers added in worker order.
     executor.executePhases(3, [&](int w, int phase) {
         size_t begin, end;
         executor.range(w, sortedIndex.size(), begin, end);
-        if (phase == 0)
-            for (size_t k = begin; k < end; k++) {
-                sortedVelocities[k] = velocities[sortedIndex[k]];
-                if (sheared)
-                    sortedHeights[k] = positions[sortedIndex[k]][1];
-            }
-        else if (phase == 1)
-            sumPairForcesBySlot(w, step, dt, soft);
-        else
+        if (phase == 0) {
             for (size_t k = begin; k < end; k++)
-                out[sortedIndex[k]] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[sortedIndex[k]] : Vec3());
+                sortedVelocities[k] = velocities[sortedIndex[k]];
+            if (sortTypesNow)
+                sortTypes(begin, end, sheared);
+            if (sortSoft != nullptr)
+                sortSoftTypes(begin, end, *sortSoft);
+        }
+        else if (phase == 1 && source == KeptPairs)
+            sumKeptDissipative(w);
+        else if (phase == 1)
+            sumPairForcesBySlot(w, terms, dissipativeOut != nullptr, soft, step, dt, source == FindAndKeepPairs);
+        else
+            for (size_t k = begin; k < end; k++) {
+                const int i = sortedIndex[k];
+                out[i] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[i] : Vec3());
+                if (dissipativeOut != nullptr)
+                    (*dissipativeOut)[i] = sumOverWorkers(workerRandom, k);
+            }
     });
+}
+
+void DPDThermostatForces::sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft) {
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    for (size_t k = begin; k < end; k++)
+        sortedSoftTypes[k] = soft.getTable().typeOf(sortedIndex[k]);
+}
+
+void DPDThermostatForces::sortTypes(size_t begin, size_t end, bool heights) {
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    for (size_t k = begin; k < end; k++)
+        sortedTypes[k] = parameters.getTable().typeOf(sortedIndex[k]);
+    if (heights)
+        for (size_t k = begin; k < end; k++)
+            sortedHeights[k] = (*searched)[sortedIndex[k]][1];
 }
 
 Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& buffers, size_t k) const {
@@ -210,45 +305,64 @@ Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& b
 namespace {
 
 /**
- * FD(v) + FR (+ the soft force, if given) of the pairs within their thermostat cutoff.  One
- * per worker: its scratch arrays are set up once, not per block (a Vec3 zeroes itself).
+ * FD(v) and/or FR (per `terms`; + the soft force, if given) of the pairs within their
+ * thermostat cutoff, summed, or with FD as a second output (separate).  One per worker: its
+ * scratch arrays are set up once, not per block (a Vec3 zeroes itself).
  */
 struct DPDSlotForces {
     const DPDPairParameters& parameters;
     const PairRandom& random;
     const std::vector<int>& sortedIndex;
     const std::vector<Vec3>& sortedVelocities;
+    const std::vector<int>& sortedTypes;      // the thermostat's type of each slot's particle
+    const std::vector<int>& sortedSoftTypes;  // the soft force's (with soft only)
     const double* sortedHeights;  // null without shear
     double boxHeight;
     const SoftRepulsionKernel* soft;
+    std::vector<DPDThermostatForces::KeptPair>* keep;  // where the accepted pairs go (null: nowhere)
+    int terms;
+    bool separate;
     long long step;
     double invSqrtDt;
     PairGeometry g[PairSearch::MAX_BLOCK];
     int first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
-    double xi[PairSearch::MAX_BLOCK];
+    double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
 
     int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3* forces) {
         const int i = sortedIndex[p];
+        const TypePairTable& table = parameters.getTable();
         int n = 0;
         for (int k = 0; k < count; k++) {
             const int j = sortedIndex[q[k]];
             const double imageVx =
                     sortedHeights ? parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q[k]], d[k][1], boxHeight) : 0.0;
-            if (parameters.pairGeometry(i, j, d[k], g[n], imageVx)) {
+            const int t = table.indexOfTypes(sortedTypes[p], sortedTypes[q[k]]);
+            if (parameters.pairGeometry(i, j, t, d[k], g[n], imageVx)) {
+                cutoff[n] = table.cutoff(t);
                 slots[n] = q[k];
                 first[n] = i;
                 second[n++] = j;
             }
         }
-        // The same numbers as random.gaussian(), drawn for the whole block at once.
-        PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
-        PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+        if (terms & RandomTerm) {
+            // The same numbers as random.gaussian(), drawn for the whole block at once.
+            PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
+            PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+        }
+        Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
         for (int k = 0; k < n; k++) {
-            forces[k] = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[slots[k]])) +
-                        DPDPairForce::random(g[k], xi[k], invSqrtDt);
-            if (soft != nullptr)
-                forces[k] += g[k].e * soft->pairForce(i, g[k].j, parameters.pairCutoff(i, g[k].j) * (1 - g[k].wR));
+            forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
+            const Vec3 fd = (terms & DissipativeTerm ? DPDPairForce::dissipative(
+                                     g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[slots[k]]))
+                                                     : Vec3());
+            dissipative[k] = (separate ? fd : fd + forces[k]);
+            if (keep != nullptr)
+                keep->push_back({p, slots[k], g[k].e, g[k].gammaWD, g[k].imageVx});
+            if (soft != nullptr) {
+                const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[slots[k]]);
+                forces[k] += g[k].e * soft->pairForce(i, g[k].j, t, cutoff[k] * (1 - g[k].wR));
+            }
         }
         return n;
     }
@@ -256,31 +370,42 @@ struct DPDSlotForces {
 
 } // namespace
 
-void DPDThermostatForces::sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft) {
+void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step,
+                                              double dt, bool keep) {
+    keptPairs.resize(executor.getNumWorkers());
+    keptPairs[w].clear();
     std::unique_ptr<DPDSlotForces> evaluate(
-            new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities,
-                              sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft, step,
-                              1 / std::sqrt(dt)});
-    accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, workerDissipative[w]);
+            new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, sortedTypes, sortedSoftTypes,
+                              sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft,
+                              keep ? &keptPairs[w] : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
+    std::vector<Vec3>* out[2] = {&workerDissipative[w], separate ? &workerRandom[w] : nullptr};
+    accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);
+}
+
+void DPDThermostatForces::sumKeptDissipative(int w) {
+    std::vector<Vec3>& out = workerDissipative[w];
+    std::fill(out.begin(), out.begin() + search.getSortedIndex().size(), Vec3());
+    PairGeometry g;
+    for (const KeptPair& pair : keptPairs[w]) {
+        g.e = pair.e;
+        g.gammaWD = pair.gammaWD;
+        g.imageVx = pair.imageVx;
+        const Vec3 f = DPDPairForce::dissipative(g, g.relativeVelocity(sortedVelocities[pair.p], sortedVelocities[pair.q]));
+        out[pair.p] += f;
+        out[pair.q] -= f;
+    }
 }
 
 void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {
-    constexpr size_t CHUNK = 64;
     xi.resize(pairs.size());
-    const size_t chunks = (pairs.size() + CHUNK - 1) / CHUNK;
-    executor.execute([&](int w) {
-        size_t begin, end;
-        executor.range(w, chunks, begin, end);
-        int first[CHUNK], second[CHUNK];
-        r123::Philox4x32::ctr_type bits[CHUNK];
-        for (size_t c = begin; c < end; c++) {
-            const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
-            for (size_t k = 0; k < n; k++) {
-                first[k] = pairs[start + k].i;
-                second[k] = pairs[start + k].j;
-            }
-            PairRandomBatch::bits(random, stream, step, first, second, (int) n, bits);
-            PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], (int) n, 4, &xi[start]);
-        }
+    forEachChunkOfBits(stream, step, [&](size_t start, size_t n, const r123::Philox4x32::ctr_type* bits) {
+        PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], (int) n, 4, &xi[start]);
+    });
+}
+
+void DPDThermostatForces::drawBits(PairRandom::Stream stream, long long step, std::vector<r123::Philox4x32::ctr_type>& words) {
+    words.resize(pairs.size());
+    forEachChunkOfBits(stream, step, [&](size_t start, size_t n, const r123::Philox4x32::ctr_type* bits) {
+        std::copy(bits, bits + n, &words[start]);
     });
 }

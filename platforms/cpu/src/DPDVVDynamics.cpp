@@ -8,7 +8,7 @@ using OpenMM::Vec3;
 DPDVVDynamics::DPDVVDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator, ParallelExecutor& executor) :
         PairDynamics(system, integrator, executor, 1) {
     const int n = system.getNumParticles();
-    for (auto* v : {&dissipative, &random, &predicted, &velocityNoFD, &newForce})
+    for (auto* v : {&dissipative, &conservativeAndRandom, &predicted, &velocityNoFD, &newForce})
         v->resize(n);
 }
 
@@ -71,12 +71,15 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
         v[i] += force[i] * (0.5 * dt * invMass[i]);
         return v[i] * dt;
     });
-    // (3) FC(r), FD(r, v), FR(r) with the half-step v
-    computeConservativeAndPairs(context, integrator.getIntegrationForceGroups(), next);
-    thermostat.compute(DissipativeTerm | RandomTerm, v, next, dt, dissipative, random);
+    // (3) FC(r), FD(r, v), FR(r) with the half-step v: FC + FR and FD in one pass over
+    // the pairs, which keeps them for (5), each FD at new velocities.
+    const SoftRepulsionKernel* soft;
+    const std::vector<Vec3>* base = prepareSlotPasses(context, integrator.getIntegrationForceGroups(), next, soft);
+    thermostat.sumBySlot(DissipativeTerm | RandomTerm, v, next, dt, soft, base, conservativeAndRandom, &dissipative,
+                         DPDThermostatForces::FindAndKeepPairs);
     // (4a) v° = v + dt/(2m) (FC + FR)
     forEachParticle(n, [&](size_t i) {
-        velocityNoFD[i] = v[i] + (conservative[i] + random[i]) * (0.5 * dt * invMass[i]);
+        velocityNoFD[i] = v[i] + conservativeAndRandom[i] * (0.5 * dt * invMass[i]);
     });
     // (4b) v = v° + dt/(2m) FD ; (5) FD <- FD(r, v).  SC-VV repeats both until the
     // kinetic energy settles; DPD-VV does them once.
@@ -87,7 +90,7 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
             v[i] = velocityNoFD[i] + dissipative[i] * (0.5 * dt * invMass[i]);
         });
         constrainVelocities(context);
-        thermostat.compute(DissipativeTerm, v, next, dt, dissipative, random);
+        thermostat.sumBySlot(DissipativeTerm, v, next, dt, nullptr, nullptr, dissipative, nullptr, DPDThermostatForces::KeptPairs);
         if (iterations > 1) {
             const double kinetic = sumMV2(v);
             if (it > 0 && std::fabs(kinetic - previous) <= integrator.getTolerance() * kinetic)
@@ -96,9 +99,14 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
         }
     }
     forEachParticle(n, [&](size_t i) {
-        force[i] = conservative[i] + random[i] + dissipative[i];
+        force[i] = conservativeAndRandom[i] + dissipative[i];
     });
     // the FD carried into the next step, at the final velocities
-    if (thermostatVirial != nullptr)
+    if (thermostatVirial != nullptr) {
+        // The slot passes left the pair list stale: find the same pairs again for the virial.
+        Vec3 box[3];
+        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        thermostat.updatePairs(*data.positions, box);
         thermostat.addVirial(DissipativeTerm | RandomTerm, v, next, dt, *thermostatVirial);
+    }
 }

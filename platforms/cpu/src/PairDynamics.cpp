@@ -124,27 +124,22 @@ void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int
     computeConservative(context, forceGroups);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    thermostat.updatePairs(*data.positions, box);
-    if (softForceFromPairs != nullptr) {
-        const SoftRepulsionKernel& soft = *softForceFromPairs;
-        const std::vector<PairGeometry>& pairs = thermostat.getPairs();
-        const DPDPairParameters& parameters = thermostat.getParameters();
-        pairSoftForce.resize(pairs.size());
-        softForce.resize(conservative.size());
-        forEachParticle(pairs.size(), [&](size_t k) {
-            const PairGeometry& p = pairs[k];
-            const double r = parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
-            pairSoftForce[k] = soft.pairForce(p.i, p.j, r);
-        });
-        thermostat.sumAlongPairs(pairSoftForce, softForce);
+    softForce.resize(conservative.size());
+    thermostat.updatePairs(*data.positions, box, softForceFromPairs, &softForce, wantsPairsBySlot());
+    if (softForceFromPairs != nullptr)
         forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += softForce[i]; });
-    }
     checkFinite(conservative, "conservative force", step);
 }
 
 void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int forceGroups, const std::vector<Vec3>& velocities,
                                          long long step, double dt, std::vector<Vec3>& out) {
-    OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
+    const SoftRepulsionKernel* soft;
+    const std::vector<Vec3>* base = prepareSlotPasses(context, forceGroups, step, soft);
+    thermostat.sumBySlot(DissipativeTerm | RandomTerm, velocities, step, dt, soft, base, out);
+}
+
+const std::vector<Vec3>* PairDynamics::prepareSlotPasses(OpenMM::ContextImpl& context, int forceGroups, long long step,
+                                                         const SoftRepulsionKernel*& soft) {
     softForceFromPairs = nullptr;
     conservativeIsZero = false;
     computeConservative(context, forceGroups);
@@ -152,8 +147,9 @@ void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int force
         checkFinite(conservative, "conservative force", step);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    thermostat.computeInOnePass(*data.positions, box, velocities, step, dt, softForceFromPairs,
-                                conservativeIsZero ? nullptr : &conservative, out);
+    thermostat.searchSlots(*platformData(context).positions, box);
+    soft = softForceFromPairs;
+    return conservativeIsZero ? nullptr : &conservative;
 }
 
 void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {

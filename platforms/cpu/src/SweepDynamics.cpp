@@ -12,7 +12,7 @@ SweepDynamics::SweepDynamics(const OpenMM::System& system, const DPDThermostatIn
 void SweepDynamics::updatePairs(OpenMM::ContextImpl& context, long long step) {
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    thermostat.updatePairs(*platformData(context).positions, box);
+    thermostat.updatePairs(*platformData(context).positions, box, nullptr, nullptr, wantsPairsBySlot());
     pairSweep.prepare(thermostat);
     pairsStep = step;
 }
@@ -26,7 +26,7 @@ void SweepDynamics::startStep(OpenMM::ContextImpl& context, int forceGroups) {
         pairsStep = data.stepCount;
         setCarriedForceValid();
     }
-    else if (pairsStep != data.stepCount)
+    else if (pairsStep != data.stepCount || thermostat.arePairsBySlot() != wantsPairsBySlot())
         updatePairs(context, data.stepCount);
 }
 
@@ -54,6 +54,11 @@ void SweepDynamics::carryForce(OpenMM::ContextImpl& context, int forceGroups, lo
 SweepDynamics::BatchNormals SweepDynamics::normals(PairRandom::Stream stream, long long step) {
     thermostat.drawNormals(stream, step, pairNormals);
     return BatchNormals{pairNormals, thermostat.getPairs().data()};
+}
+
+SweepDynamics::BatchBits SweepDynamics::bits(PairRandom::Stream stream, long long step) {
+    thermostat.drawBits(stream, step, pairBits);
+    return BatchBits{pairBits, thermostat.getPairs().data()};
 }
 
 void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator) {
@@ -121,7 +126,8 @@ void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const L
     withPairImpulse(context, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
-            sweep(v, LowePairUpdate<Impulse>{random, step, dt, kT, impulse}, false);
+            sweep(v, LowePairUpdate<Impulse, BatchBits>{random, step, dt, kT, impulse, bits(PairRandom::PairThermalisation, step)},
+                  false);
         else
             sweep(v, PairOrnsteinUhlenbeckUpdate<BatchNormals, Impulse>{normals(PairRandom::PairThermalisation, step), dt, kT, impulse},
                   false);

@@ -127,17 +127,28 @@ struct ShardlowPairUpdate {
     }
 };
 
+/**
+ * A pair's random words for Lowe-Andersen, drawn from PairRandom (the definition).  A
+ * platform may give the rule the same words drawn ahead in batches instead.
+ */
+struct DrawnBits {
+    r123::Philox4x32::ctr_type operator()(const PairRandom& random, long long step, const PairGeometry& p) const {
+        return random.bits(PairRandom::PairThermalisation, step, p.i, p.j);
+    }
+};
+
 /** Lowe-Andersen: with probability Gamma h, the pair's relative normal velocity is drawn anew. */
-template <class Impulse = FreePairImpulse>
+template <class Impulse = FreePairImpulse, class Bits = DrawnBits>
 struct LowePairUpdate {
     const PairRandom& random;
     long long step;
     double h, kT;
     Impulse impulse;
+    Bits draw = Bits();
 
     void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
         // One draw gives both numbers; the Gaussian is only made for the pairs that collide.
-        const r123::Philox4x32::ctr_type bits = random.bits(PairRandom::PairThermalisation, step, p.i, p.j);
+        const r123::Philox4x32::ctr_type bits = draw(random, step, p);
         if (PairRandom::toUniform(bits[2]) >= p.rate * h)
             return;
         const double inverseMu = impulse.inverseReducedMass(p);

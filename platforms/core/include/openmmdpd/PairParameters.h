@@ -102,7 +102,14 @@ public:
      * own type-pair cutoff.
      */
     bool pairGeometry(int i, int j, const OpenMM::Vec3& d, PairGeometry& out, double imageVx = 0) const {
-        const int t = table.index(i, j);
+        return pairGeometry(i, j, table.index(i, j), d, out, imageVx);
+    }
+    /**
+     * The same, given the pair's table index t = getTable().index(i, j): for a caller that
+     * keeps the particles' types in its own order (looking them up by particle index hits
+     * memory at random in a large system).
+     */
+    bool pairGeometry(int i, int j, int t, const OpenMM::Vec3& d, PairGeometry& out, double imageVx = 0) const {
         const double r2 = d.dot(d);
         if (r2 >= table.cutoff2(t) || r2 == 0)
             return false;

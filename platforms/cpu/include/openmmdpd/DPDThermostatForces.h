@@ -27,9 +27,24 @@ public:
     const DPDPairParameters& getParameters() const { return parameters; }
     /** New thermostat parameters (a live change): the pairs are found anew from the next search. */
     void setParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
-    /** Find the pairs within their cutoffs at these positions. */
-    void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    /**
+     * Find the pairs within their cutoffs at these positions; given soft (whose pairs must
+     * all lie within the thermostat's), softOut = its forces, summed in the same pass.
+     * bySlot: the pairs' i and j are their cell-sorted slots (see arePairsBySlot).
+     */
+    void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
+                     const SoftRepulsionKernel* soft = nullptr, std::vector<OpenMM::Vec3>* softOut = nullptr,
+                     bool bySlot = false);
     const std::vector<PairGeometry>& getPairs() const { return pairs; }
+    /**
+     * Whether the pairs' i and j name cell-sorted slots (particle getSearch().getSortedIndex()[i])
+     * instead of particles: a sweep over velocities in slot order touches neighbouring
+     * memory, where by particle index it would hit memory at random in a large system.
+     * Only drawNormals() and the sweeps take such a list.
+     */
+    bool arePairsBySlot() const { return pairsBySlot; }
+    /** The particle that a pair's i or j names. */
+    int particleOf(int k) const { return pairsBySlot ? search.getSortedIndex()[k] : k; }
     /** The pairs found from cell c are [getCellPairStart()[c], getCellPairStart()[c + 1]). */
     const std::vector<int>& getCellPairStart() const { return cellPairStart; }
     const PairSearch& getSearch() const { return search; }
@@ -54,20 +69,70 @@ public:
      * out = base + FD(velocities) + FR at these positions, plus soft's pair forces when soft
      * is given (its pairs must all lie within the thermostat's; base may be null): the same
      * pairs and numbers as updatePairs() and compute(), for update rules that use every
-     * pair once per evaluation.  Pairs are found and used in one pass over the cell-sorted
-     * slots, so no pair list is written and read back; getPairs() is left stale.
+     * pair once per evaluation: searchSlots() and one sumBySlot().
      */
     void computeInOnePass(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
                           const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
                           const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base,
                           std::vector<OpenMM::Vec3>& out);
+    /**
+     * Where a slot pass gets its pairs: found in the cells (FindPairs), found and kept by
+     * each worker (FindAndKeepPairs), or those kept by the last FindAndKeepPairs pass since
+     * searchSlots() (KeptPairs: FD only, no soft force, no base), read back in order
+     * (cheaper than finding them again, when the same pairs need FD at new velocities).
+     */
+    enum PairSource { FindPairs, FindAndKeepPairs, KeptPairs };
+    /**
+     * Sort the particles into cells at these positions (which must stay alive and unchanged
+     * until the last sumBySlot() that follows) for passes over the pairs with sumBySlot().
+     * getPairs() is left stale.
+     */
+    void searchSlots(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    /**
+     * out = base + the forces of `terms` at these velocities + soft's pair forces (if soft is
+     * given; see computeInOnePass), or with dissipativeOut FD there and the rest in out (base
+     * may be null): the pairs of the last searchSlots() found and used in one pass over the
+     * cell-sorted slots, so no pair list is written and read back.
+     */
+    void sumBySlot(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
+                   const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base, std::vector<OpenMM::Vec3>& out,
+                   std::vector<OpenMM::Vec3>* dissipativeOut = nullptr, PairSource source = FindPairs);
+    /** A pair that a FindAndKeepPairs pass accepted: what FD needs of it, by slot (48 bytes). */
+    struct KeptPair {
+        int p, q;
+        OpenMM::Vec3 e;
+        double gammaWD, imageVx;
+    };
     /** xi[k] = getRandom().gaussian(stream, step, pair k), for every pair of the list, in batches. */
     void drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi);
+    /** words[k] = getRandom().bits(stream, step, pair k), for every pair of the list, in batches. */
+    void drawBits(PairRandom::Stream stream, long long step, std::vector<r123::Philox4x32::ctr_type>& words);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     uint32_t getSeed() const { return random.getSeed(); }
 
 
 private:
+    /** use(start, n, bits): the words of the pairs [start, start + n) of the list, drawn a chunk at a time, in parallel. */
+    template <class Use>
+    void forEachChunkOfBits(PairRandom::Stream stream, long long step, Use use) {
+        constexpr size_t CHUNK = 64;
+        const size_t chunks = (pairs.size() + CHUNK - 1) / CHUNK;
+        executor.execute([&](int w) {
+            size_t begin, end;
+            executor.range(w, chunks, begin, end);
+            int first[CHUNK], second[CHUNK];
+            r123::Philox4x32::ctr_type bits[CHUNK];
+            for (size_t c = begin; c < end; c++) {
+                const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
+                for (size_t k = 0; k < n; k++) {
+                    first[k] = particleOf(pairs[start + k].i);
+                    second[k] = particleOf(pairs[start + k].j);
+                }
+                PairRandomBatch::bits(random, stream, step, first, second, (int) n, bits);
+                use(start, n, bits);
+            }
+        });
+    }
     /** The pair search needs the cutoff to fit in half the periodic box. */
     void checkCutoffFitsBox(const OpenMM::Vec3* box) const;
     /** out[i] = the sum of the workers' buffers at i, in worker order, for worker w's range of i. */
@@ -78,15 +143,17 @@ private:
     /** The sum of the buffers at index k, in worker order. */
     OpenMM::Vec3 sumOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const;
     /** updatePairs' steps: worker w's pairs; the pairs of the workers before w; w's part copied into pairs. */
-    void findWorkerPairs(int w);
+    void findWorkerPairs(int w, const SoftRepulsionKernel* soft);
     size_t workerPairsBefore(int w) const;
     void copyWorkerPairs(int w);
-    /** computeInOnePass' pair pass: worker w's cells' pair forces into its buffer, by sorted slot. */
-    void sumPairForcesBySlot(int w, long long step, double dt, const SoftRepulsionKernel* soft);
-    /** The x velocity of the image of j at r_i - d (DPDPairParameters::imageVelocityX), for the positions searched. */
-    double imageVelocityX(int i, int j, const OpenMM::Vec3& d) const {
-        return parameters.imageVelocityX((*searched)[i][1] - (*searched)[j][1], d[1], searchedHeight);
-    }
+    /** sortedTypes (and sortedHeights if asked), or sortedSoftTypes, for the slots [begin, end) of the last search. */
+    void sortTypes(size_t begin, size_t end, bool heights);
+    void sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft);
+    /** sumBySlot's pair pass: worker w's cells' pair forces into its buffers (FD into the second if separate), by slot. */
+    void sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step, double dt,
+                             bool keep);
+    /** The KeptPairs pass: FD of worker w's kept pairs into its buffer, by slot. */
+    void sumKeptDissipative(int w);
     std::string name;  // the integrator's class, for error messages
     DPDPairParameters parameters;
     ParallelExecutor& executor;
@@ -94,11 +161,20 @@ private:
     int cellMultiple;
     PairRandom random;
     std::vector<PairGeometry> pairs;
+    bool pairsBySlot = false;
     std::vector<int> cellPairStart;
     std::vector<std::vector<PairGeometry>> workerPairs;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
     std::vector<OpenMM::Vec3> sortedVelocities;
     std::vector<double> sortedHeights;  // y of each slot's particle as stored (under shear only)
+    // Each slot's particle's type in the thermostat's table and in the soft force's: read
+    // per pair, where a lookup by particle index would hit memory at random.
+    std::vector<int> sortedTypes, sortedSoftTypes;
+    std::vector<std::vector<KeptPair>> keptPairs;  // each worker's, by its FindAndKeepPairs pass
+    // Whether the sorted types (and heights) are those of the last search, and the soft
+    // force's too (of sortedSoft).
+    bool slotsSorted = false, softSorted = false;
+    const SoftRepulsionKernel* sortedSoft = nullptr;
     const std::vector<OpenMM::Vec3>* searched = nullptr;  // the positions and box height of the last search
     double searchedHeight = 0;
 };

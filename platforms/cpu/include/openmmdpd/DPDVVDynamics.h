@@ -20,7 +20,7 @@ private:
     void computeInitialForce(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
     void grootWarrenStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
     void dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);
-    std::vector<OpenMM::Vec3> dissipative, random, predicted, velocityNoFD, newForce;
+    std::vector<OpenMM::Vec3> dissipative, conservativeAndRandom, predicted, velocityNoFD, newForce;
 };
 
 } // namespace DPDPlugin

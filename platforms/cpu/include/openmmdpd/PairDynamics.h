@@ -52,6 +52,8 @@ public:
     void resetState();
 
 protected:
+    /** Whether computeConservativeAndPairs finds the pairs by slot (DPDThermostatForces::arePairsBySlot). */
+    virtual bool wantsPairsBySlot() const { return false; }
     /** Called after a checkpoint was loaded or refused (state kept beyond the carried force is stale). */
     virtual void stateRestored() {}
     /** Called after the thermostat parameters changed (state derived from them is stale). */
@@ -79,11 +81,19 @@ protected:
     void computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step);
     /**
      * out <- the integration force groups' forces + FD(velocities) + FR at the current
-     * positions, in one pass over the pairs (DPDThermostatForces::computeInOnePass): for
+     * positions, in one pass over the pairs (prepareSlotPasses, DPDThermostatForces::sumBySlot): for
      * update rules that need only that sum.  The pair list is not updated.
      */
     void computeForceInOnePass(OpenMM::ContextImpl& context, int forceGroups, const std::vector<OpenMM::Vec3>& velocities,
                                long long step, double dt, std::vector<OpenMM::Vec3>& out);
+    /**
+     * The integration force groups' forces and the thermostat's search at the current
+     * positions (of `step`), for passes over the pairs with thermostat.sumBySlot(); returns
+     * the base that one of those passes is to add (null: none), with the soft force `soft`
+     * (null: none) that the pairs carry.
+     */
+    const std::vector<OpenMM::Vec3>* prepareSlotPasses(OpenMM::ContextImpl& context, int forceGroups, long long step,
+                                                       const SoftRepulsionKernel*& soft);
     /**
      * conservative <- the forces of these groups at the current positions (the Context's by
      * default; there a soft force that can be is left to the thermostat pair list, see
@@ -174,7 +184,6 @@ private:
     int fusedForceGroups = 0, fusedVersion = -1;
     bool fusedIsAlone = false;        // the fused force is the only force in fusedForceGroups
     bool conservativeIsZero = false;  // this step's computeConservative had nothing to add
-    std::vector<double> pairSoftForce;
     std::vector<OpenMM::Vec3> softForce;
 };
 

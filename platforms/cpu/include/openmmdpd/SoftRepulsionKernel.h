@@ -36,8 +36,9 @@ public:
     const TypePairTable& getTable() const { return *table; }
     bool isPeriodic() const { return periodic; }
     /** The force on i along e = (r_i - r_j)/r of a pair at distance r (kJ/mol/nm). */
-    double pairForce(int i, int j, double r) const {
-        const int t = table->index(i, j);
+    double pairForce(int i, int j, double r) const { return pairForce(i, j, table->index(i, j), r); }
+    /** The same, given the pair's table index t = getTable().index(i, j). */
+    double pairForce(int i, int j, int t, double r) const {
         if (r >= table->cutoff(t) || (hasExclusions && excluded(i, j)))
             return 0;
         return SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r);

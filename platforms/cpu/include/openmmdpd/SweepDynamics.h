@@ -35,20 +35,50 @@ protected:
     };
     /** Draw this step's numbers of a stream for every pair of the current list. */
     BatchNormals normals(PairRandom::Stream stream, long long step);
-    /** Apply a pair rule (PairEvaluators.h) to every pair, in the sweep order or its reverse. */
+    /**
+     * Apply a pair rule (PairEvaluators.h) to every pair, in the sweep order or its reverse;
+     * over a list by slot, on the velocities copied into slot order and back.
+     */
     template <class Rule>
     void sweep(std::vector<OpenMM::Vec3>& v, const Rule& rule, bool reverse) {
-        pairSweep.run(thermostat, v, rule, reverse);
+        if (!thermostat.arePairsBySlot()) {
+            pairSweep.run(thermostat, v, rule, reverse);
+            return;
+        }
+        const std::vector<int>& particle = thermostat.getSearch().getSortedIndex();
+        slotVelocities.resize(particle.size());
+        forEachParticle(particle.size(), [&](size_t k) { slotVelocities[k] = v[particle[k]]; });
+        pairSweep.run(thermostat, slotVelocities, rule, reverse);
+        forEachParticle(particle.size(), [&](size_t k) { v[particle[k]] = slotVelocities[k]; });
     }
     /**
      * body(impulse) with the pair impulse of a sweep over the current pair list at the current
-     * positions, in a step of length dt (see withRecordedPairImpulse in core).
+     * positions, in a step of length dt (see withRecordedPairImpulse in core); over a list
+     * by slot (no constraints, no virial), FreePairImpulse with the masses in slot order.
      */
     template <class Body>
     void withPairImpulse(OpenMM::ContextImpl& context, double dt, Body body) {
-        withRecordedPairImpulse(constrainedImpulse, thermostat.getParameters(), *platformData(context).positions,
-                                thermostat.getPairs(), dt, thermostatVirial, impulses, body);
+        if (!thermostat.arePairsBySlot()) {
+            withRecordedPairImpulse(constrainedImpulse, thermostat.getParameters(), *platformData(context).positions,
+                                    thermostat.getPairs(), dt, thermostatVirial, impulses, body);
+            return;
+        }
+        const std::vector<int>& particle = thermostat.getSearch().getSortedIndex();
+        const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+        slotInverseMasses.resize(particle.size());
+        forEachParticle(particle.size(), [&](size_t k) { slotInverseMasses[k] = invMass[particle[k]]; });
+        body(FreePairImpulse{slotInverseMasses});
     }
+    /** Sweeps take their pairs by slot where they need no particle indices: no constraints, no virial. */
+    bool wantsPairsBySlot() const override { return !constrainedImpulse.hasConstraints() && thermostatVirial == nullptr; }
+    /** The random words of the current pair list, drawn ahead in batches (the same words as DrawnBits). */
+    struct BatchBits {
+        const std::vector<r123::Philox4x32::ctr_type>& words;
+        const PairGeometry* first;  // the pair list's first pair: a pair's index is its offset
+        r123::Philox4x32::ctr_type operator()(const PairRandom&, long long, const PairGeometry& p) const { return words[&p - first]; }
+    };
+    /** Draw this step's words of a stream for every pair of the current list. */
+    BatchBits bits(PairRandom::Stream stream, long long step);
 
 private:
     ConstrainedPairImpulse constrainedImpulse;
@@ -56,6 +86,9 @@ private:
     PairSweep pairSweep;
     long long pairsStep;
     std::vector<double> pairNormals;
+    std::vector<r123::Philox4x32::ctr_type> pairBits;
+    std::vector<OpenMM::Vec3> slotVelocities;
+    std::vector<double> slotInverseMasses;
 };
 
 /** Shardlow's S1 and S2 (ShardlowIntegrator). */
