@@ -1,0 +1,57 @@
+#ifndef OPENMMDPD_COMMONDPDKERNELS_H_
+#define OPENMMDPD_COMMONDPDKERNELS_H_
+
+#include "openmmdpd/CommonCellList.h"
+#include "openmmdpd/CommonDPDVVDynamics.h"
+#include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/DynamicsStepKernel.h"
+#include "openmm/common/ComputeContext.h"
+#include <memory>
+
+namespace DPDPlugin {
+
+/**
+ * DPDVVIntegrator on a ComputeContext (OpenCL, CUDA): Groot-Warren and DPD-VV.  The
+ * SelfConsistent variant, and what CommonDynamics::refuseUnsupported names, raise an
+ * OpenMMException naming the platform before anything changes.
+ */
+class CommonIntegrateDPDVVStepKernel : public DynamicsStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, CommonDPDVVDynamics> {
+public:
+    CommonIntegrateDPDVVStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
+            DynamicsStepKernel(name, platform), cc(cc) {}
+    void initialize(const OpenMM::System& system, const DPDVVIntegrator& integrator) override;
+    void execute(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) override;
+
+protected:
+    CommonDPDVVDynamics* createDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator) override;
+
+private:
+    void refuseUnsupported(const OpenMM::System& system, const DPDVVIntegrator& integrator);
+    OpenMM::ComputeContext& cc;
+};
+
+/** DPDSoftRepulsionForce on a ComputeContext: a gather over a cell list, forces in fixed point (kernels/softRepulsion.cc). */
+class CommonSoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel {
+public:
+    CommonSoftRepulsionKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
+            CalcDPDSoftRepulsionForceKernel(name, platform), cc(cc) {}
+    void initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) override;
+    double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
+    void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
+    /** Refused: the device path has no pressure tensor. */
+    std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
+
+private:
+    void setParameters(const DPDSoftRepulsionForce& force);
+    void uploadExclusions(const DPDSoftRepulsionForce& force);
+    OpenMM::ComputeContext& cc;
+    std::unique_ptr<CommonCellList> cells;
+    OpenMM::ComputeKernel kernel;
+    OpenMM::ComputeArray atomType, typeParams, exclusionStart, exclusions;
+    double maxCutoff = 0;
+    int energyThreads = 0, numTypes = 0;
+};
+
+} // namespace DPDPlugin
+
+#endif
