@@ -83,6 +83,11 @@ CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const
     assignKernel = program->createKernel("assignCells");
     scanKernel = program->createKernel("scanCells");
     fillKernel = program->createKernel("fillCells");
+    // Every argument is set at each build (the arrays are resized with the box).
+    for (const std::pair<ComputeKernel*, int>& k : {std::make_pair(&clearKernel, 2), std::make_pair(&assignKernel, 6),
+                                                    std::make_pair(&scanKernel, 3), std::make_pair(&fillKernel, 5)})
+        for (int a = 0; a < k.second; a++)
+            (*k.first)->addArg();
 }
 
 void CommonCellList::build(double cutoff) {

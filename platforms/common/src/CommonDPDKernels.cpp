@@ -39,13 +39,11 @@ void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRe
     setParameters(force);
     ComputeProgram program = compileDPDProgram(cc, {CommonDPDKernelSources::cellList, CommonDPDKernelSources::softRepulsion});
     cells.reset(new CommonCellList(cc, program, owner));
-    // One energy slot per thread: as many threads as OpenMM's energy buffer has slots.
-    energyThreads = std::min(cc.getEnergyBuffer().getSize(), std::max(cc.getNumAtoms(), 1));
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     kernel = program->createKernel("softRepulsion");
     kernel->addArg(cc.getNumAtoms());
     kernel->addArg(cc.getPaddedNumAtoms());
-    kernel->addArg(energyThreads);
+    kernel->addArg();  // the number of threads: set per call
     addArrayArgs(kernel, {&cc.getPosq(), &posqCorrection, &cc.getAtomIndexArray(), &atomType});
     kernel->addArg();  // the number of types and their parameters: set per call
     kernel->addArg();
@@ -98,6 +96,10 @@ void CommonSoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force
 double CommonSoftRepulsionKernel::execute(ContextImpl& context, bool includeForces, bool includeEnergy) {
     ContextSelector selector(cc);
     cells->build(maxCutoff);
+    // One energy slot per thread: as many threads as OpenMM's energy buffer has slots (it is
+    // made after the kernels are initialized).
+    const int energyThreads = std::min(cc.getEnergyBuffer().getSize(), std::max(cc.getNumAtoms(), 1));
+    kernel->setArg(2, energyThreads);
     kernel->setArg(7, numTypes);
     kernel->setArg(8, typeParams);
     cells->setArgs(kernel, 13);

@@ -51,7 +51,7 @@ extern "C" OPENMM_EXPORT void registerDPDCudaKernelFactories() {
         return;
     }
     KernelFactory* factory = new CudaDPDKernelFactory();
-    platform->registerKernelFactory(IntegrateDPDVVStepKernel::Name(), factory);
+    // IntegrateDPDVVStep is not registered yet: its kernel still crashes on POCL (work in progress).
     platform->registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 

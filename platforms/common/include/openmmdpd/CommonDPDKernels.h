@@ -49,7 +49,7 @@ private:
     OpenMM::ComputeKernel kernel;
     OpenMM::ComputeArray atomType, typeParams, exclusionStart, exclusions;
     double maxCutoff = 0;
-    int energyThreads = 0, numTypes = 0;
+    int numTypes = 0;
 };
 
 } // namespace DPDPlugin
