@@ -193,21 +193,18 @@ void expectFollowsReference(DPDVVIntegrator::Variant variant, const std::map<std
 
 } // namespace
 
-// DISABLED until the DPD-VV kernel stops crashing POCL (a memcpy in a queued command, see the branch notes).
-TEST(GpuPlatform, DISABLED_GrootWarrenFollowsReference) {
+TEST(GpuPlatform, GrootWarrenFollowsReference) {
     REQUIRE_OPENCL();
     expectFollowsReference(DPDVVIntegrator::GrootWarren, {});
 }
 
-// DISABLED until the DPD-VV kernel stops crashing POCL (a memcpy in a queued command, see the branch notes).
-TEST(GpuPlatform, DISABLED_DPDVVFollowsReferenceInSingleAndMixedPrecision) {
+TEST(GpuPlatform, DPDVVFollowsReferenceInSingleAndMixedPrecision) {
     REQUIRE_OPENCL();
     expectFollowsReference(DPDVVIntegrator::DPDVV, {});
     expectFollowsReference(DPDVVIntegrator::DPDVV, {{"Precision", "mixed"}});
 }
 
-// DISABLED until the DPD-VV kernel stops crashing POCL (a memcpy in a queued command, see the branch notes).
-TEST(GpuPlatform, DISABLED_MomentumSeedsAndCheckpoints) {
+TEST(GpuPlatform, MomentumSeedsAndCheckpoints) {
     REQUIRE_OPENCL();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(600, positions));
@@ -232,8 +229,7 @@ TEST(GpuPlatform, DISABLED_MomentumSeedsAndCheckpoints) {
     }
 }
 
-// DISABLED until the DPD-VV kernel stops crashing POCL (a memcpy in a queued command, see the branch notes).
-TEST(GpuPlatform, DISABLED_RefusesWhatItDoesNotDo) {
+TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
     REQUIRE_OPENCL();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(100, positions));

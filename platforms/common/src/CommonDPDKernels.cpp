@@ -16,6 +16,10 @@ void CommonIntegrateDPDVVStepKernel::refuseUnsupported(const System& system, con
 
 void CommonIntegrateDPDVVStepKernel::initialize(const System& system, const DPDVVIntegrator& integrator) {
     refuseUnsupported(system, integrator);
+    // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do the
+    // same): until then the Context has no particle arrays.
+    cc.initializeContexts();
+    ContextSelector selector(cc);
     DynamicsStepKernel::initialize(system, integrator);
 }
 

@@ -51,7 +51,7 @@ extern "C" OPENMM_EXPORT void registerDPDOpenCLKernelFactories() {
         return;
     }
     KernelFactory* factory = new OpenCLDPDKernelFactory();
-    // IntegrateDPDVVStep is not registered yet: its kernel still crashes on POCL (work in progress).
+    platform->registerKernelFactory(IntegrateDPDVVStepKernel::Name(), factory);
     platform->registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 
