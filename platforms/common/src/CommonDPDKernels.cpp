@@ -102,7 +102,7 @@ double CommonSoftRepulsionKernel::execute(ContextImpl& context, bool includeForc
     cells->build(maxCutoff);
     // One energy slot per thread: as many threads as OpenMM's energy buffer has slots (it is
     // made after the kernels are initialized).
-    const int energyThreads = std::min(cc.getEnergyBuffer().getSize(), std::max(cc.getNumAtoms(), 1));
+    const int energyThreads = std::min((int) cc.getEnergyBuffer().getSize(), std::max(cc.getNumAtoms(), 1));
     kernel->setArg(2, energyThreads);
     kernel->setArg(7, numTypes);
     kernel->setArg(8, typeParams);
