@@ -64,20 +64,28 @@ MEMORY_CHUNK_STEPS = 5
 MEMORY_WARM_N = 125
 
 
-def steps_per_second(integrator, steps):
+def no_wait():
+    pass
+
+
+def steps_per_second(integrator, steps, wait=no_wait):
+    """wait(): returns when the steps are done (a GPU platform queues them and returns at once)."""
     start = time.perf_counter()
     integrator.step(steps)
+    wait()
     return steps / (time.perf_counter() - start)
 
 
-def warm_up(integrator, args):
+def warm_up(integrator, args, wait=no_wait):
     """Untimed steps: the first pays for the Context's setup; then up to args.warmup - 1 more,
     stopping after args.seconds (a step at a million particles takes most of a second).
     Returns the rate of those after the first, to size the timed runs."""
     integrator.step(1)
+    wait()
     steps, start = 0, time.perf_counter()
     while steps == 0 or (steps < args.warmup - 1 and time.perf_counter() - start < args.seconds):
         integrator.step(1)
+        wait()
         steps += 1
     return steps / (time.perf_counter() - start)
 
@@ -85,6 +93,11 @@ def warm_up(integrator, args):
 def timed_steps(rate, args):
     """Steps per timed run: --steps, or about --seconds worth (at least 2)."""
     return args.steps or max(2, round(rate * args.seconds))
+
+
+def waiter(context, args):
+    """What waits for a Context's queued steps: on a GPU platform, a State (it needs them done)."""
+    return no_wait if args.platform == "CPU" else lambda: context.getState(getVelocities=True)
 
 
 def make_context(system, integrator, threads, args):
@@ -102,7 +115,7 @@ def measure(scene, factories, threads, args):
             context = make_context(scene.system, make(args.dt), threads, args)
             context.setPositions(scene.positions)
             context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
-            rate = warm_up(context.getIntegrator(), args)
+            rate = warm_up(context.getIntegrator(), args, waiter(context, args))
         except openmm.OpenMMException as error:
             results[label] = f"failed: {error}"
             continue
@@ -112,7 +125,7 @@ def measure(scene, factories, threads, args):
         for label, (context, steps) in list(runs.items()):
             try:
                 results[label] = max(results[label],
-                                     steps_per_second(context.getIntegrator(), steps))
+                                     steps_per_second(context.getIntegrator(), steps, waiter(context, args)))
             except openmm.OpenMMException as error:
                 results[label] = f"failed: {error}"
                 del runs[label]
