@@ -33,6 +33,8 @@ public:
         ComputeContext& cc = getCudaComputeContext(context);
         if (name == IntegrateDPDVVStepKernel::Name())
             return new CommonIntegrateDPDVVStepKernel(name, platform, cc);
+        if (name == IntegrateShardlowStepKernel::Name())
+            return new CommonIntegrateShardlowStepKernel(name, platform, cc);
         if (name == CalcDPDSoftRepulsionForceKernel::Name())
             return new CommonSoftRepulsionKernel(name, platform, cc);
         throw OpenMMException("openmm-dpd CUDA plugin: unknown kernel '" + name + "'");
@@ -52,6 +54,7 @@ extern "C" OPENMM_EXPORT void registerDPDCudaKernelFactories() {
     }
     KernelFactory* factory = new CudaDPDKernelFactory();
     platform->registerKernelFactory(IntegrateDPDVVStepKernel::Name(), factory);
+    platform->registerKernelFactory(IntegrateShardlowStepKernel::Name(), factory);
     platform->registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 

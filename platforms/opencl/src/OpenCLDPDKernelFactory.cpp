@@ -33,6 +33,8 @@ public:
         ComputeContext& cc = getOpenCLComputeContext(context);
         if (name == IntegrateDPDVVStepKernel::Name())
             return new CommonIntegrateDPDVVStepKernel(name, platform, cc);
+        if (name == IntegrateShardlowStepKernel::Name())
+            return new CommonIntegrateShardlowStepKernel(name, platform, cc);
         if (name == CalcDPDSoftRepulsionForceKernel::Name())
             return new CommonSoftRepulsionKernel(name, platform, cc);
         throw OpenMMException("openmm-dpd OpenCL plugin: unknown kernel '" + name + "'");
@@ -52,6 +54,7 @@ extern "C" OPENMM_EXPORT void registerDPDOpenCLKernelFactories() {
     }
     KernelFactory* factory = new OpenCLDPDKernelFactory();
     platform->registerKernelFactory(IntegrateDPDVVStepKernel::Name(), factory);
+    platform->registerKernelFactory(IntegrateShardlowStepKernel::Name(), factory);
     platform->registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 
