@@ -12,6 +12,7 @@
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmm/HarmonicBondForce.h"
@@ -258,7 +259,7 @@ TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
 
 namespace {
 
-// The sweep integrators (S1, S2), configured as the DPD-VV tests' integrators:
+// The sweep integrators (S1, S2, Lowe, pair OU), configured as the DPD-VV tests' integrators:
 // two particle types with their own type pair (friction or collision rate 6, cutoff 0.9).
 using MakeIntegrator = std::function<std::unique_ptr<DPDThermostatIntegrator>(int numParticles)>;
 
@@ -273,6 +274,16 @@ MakeIntegrator shardlow(int order) {
     return [order](int numParticles) {
         std::unique_ptr<ShardlowIntegrator> integrator(new ShardlowIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
         integrator->setOrder(order);
+        configureSweep(*integrator, numParticles);
+        return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+    };
+}
+
+MakeIntegrator loweAndersen(LoweAndersenIntegrator::Method method, LoweAndersenIntegrator::Splitting splitting) {
+    return [method, splitting](int numParticles) {
+        std::unique_ptr<LoweAndersenIntegrator> integrator(new LoweAndersenIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
+        integrator->setMethod(method);
+        integrator->setSplitting(splitting);
         configureSweep(*integrator, numParticles);
         return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
     };
@@ -359,8 +370,21 @@ TEST(GpuPlatform, ShardlowFollowsReference) {
     expectSweepFollowsReference(shardlow(2), 100, "S2, 2 cells per axis");
 }
 
+TEST(GpuPlatform, LoweAndersenFollowsReference) {
+    REQUIRE_OPENCL();
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet), 900, "Lowe");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::AfterVerlet), 900,
+                                "pair OU");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle), 900, "Lowe, Middle");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle), 100,
+                                "pair OU, Middle, 2 cells per axis");
+}
+
 TEST(GpuPlatform, SweepMomentumSeedsAndCheckpoints) {
     REQUIRE_OPENCL();
     expectSweepMomentumSeedsAndCheckpoints(shardlow(1), "S1");
     expectSweepMomentumSeedsAndCheckpoints(shardlow(2), "S2");
+    expectSweepMomentumSeedsAndCheckpoints(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet), "Lowe");
+    expectSweepMomentumSeedsAndCheckpoints(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle),
+                                           "pair OU, Middle");
 }

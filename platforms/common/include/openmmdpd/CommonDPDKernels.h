@@ -63,6 +63,8 @@ private:
 };
 
 using CommonIntegrateShardlowStepKernel = CommonSweepStepKernel<IntegrateShardlowStepKernel, ShardlowIntegrator, CommonShardlowDynamics>;
+using CommonIntegrateLoweAndersenStepKernel =
+        CommonSweepStepKernel<IntegrateLoweAndersenStepKernel, LoweAndersenIntegrator, CommonLoweAndersenDynamics>;
 
 /** DPDSoftRepulsionForce on a ComputeContext: a gather over a cell list, forces in fixed point (kernels/softRepulsion.cc). */
 class CommonSoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel {
