@@ -388,3 +388,26 @@ TEST(GpuPlatform, SweepMomentumSeedsAndCheckpoints) {
     expectSweepMomentumSeedsAndCheckpoints(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle),
                                            "pair OU, Middle");
 }
+
+TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
+    REQUIRE_OPENCL();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(100, positions));
+    std::unique_ptr<DPDThermostatIntegrator> s2 = shardlow(2)(100);
+    std::unique_ptr<Context> context = makeContext(*system, *s2, "OpenCL", positions);
+    s2->step(1);
+    const State before = context->getState(State::Positions | State::Velocities);
+    s2->setShearRate(0.1);
+    expectErrorNaming([&] { s2->step(1); }, "ShardlowIntegrator: Lees-Edwards shear (setShearRate) is not supported on the OpenCL platform");
+    s2->setShearRate(0);
+    s2->setPressureTensorEnabled(true);
+    expectErrorNaming([&] { s2->step(1); }, "the pressure tensor (setPressureTensorEnabled) is not supported on the OpenCL");
+    const State after = context->getState(State::Positions | State::Velocities);
+    EXPECT_EQ(after.getPositions(), before.getPositions()) << "nothing changed";
+    EXPECT_EQ(after.getVelocities(), before.getVelocities()) << "nothing changed";
+    EXPECT_EQ(after.getStepCount(), 1);
+    system->addConstraint(0, 1, 0.5);
+    std::unique_ptr<DPDThermostatIntegrator> lowe = loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle)(100);
+    expectErrorNaming([&] { makeContext(*system, *lowe, "OpenCL", positions); },
+                      "LoweAndersenIntegrator: a System with constraints is not supported on the OpenCL platform");
+}
