@@ -11,6 +11,8 @@
 #include "openmmdpd/CommonPairRandomCheck.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/EDPDIntegrator.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmm/HarmonicBondForce.h"
@@ -251,6 +253,161 @@ TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
     DPDVVIntegrator constrained(KT_KELVIN, 4.5, 1.0, 0.02);
     expectErrorNaming([&] { makeContext(*system, constrained, "OpenCL", positions); }, "constraints is not supported on the OpenCL");
     // An integrator with no OpenCL kernels: OpenMM's own refusal, when the Context is made.
-    ShardlowIntegrator shardlow(KT_KELVIN, 4.5, 1.0, 0.02);
-    expectErrorNaming([&] { makeContext(*system, shardlow, "OpenCL", positions); }, "does not support all required kernels");
+    EDPDIntegrator edpd(KT_KELVIN, 4.5, 1.0, 1.0, 0.02);
+    expectErrorNaming([&] { makeContext(*system, edpd, "OpenCL", positions); }, "does not support all required kernels");
+}
+
+namespace {
+
+// The sweep integrators (S1, S2, Lowe, pair OU), configured as the DPD-VV tests' integrators:
+// two particle types with their own type pair (friction or collision rate 6, cutoff 0.9).
+using MakeIntegrator = std::function<std::unique_ptr<DPDThermostatIntegrator>(int numParticles)>;
+
+void configureSweep(DPDThermostatIntegrator& integrator, int numParticles) {
+    integrator.setRandomNumberSeed(1234);
+    for (int i = 0; i < numParticles; i += 3)
+        integrator.setParticleType(i, 1);
+    integrator.addTypePair(0, 1, 6.0, 0.9);
+}
+
+MakeIntegrator shardlow(int order) {
+    return [order](int numParticles) {
+        std::unique_ptr<ShardlowIntegrator> integrator(new ShardlowIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
+        integrator->setOrder(order);
+        configureSweep(*integrator, numParticles);
+        return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+    };
+}
+
+MakeIntegrator loweAndersen(LoweAndersenIntegrator::Method method, LoweAndersenIntegrator::Splitting splitting) {
+    return [method, splitting](int numParticles) {
+        std::unique_ptr<LoweAndersenIntegrator> integrator(new LoweAndersenIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
+        integrator->setMethod(method);
+        integrator->setSplitting(splitting);
+        configureSweep(*integrator, numParticles);
+        return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+    };
+}
+
+// Steps 1 and 3 of the soft fluid from the same start on a platform.
+std::vector<Run> runSweepSteps(System& system, const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+                               const MakeIntegrator& make, const std::string& platform,
+                               const std::map<std::string, std::string>& properties) {
+    std::unique_ptr<DPDThermostatIntegrator> integrator = make(system.getNumParticles());
+    Context context(system, *integrator, Platform::getPlatformByName(platform), properties);
+    context.setPositions(positions);
+    context.setVelocities(velocities);
+    std::vector<Run> runs;
+    for (int steps : {1, 2}) {
+        integrator->step(steps);
+        const State s = context.getState(State::Positions | State::Velocities);
+        runs.push_back({s.getPositions(), s.getVelocities()});
+    }
+    return runs;
+}
+
+// n = 900: a box of 6.08 nm, 6 sweep cells per axis (8 cells of each colour swept at once);
+// n = 100: 2.92 nm, 2 cells per axis (no colours: one work item sweeps every cell in order).
+void expectSweepFollowsReference(const MakeIntegrator& make, int n, const std::string& label,
+                                 const std::map<std::string, std::string>& properties = {}) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(n, positions));
+    std::vector<Vec3> velocities(positions.size());
+    std::mt19937 rng(17);
+    std::normal_distribution<double> normal(0, 1);
+    for (size_t i = 0; i < velocities.size(); i++)
+        velocities[i] = Vec3(normal(rng), normal(rng), normal(rng)) * std::sqrt(1 / system->getParticleMass(i));
+    const std::vector<Run> expected = runSweepSteps(*system, positions, velocities, make, "Reference", {});
+    const std::vector<Run> actual = runSweepSteps(*system, positions, velocities, make, "OpenCL", properties);
+    Vec3 a, b, c;
+    system->getDefaultPeriodicBoxVectors(a, b, c);
+    for (int k = 0; k < 2; k++) {
+        double dr = 0;  // the nearest image of the difference: positions may be wrapped differently
+        for (size_t i = 0; i < positions.size(); i++) {
+            Vec3 d = actual[k].positions[i] - expected[k].positions[i];
+            for (int m = 0; m < 3; m++)
+                d[m] -= a[0] * std::round(d[m] / a[0]);
+            dr = std::max(dr, std::sqrt(d.dot(d)));
+        }
+        const std::string after = label + ": after " + (k == 0 ? "1 step" : "3 steps");
+        EXPECT_LT(dr, 2e-5 * a[0]) << after << ", positions";
+        EXPECT_LT(maxDifference(expected[k].velocities, actual[k].velocities), 2e-5 * maxNorm(expected[k].velocities))
+                << after << ", velocities";
+    }
+}
+
+// Momentum, one seed twice, and a checkpoint that continues bit for bit (900 particles).
+void expectSweepMomentumSeedsAndCheckpoints(const MakeIntegrator& make, const std::string& label) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(900, positions));
+    std::unique_ptr<DPDThermostatIntegrator> first = make(900), second = make(900);
+    std::unique_ptr<Context> a = makeContext(*system, *first, "OpenCL", positions);
+    std::unique_ptr<Context> b = makeContext(*system, *second, "OpenCL", positions);
+    const Vec3 p0 = momentum(*system, a->getState(State::Velocities));
+    first->step(5);
+    second->step(5);
+    const State sa = a->getState(State::Positions | State::Velocities), sb = b->getState(State::Positions | State::Velocities);
+    // Each pair update moves equal and opposite momenta (J e); what remains is the float
+    // rounding of the two velocities it writes (~6e-8 of m v ~ 2), a random walk over 5 steps
+    // of ~7500 pairs and up to 4 updates each: ~5e-5 (measured 4e-6 to 6e-5).  1e-3 allows
+    // 20 times that; a wrong impulse (v_j -= J/m_i e) gives > 5.
+    const Vec3 dp = momentum(*system, sa) - p0;
+    EXPECT_LT(std::sqrt(dp.dot(dp)), 1e-3) << label;
+    for (size_t i = 0; i < positions.size(); i++) {
+        ASSERT_EQ(sa.getPositions()[i], sb.getPositions()[i]) << label << ": one seed, two runs: particle " << i;
+        ASSERT_EQ(sa.getVelocities()[i], sb.getVelocities()[i]) << label << ": one seed, two runs: particle " << i;
+    }
+    expectCheckpointContinuesBitForBit(*a, *first, "OpenCL " + label);
+}
+
+} // namespace
+
+TEST(GpuPlatform, ShardlowFollowsReference) {
+    REQUIRE_OPENCL();
+    expectSweepFollowsReference(shardlow(1), 900, "S1");
+    expectSweepFollowsReference(shardlow(2), 900, "S2");
+    expectSweepFollowsReference(shardlow(2), 900, "S2 mixed precision", {{"Precision", "mixed"}});
+    expectSweepFollowsReference(shardlow(2), 100, "S2, 2 cells per axis");
+}
+
+TEST(GpuPlatform, LoweAndersenFollowsReference) {
+    REQUIRE_OPENCL();
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet), 900, "Lowe");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::AfterVerlet), 900,
+                                "pair OU");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle), 900, "Lowe, Middle");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle), 100,
+                                "pair OU, Middle, 2 cells per axis");
+}
+
+TEST(GpuPlatform, SweepMomentumSeedsAndCheckpoints) {
+    REQUIRE_OPENCL();
+    expectSweepMomentumSeedsAndCheckpoints(shardlow(1), "S1");
+    expectSweepMomentumSeedsAndCheckpoints(shardlow(2), "S2");
+    expectSweepMomentumSeedsAndCheckpoints(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet), "Lowe");
+    expectSweepMomentumSeedsAndCheckpoints(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle),
+                                           "pair OU, Middle");
+}
+
+TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
+    REQUIRE_OPENCL();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(100, positions));
+    std::unique_ptr<DPDThermostatIntegrator> s2 = shardlow(2)(100);
+    std::unique_ptr<Context> context = makeContext(*system, *s2, "OpenCL", positions);
+    s2->step(1);
+    const State before = context->getState(State::Positions | State::Velocities);
+    s2->setShearRate(0.1);
+    expectErrorNaming([&] { s2->step(1); }, "ShardlowIntegrator: Lees-Edwards shear (setShearRate) is not supported on the OpenCL platform");
+    s2->setShearRate(0);
+    s2->setPressureTensorEnabled(true);
+    expectErrorNaming([&] { s2->step(1); }, "the pressure tensor (setPressureTensorEnabled) is not supported on the OpenCL");
+    const State after = context->getState(State::Positions | State::Velocities);
+    EXPECT_EQ(after.getPositions(), before.getPositions()) << "nothing changed";
+    EXPECT_EQ(after.getVelocities(), before.getVelocities()) << "nothing changed";
+    EXPECT_EQ(after.getStepCount(), 1);
+    system->addConstraint(0, 1, 0.5);
+    std::unique_ptr<DPDThermostatIntegrator> lowe = loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle)(100);
+    expectErrorNaming([&] { makeContext(*system, *lowe, "OpenCL", positions); },
+                      "LoweAndersenIntegrator: a System with constraints is not supported on the OpenCL platform");
 }

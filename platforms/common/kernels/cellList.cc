@@ -9,7 +9,7 @@ KERNEL void clearCells(int numCells, GLOBAL int* RESTRICT cellCount) {
         cellCount[c] = 0;
 }
 
-inline DEVICE int cellAlong(real x, mixed invSize, int n) {
+inline DEVICE int cellAlong(mixed x, mixed invSize, int n) {
     mixed f = x*invSize;
     f -= floor(f);
     const int c = (int) (f*n);

@@ -33,6 +33,10 @@ public:
         ComputeContext& cc = getCudaComputeContext(context);
         if (name == IntegrateDPDVVStepKernel::Name())
             return new CommonIntegrateDPDVVStepKernel(name, platform, cc);
+        if (name == IntegrateShardlowStepKernel::Name())
+            return new CommonIntegrateShardlowStepKernel(name, platform, cc);
+        if (name == IntegrateLoweAndersenStepKernel::Name())
+            return new CommonIntegrateLoweAndersenStepKernel(name, platform, cc);
         if (name == CalcDPDSoftRepulsionForceKernel::Name())
             return new CommonSoftRepulsionKernel(name, platform, cc);
         throw OpenMMException("openmm-dpd CUDA plugin: unknown kernel '" + name + "'");
@@ -52,6 +56,8 @@ extern "C" OPENMM_EXPORT void registerDPDCudaKernelFactories() {
     }
     KernelFactory* factory = new CudaDPDKernelFactory();
     platform->registerKernelFactory(IntegrateDPDVVStepKernel::Name(), factory);
+    platform->registerKernelFactory(IntegrateShardlowStepKernel::Name(), factory);
+    platform->registerKernelFactory(IntegrateLoweAndersenStepKernel::Name(), factory);
     platform->registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
 }
 
