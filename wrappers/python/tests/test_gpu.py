@@ -36,7 +36,7 @@ def have_opencl():
 pytestmark = pytest.mark.skipif(not have_opencl(), reason="no OpenCL platform or no openmmdpd OpenCL plugin")
 
 SCENES = {"ideal": ideal_scene, "soft": soft_scene}
-GPU_INTEGRATORS = ["GW", "DPD-VV"]
+GPU_INTEGRATORS = ["GW", "DPD-VV", "S1", "S2", "Lowe", "PairOU"]
 
 
 def mean_kT(scene_name, integrator_name, platform_name):

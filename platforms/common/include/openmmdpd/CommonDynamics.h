@@ -20,8 +20,8 @@ namespace DPDPlugin {
  * alike): the thermostat parameters on the device, the cell list, the pair forces with
  * Philox numbers keyed as PairRandom's, the force carried from step to step (64-bit fixed
  * point, by atom index, so that a checkpoint holds it exactly) and the blow-up checks.  A
- * subclass writes one update rule in step(); a sequential sweep (Lowe, pair OU, S1, S2)
- * would reuse the arrays, the cell list and pairWords() in kernels/philox.cc.
+ * subclass writes one update rule in step(): CommonDPDVVDynamics (pair forces) or
+ * CommonSweepDynamics (the sequential sweeps, on a grid of their own).
  *
  * OpenMM may reorder its particle slots inside a force evaluation: everything here that
  * lives across kernels is indexed by atom, read through OpenMM's atom index array.
