@@ -5,6 +5,9 @@ extern "C" void registerDPDReferenceKernelFactories();
 #if OPENMMDPD_HAVE_CPU
 extern "C" void registerDPDCpuKernelFactories();
 #endif
+#if OPENMMDPD_HAVE_OPENCL
+extern "C" void registerDPDOpenCLKernelFactories();
+#endif
 
 int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
@@ -15,6 +18,9 @@ int main(int argc, char** argv) {
     registerDPDReferenceKernelFactories();
 #if OPENMMDPD_HAVE_CPU
     registerDPDCpuKernelFactories();
+#endif
+#if OPENMMDPD_HAVE_OPENCL
+    registerDPDOpenCLKernelFactories();
 #endif
     return RUN_ALL_TESTS();
 }

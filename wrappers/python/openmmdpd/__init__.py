@@ -51,7 +51,9 @@ __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator"
 def _load_kernel_plugins():
     here = _os.path.dirname(_os.path.abspath(__file__))
     loaded = []
-    for name in ("libOpenMMDPDReference.so", "libOpenMMDPDCPU.so"):
+    # The GPU plugins are built only where OpenMM has those platforms; each registers its kernels
+    # only if its platform loaded (CUDA needs a driver, OpenCL an ICD).
+    for name in ("libOpenMMDPDReference.so", "libOpenMMDPDCPU.so", "libOpenMMDPDOpenCL.so", "libOpenMMDPDCUDA.so"):
         path = _os.path.join(here, name)
         if _os.path.exists(path):
             _openmm.Platform.loadPluginLibrary(path)

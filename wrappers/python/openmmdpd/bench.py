@@ -25,6 +25,12 @@ same N and against itself at the first N; --memory the bytes per particle a Cont
 integrator adds to the resident memory (each in a fresh process):
 
     /usr/bin/python3 -m openmmdpd.bench --scale --memory [--sizes 4000 32000 256000 1000000]
+
+--platform OpenCL or CUDA measures on that platform instead of the CPU's (its default
+precision; --threads does not apply); with --scale the sizes are then 32000, 256000 and a
+million, the integrators GW, S1, Lowe, Langevin and, on OpenMM >= 8.3, OpenMM's DPDIntegrator:
+
+    /usr/bin/python3 -m openmmdpd.bench --scale --platform OpenCL
 """
 import argparse
 import ctypes
@@ -50,26 +56,36 @@ SCALE_INTEGRATORS = ["GW", "DPD-VV", "S1", "Lowe", "Langevin"]
 MEMORY_INTEGRATORS = SCALE_INTEGRATORS + ["EDPD"]
 SCALE_SIZES = [4000, 32000, 256000, 1000000]
 SCALE_DT = 0.05  # model B's step (issue 16)
+GPU_SCALE_SIZES = [32000, 256000, 1000000]
+GPU_SCALE_INTEGRATORS = ["GW", "S1", "Lowe", "Langevin"] + (["OpenMM-DPD"] if hasattr(openmm, "DPDIntegrator") else [])
 # --memory: steps between readings of the resident memory, and the size of the throw-away
 # Context made first in each measuring process.
 MEMORY_CHUNK_STEPS = 5
 MEMORY_WARM_N = 125
 
 
-def steps_per_second(integrator, steps):
+def no_wait():
+    pass
+
+
+def steps_per_second(integrator, steps, wait=no_wait):
+    """wait(): returns when the steps are done (a GPU platform queues them and returns at once)."""
     start = time.perf_counter()
     integrator.step(steps)
+    wait()
     return steps / (time.perf_counter() - start)
 
 
-def warm_up(integrator, args):
+def warm_up(integrator, args, wait=no_wait):
     """Untimed steps: the first pays for the Context's setup; then up to args.warmup - 1 more,
     stopping after args.seconds (a step at a million particles takes most of a second).
     Returns the rate of those after the first, to size the timed runs."""
     integrator.step(1)
+    wait()
     steps, start = 0, time.perf_counter()
     while steps == 0 or (steps < args.warmup - 1 and time.perf_counter() - start < args.seconds):
         integrator.step(1)
+        wait()
         steps += 1
     return steps / (time.perf_counter() - start)
 
@@ -79,16 +95,27 @@ def timed_steps(rate, args):
     return args.steps or max(2, round(rate * args.seconds))
 
 
+def waiter(context, args):
+    """What waits for a Context's queued steps: on a GPU platform, a State (it needs them done)."""
+    return no_wait if args.platform == "CPU" else lambda: context.getState(getVelocities=True)
+
+
+def make_context(system, integrator, threads, args):
+    """A Context on --platform: the CPU's with `threads` threads, a GPU's with its defaults."""
+    platform = openmm.Platform.getPlatformByName(args.platform)
+    properties = {"Threads": str(threads)} if args.platform == "CPU" else {}
+    return openmm.Context(system, integrator, platform, properties)
+
+
 def measure(scene, factories, threads, args):
     """{label: best steps/s, or the error that stopped it} for one system and thread count."""
-    platform = openmm.Platform.getPlatformByName("CPU")
     runs, results = {}, {}
     for label, make in factories:
         try:
-            context = openmm.Context(scene.system, make(args.dt), platform, {"Threads": str(threads)})
+            context = make_context(scene.system, make(args.dt), threads, args)
             context.setPositions(scene.positions)
             context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
-            rate = warm_up(context.getIntegrator(), args)
+            rate = warm_up(context.getIntegrator(), args, waiter(context, args))
         except openmm.OpenMMException as error:
             results[label] = f"failed: {error}"
             continue
@@ -98,7 +125,7 @@ def measure(scene, factories, threads, args):
         for label, (context, steps) in list(runs.items()):
             try:
                 results[label] = max(results[label],
-                                     steps_per_second(context.getIntegrator(), steps))
+                                     steps_per_second(context.getIntegrator(), steps, waiter(context, args)))
             except openmm.OpenMMException as error:
                 results[label] = f"failed: {error}"
                 del runs[label]
@@ -182,7 +209,7 @@ def ratio(a, b):
 def print_scale_table(rows, args):
     """Particle-steps/s; speed against GW and cost against Langevin at the same N (as issue 16's
     definition of done states them), and cost per particle-step against the first N's."""
-    print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, "
+    print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), {args.platform} platform, dt={args.dt:g}, "
           f"gamma=4.5, best of {args.repeats} interleaved; speed/GW = steps/s / GW's, cost/Langevin = "
           f"time per step / Langevin's, at the same N; cost/particle = time per particle-step / "
           f"the integrator's at N={rows[0][0]}")
@@ -401,6 +428,8 @@ def main(argv=None):
                         help="target length of one measurement when --steps is not given")
     parser.add_argument("--repeats", type=int, default=3,
                         help="interleaved measurements; best kept")
+    parser.add_argument("--platform", default="CPU", choices=["CPU", "OpenCL", "CUDA"],
+                        help="the platform measured (--scale and the default table)")
     parser.add_argument("--scale", action="store_true",
                         help="particle-steps/s and ratios from 4000 to a million particles instead")
     parser.add_argument("--memory", action="store_true",
@@ -427,13 +456,14 @@ def main(argv=None):
                         help="--staggered: simulated time over which <kT> is sampled")
     args = parser.parse_args(argv)
     at_scale = args.scale or args.memory
-    args.sizes = args.sizes or (SCALE_SIZES if at_scale else [4000, 32000])
-    args.threads = args.threads or ([1] if at_scale else [1, 2])
+    gpu = args.platform != "CPU"
+    args.sizes = args.sizes or ((GPU_SCALE_SIZES if gpu else SCALE_SIZES) if at_scale else [4000, 32000])
+    args.threads = args.threads or ([1] if at_scale or gpu else [1, 2])
     args.dt = args.dt or (SCALE_DT if at_scale else 0.04)
 
     if at_scale:
         if args.scale:
-            chosen = args.integrators or SCALE_INTEGRATORS
+            chosen = args.integrators or (GPU_SCALE_INTEGRATORS if gpu else SCALE_INTEGRATORS)
             print_scale_table(measure_sizes([(name, factory(name, args.edpd_alpha)) for name in chosen], args), args)
         if args.memory:
             args.integrators = args.integrators or MEMORY_INTEGRATORS
@@ -458,7 +488,7 @@ def main(argv=None):
 
     catalog = integrators("soft")  # with den Otter-Clarke ("OC") at paper 000's model B averages
     rows = measure_sizes([(name, catalog[name]) for name in args.integrators], args)
-    print(f"scene soft (rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, "
+    print(f"scene soft (rho=4, a=25, DPDSoftRepulsionForce), {args.platform} platform, dt={args.dt:g}, "
           f"gamma=4.5, best of {args.repeats}")
     print_table(rows)
     if args.soft_force:

@@ -56,3 +56,19 @@ def test_memory_table_counts_each_context_with_edpd_pairs(capsys):
     assert float(gw_bytes) > 0 and int(gw_steps) <= 11 and int(edpd_steps) <= 11
     # Each EDPD pair variable is held in 24 bytes (PairMemory), so the reading holds at least that.
     assert float(edpd_pairs) > 1 and float(edpd_bytes) >= 24 * float(edpd_pairs)
+
+
+def test_scale_table_on_opencl(capsys):
+    """--platform OpenCL measures there (POCL here: the numbers say nothing about a GPU)."""
+    import openmm
+    import pytest
+    names = {openmm.Platform.getPlatform(i).getName() for i in range(openmm.Platform.getNumPlatforms())}
+    if "OpenCL" not in names:
+        pytest.skip("OpenMM has no OpenCL platform here")
+    bench.main(["--scale", "--platform", "OpenCL", "--integrators", "GW", "Langevin", "--sizes", "500",
+                "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
+    lines = capsys.readouterr().out.splitlines()
+    assert "OpenCL platform" in lines[0]
+    rows = [line.split() for line in lines[2:]]
+    assert [row[:3] for row in rows] == [["500", "1", "GW"], ["500", "1", "Langevin"]]
+    assert all(float(row[3]) > 0 for row in rows)

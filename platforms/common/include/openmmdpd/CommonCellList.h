@@ -1,0 +1,54 @@
+#ifndef OPENMMDPD_COMMONCELLLIST_H_
+#define OPENMMDPD_COMMONCELLLIST_H_
+
+#include "openmm/common/ComputeArray.h"
+#include "openmm/common/ComputeContext.h"
+#include "openmm/common/ComputeKernel.h"
+#include "openmm/common/ComputeProgram.h"
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+namespace DPDPlugin {
+
+/**
+ * A cell list on the device (kernels/cellList.cc), rebuilt at the current positions before
+ * every pair pass: cells at least the cutoff wide in the rectangular periodic box.  A pair
+ * kernel takes its six arguments (box size, inverse box size, cell counts, each slot's
+ * cell, cell starts, slots by cell) last, set by setArgs.
+ */
+class CommonCellList {
+public:
+    /** @param program  a program compiled with kernels/cellList.cc; owner names the caller in errors */
+    CommonCellList(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program, const std::string& owner);
+    /** Refuses (OpenMMException) a box that is not rectangular or too small for the cutoff. */
+    void build(double cutoff);
+    /** Set the cell-list arguments of a pair kernel, from argument index `first` on. */
+    void setArgs(OpenMM::ComputeKernel& kernel, int first);
+
+private:
+    OpenMM::ComputeContext& cc;
+    std::string owner;
+    OpenMM::ComputeKernel clearKernel, assignKernel, scanKernel, fillKernel;
+    OpenMM::ComputeArray atomCell, cellCount, cellStart, cellAtoms;
+    double boxSize[3], invBoxSize[3];
+    int numCells[3], totalCells = 0;
+};
+
+/** Add array arguments to a kernel, in order. */
+void addArrayArgs(OpenMM::ComputeKernel& kernel, std::initializer_list<OpenMM::ArrayInterface*> arrays);
+/** Add a `mixed` scalar (double or float, as the context's precision says) to a kernel. */
+void addMixedArg(OpenMM::ComputeContext& cc, OpenMM::ComputeKernel& kernel, double value);
+void setMixedArg(OpenMM::ComputeContext& cc, OpenMM::ComputeKernel& kernel, int index, double value);
+/** Set a `mixed4` argument. */
+void setMixed4Arg(OpenMM::ComputeContext& cc, OpenMM::ComputeKernel& kernel, int index, const double value[4]);
+/** Fill a `mixed4` array from (x, y, z, w) rows. */
+void uploadMixed4(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<double>& rows, const std::string& name);
+/** The `mixed` type is double under double or mixed precision. */
+bool mixedIsDouble(OpenMM::ComputeContext& cc);
+/** Compile kernels/utilities.cc followed by `sources`, with this plugin's defines. */
+OpenMM::ComputeProgram compileDPDProgram(OpenMM::ComputeContext& cc, const std::vector<std::string>& sources);
+
+} // namespace DPDPlugin
+
+#endif

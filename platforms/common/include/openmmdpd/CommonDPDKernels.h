@@ -1,0 +1,93 @@
+#ifndef OPENMMDPD_COMMONDPDKERNELS_H_
+#define OPENMMDPD_COMMONDPDKERNELS_H_
+
+#include "openmmdpd/CommonCellList.h"
+#include "openmmdpd/CommonDPDVVDynamics.h"
+#include "openmmdpd/CommonSweepDynamics.h"
+#include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/DynamicsStepKernel.h"
+#include "openmm/common/ComputeContext.h"
+#include "openmm/common/ContextSelector.h"
+#include <memory>
+
+namespace DPDPlugin {
+
+/**
+ * DPDVVIntegrator on a ComputeContext (OpenCL, CUDA): Groot-Warren and DPD-VV.  The
+ * SelfConsistent variant, and what CommonDynamics::refuseUnsupported names, raise an
+ * OpenMMException naming the platform before anything changes.
+ */
+class CommonIntegrateDPDVVStepKernel : public DynamicsStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, CommonDPDVVDynamics> {
+public:
+    CommonIntegrateDPDVVStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
+            DynamicsStepKernel(name, platform), cc(cc) {}
+    void initialize(const OpenMM::System& system, const DPDVVIntegrator& integrator) override;
+    void execute(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) override;
+
+protected:
+    CommonDPDVVDynamics* createDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator) override;
+
+private:
+    void refuseUnsupported(const OpenMM::System& system, const DPDVVIntegrator& integrator);
+    OpenMM::ComputeContext& cc;
+};
+
+/**
+ * A sweep integrator (ShardlowIntegrator, LoweAndersenIntegrator, every variant) on a
+ * ComputeContext; what CommonDynamics::refuseUnsupported names raises an OpenMMException
+ * naming the platform before anything changes.
+ */
+template <class Interface, class Integrator, class Dynamics>
+class CommonSweepStepKernel : public DynamicsStepKernel<Interface, Integrator, Dynamics> {
+public:
+    CommonSweepStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
+            DynamicsStepKernel<Interface, Integrator, Dynamics>(name, platform), cc(cc) {}
+    void initialize(const OpenMM::System& system, const Integrator& integrator) override {
+        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName());
+        cc.initializeContexts();  // as CommonIntegrateDPDVVStepKernel::initialize
+        OpenMM::ContextSelector selector(cc);
+        DynamicsStepKernel<Interface, Integrator, Dynamics>::initialize(system, integrator);
+    }
+    void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
+        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName());
+        DynamicsStepKernel<Interface, Integrator, Dynamics>::execute(context, integrator);
+    }
+
+protected:
+    Dynamics* createDynamics(const OpenMM::System& system, const Integrator& integrator) override {
+        return new Dynamics(cc, system, integrator, this->getPlatform().getName());
+    }
+
+private:
+    OpenMM::ComputeContext& cc;
+};
+
+using CommonIntegrateShardlowStepKernel = CommonSweepStepKernel<IntegrateShardlowStepKernel, ShardlowIntegrator, CommonShardlowDynamics>;
+using CommonIntegrateLoweAndersenStepKernel =
+        CommonSweepStepKernel<IntegrateLoweAndersenStepKernel, LoweAndersenIntegrator, CommonLoweAndersenDynamics>;
+
+/** DPDSoftRepulsionForce on a ComputeContext: a gather over a cell list, forces in fixed point (kernels/softRepulsion.cc). */
+class CommonSoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel {
+public:
+    CommonSoftRepulsionKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
+            CalcDPDSoftRepulsionForceKernel(name, platform), cc(cc) {}
+    void initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) override;
+    double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
+    void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
+    /** Refused: the device path has no pressure tensor. */
+    std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
+
+private:
+    void setParameters(const DPDSoftRepulsionForce& force);
+    void uploadExclusions(const DPDSoftRepulsionForce& force);
+    OpenMM::ComputeContext& cc;
+    std::unique_ptr<CommonCellList> cells;
+    OpenMM::ComputeKernel kernel;
+    OpenMM::ComputeArray atomType, typeParams, exclusionStart, exclusions;
+    double maxCutoff = 0;
+    int numTypes = 0;
+};
+
+} // namespace DPDPlugin
+
+#endif

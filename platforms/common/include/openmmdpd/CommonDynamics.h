@@ -1,0 +1,89 @@
+#ifndef OPENMMDPD_COMMONDYNAMICS_H_
+#define OPENMMDPD_COMMONDYNAMICS_H_
+
+#include "openmmdpd/CheckpointIO.h"
+#include "openmmdpd/CommonCellList.h"
+#include "openmmdpd/PairParameters.h"
+#include "openmmdpd/PairRandom.h"
+#include "openmmdpd/PressureTensor.h"
+#include "openmmdpd/StepState.h"
+#include "openmm/internal/ContextImpl.h"
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace DPDPlugin {
+
+/**
+ * What the GPU platforms' update rules share (OpenMM's ComputeContext, so OpenCL and CUDA
+ * alike): the thermostat parameters on the device, the cell list, the pair forces with
+ * Philox numbers keyed as PairRandom's, the force carried from step to step (64-bit fixed
+ * point, by atom index, so that a checkpoint holds it exactly) and the blow-up checks.  A
+ * subclass writes one update rule in step(): CommonDPDVVDynamics (pair forces) or
+ * CommonSweepDynamics (the sequential sweeps, on a grid of their own).
+ *
+ * OpenMM may reorder its particle slots inside a force evaluation: everything here that
+ * lives across kernels is indexed by atom, read through OpenMM's atom index array.
+ */
+class CommonDynamics {
+public:
+    /** Refuses (OpenMMException naming `platform`) what the device path does not do. */
+    /** @param ruleSources  the kernel sources of the subclass's update rule */
+    CommonDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
+                   const std::string& platform, const std::vector<std::string>& ruleSources);
+    virtual ~CommonDynamics() {}
+    double computeKineticEnergy(OpenMM::ContextImpl& context);
+    void invalidateForces() { carried.invalidate(); }
+    void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
+    /** The pressure tensor is refused on the device before any step samples it. */
+    void recordThermostatVirial(SymmetricTensor*) {}
+    void setSeed(uint32_t seed) { random = PairRandom(seed); }
+    void createCheckpoint(std::ostream& stream) const;
+    void loadCheckpoint(OpenMM::ContextImpl& context, CheckpointReader& reader);
+    void resetState();
+    /**
+     * Throws an OpenMMException, naming the platform, for what the device path does not do
+     * (Lees-Edwards shear, the pressure tensor, constraints, virtual sites, a non-periodic
+     * System); called before a Context is made and before every step, so nothing has changed.
+     */
+    static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform);
+
+protected:
+    /** Whether the carried force holds for the Context's state (see CarriedForce). */
+    bool carriedIsValid(OpenMM::ContextImpl& context);
+    /** Copy velm (by slot) into `velocity` (by atom). */
+    void gatherVelocities();
+    /** OpenMM's forces of the groups into its force buffer (it may reorder the slots). */
+    void conservativeForce(OpenMM::ContextImpl& context, int groups);
+    /** fd and/or fr (terms: 1, 2 or 3) of the pairs at the current positions, `velocity` the velocities, the numbers keyed by step. */
+    void pairForces(long long step, double dt, int terms, bool rebuildCells = true);
+    /** carried = FC + FR (+ FD): the sums of the current pass. */
+    void sumIntoCarried(bool withDissipative);
+    /** Throws the core's blow-up messages if a kernel of this step flagged a problem. */
+    void checkStatus(OpenMM::ContextImpl& context, long long step);
+    /** Advance step count and time; let OpenMM reorder its slots for locality. */
+    void finishStep(double dt);
+    double velocityBound() const;
+    double maxMove2() const;
+    int numAtoms() const { return cc.getNumAtoms(); }
+
+    OpenMM::ComputeContext& cc;
+    const std::string name;  // "<integrator> on the <platform> platform"
+    DPDPairParameters parameters;
+    PairRandom random;
+    CarriedForce carried;
+    bool awaitingRestoreCheck = false;
+    OpenMM::ComputeProgram program;
+    std::unique_ptr<CommonCellList> cells;
+    OpenMM::ComputeArray atomType, typeParams, velocity, fd, fr, carriedForce, status, moveValue;
+    OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel;
+
+private:
+    void uploadParameters();
+    void createKernels();
+};
+
+} // namespace DPDPlugin
+
+#endif

@@ -1,0 +1,74 @@
+#ifndef OPENMMDPD_COMMONSWEEPDYNAMICS_H_
+#define OPENMMDPD_COMMONSWEEPDYNAMICS_H_
+
+#include "openmmdpd/CommonDynamics.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/ShardlowIntegrator.h"
+
+namespace DPDPlugin {
+
+/**
+ * Velocity Verlet with the conservative force, split with pairwise-sequential sweeps, on
+ * the device, step for step as ReferenceSweepDynamics (kernels/sweep.cc).  The carried
+ * force is the conservative force FC at the current positions.  A sweep visits the pairs
+ * in ReferencePairList's order, the Reference's grid (n_k = floor(L_k / cutoff), lowered
+ * to a multiple of 3) and not the cell list of the pair forces: one launch per colour, or
+ * one work item for every cell where an axis has fewer than 3 cells.
+ */
+class CommonSweepDynamics : public CommonDynamics {
+protected:
+    /** The pair rule of a sweep (kernels/sweep.cc). */
+    enum Rule { ShardlowRule = 0, LoweRule = 1, PairOrnsteinUhlenbeckRule = 2 };
+    CommonSweepDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
+                        const std::string& platform);
+    /** At the start of a step: make sure the carried force is FC at the current positions. */
+    void ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups);
+    /** v += dt/2m F ; r += dt v ; F <- FC(r) ; v += dt/2m F. */
+    void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt, long long next);
+    /** v += kick/m F ; r += drift v (F the carried force); stops the run if a position blew up. */
+    void kickDrift(OpenMM::ContextImpl& context, double kick, double drift, long long next);
+    /** F <- FC(r) at the current positions; then v += kick/m F unless kick is 0. */
+    void takeConservativeForce(OpenMM::ContextImpl& context, int forceGroups, double kick);
+    /**
+     * The Context's velocities swept pair by pair at the current positions with a rule over
+     * a time h, the numbers of `stream` keyed by step; reverse: in exactly the opposite order.
+     */
+    void sweep(Rule rule, double h, PairRandom::Stream stream, long long step, bool reverse);
+
+private:
+    /** The Reference's grid at the current positions, each cell's atoms in index order. */
+    void buildGrid();
+    OpenMM::ComputeKernel assignKernel, clearKernel, scanKernel, fillKernel, sortKernel, colourKernel, scatterKernel, kickDriftKernel,
+            conservativeKernel;
+    OpenMM::ComputeArray position, atomCell, cellCount, cellStart, cellAtoms;
+    int numCells[3] = {0, 0, 0}, totalCells = 0;
+    double boxSize[3], invBoxSize[3];
+};
+
+/** Shardlow's S1 and S2 (ShardlowIntegrator) on the device. */
+class CommonShardlowDynamics : public CommonSweepDynamics {
+public:
+    CommonShardlowDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const ShardlowIntegrator& integrator,
+                           const std::string& platform) :
+            CommonSweepDynamics(cc, system, integrator, platform) {}
+    void step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator);
+};
+
+/** Lowe-Andersen and the pair Ornstein-Uhlenbeck update, both splittings (LoweAndersenIntegrator), on the device. */
+class CommonLoweAndersenDynamics : public CommonSweepDynamics {
+public:
+    CommonLoweAndersenDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const LoweAndersenIntegrator& integrator,
+                               const std::string& platform) :
+            CommonSweepDynamics(cc, system, integrator, platform) {}
+    void step(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator);
+
+private:
+    /** B A O A B with the velocities kept at O: v += dt/m F ; r += dt/2 v ; O ; r += dt/2 v ; F <- FC(r). */
+    void middleStep(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator);
+    /** O: the pair thermostat over dt at the current positions, its numbers keyed by step. */
+    void applyThermostat(const LoweAndersenIntegrator& integrator, long long step);
+};
+
+} // namespace DPDPlugin
+
+#endif

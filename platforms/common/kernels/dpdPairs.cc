@@ -1,0 +1,69 @@
+/*
+ * The DPD thermostat's pair forces (algorithms.md, Notation), gathered per particle: each
+ * particle slot sums over its neighbours.  A pair is always evaluated as (lo, hi) by atom
+ * index, so both of its particles compute the same numbers and add exactly opposite fixed
+ * point values: F_ij = -F_ji to the bit, and the sums do not depend on any order.
+ *
+ * velocity[atom] holds (v, 1/m) by atom index; outD / outR[atom + d numAtoms] get the
+ * dissipative / random force (terms: 1 = dissipative, 2 = random, 3 = both).
+ */
+KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
+        GLOBAL const int* RESTRICT atomIndex, GLOBAL const mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType,
+        int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed kT, mixed invSqrtDt, unsigned int seed,
+        unsigned int stepLow, unsigned int stepHigh, int terms, GLOBAL mm_long* RESTRICT outD, GLOBAL mm_long* RESTRICT outR,
+        mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
+        GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
+        const int a = atomIndex[k];
+        const mixed4 va = velocity[a];
+        const mixed4 ra = loadPosition(posq, posqCorrection, k);
+        mm_long fd[3] = {0, 0, 0}, fr[3] = {0, 0, 0};
+        for (int n = 0; n < 27 && va.w != 0; n++) {
+            const int cell = neighbourCell(atomCell[k], n, numCells);
+            if (cell < 0)
+                continue;
+            for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
+                const int k2 = cellAtoms[s];
+                const int b = atomIndex[k2];
+                const mixed4 vb = velocity[b];
+                if (k2 == k || vb.w == 0)
+                    continue;
+                const mixed4 rb = loadPosition(posq, posqCorrection, k2);
+                const bool aIsLo = (a < b);
+                const mixed4 rLo = (aIsLo ? ra : rb), rHi = (aIsLo ? rb : ra);
+                const mixed4 vLo = (aIsLo ? va : vb), vHi = (aIsLo ? vb : va);
+                const mixed dx = nearestImage(rLo.x-rHi.x, boxSize.x, invBoxSize.x);
+                const mixed dy = nearestImage(rLo.y-rHi.y, boxSize.y, invBoxSize.y);
+                const mixed dz = nearestImage(rLo.z-rHi.z, boxSize.z, invBoxSize.z);
+                const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];  // friction, rc, 1/rc, rc^2
+                const mixed r2 = dx*dx+dy*dy+dz*dz;
+                if (r2 >= p.w || r2 == 0)
+                    continue;
+                const mixed r = sqrt(r2);
+                const mixed wR = 1-r/p.y;
+                const mixed ex = dx/r, ey = dy/r, ez = dz/r;
+                const mixed gamma = 2*p.x/(vLo.w+vHi.w);  // 2 mu friction
+                const mm_long sign = (aIsLo ? 1 : -1);
+                if (terms & 1) {
+                    const mixed f = -gamma*wR*wR*(ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
+                    fd[0] += sign*toFixed(ex*f);
+                    fd[1] += sign*toFixed(ey*f);
+                    fd[2] += sign*toFixed(ez*f);
+                }
+                if (terms & 2) {
+                    const mixed xi = boxMuller(pairWords(seed, 0, stepLow, stepHigh, a, b));
+                    const mixed f = sqrt(2*gamma*kT)*wR*xi*invSqrtDt;
+                    fr[0] += sign*toFixed(ex*f);
+                    fr[1] += sign*toFixed(ey*f);
+                    fr[2] += sign*toFixed(ez*f);
+                }
+            }
+        }
+        for (int d = 0; d < 3; d++) {
+            if (terms & 1)
+                outD[a+d*numAtoms] = fd[d];
+            if (terms & 2)
+                outR[a+d*numAtoms] = fr[d];
+        }
+    }
+}

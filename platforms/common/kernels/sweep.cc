@@ -1,0 +1,238 @@
+/*
+ * The pairwise-sequential sweeps of ShardlowIntegrator and LoweAndersenIntegrator
+ * (platforms/reference/src/ReferenceSweepDynamics.cpp and core/PairEvaluators.h are the
+ * definition) in the Reference's pair order (ReferencePairList.h), so that the device
+ * follows the Reference's trajectory: colour by colour, cell by cell, each particle i of a
+ * cell in index order, its neighbour cells in order, their particles j in index order (in
+ * i's own cell those after i).  Cells of one colour touch disjoint particles, so one
+ * launch sweeps a colour with a work item per cell; with fewer than 3 cells on an axis
+ * there are no colours and one work item sweeps every cell in order.
+ *
+ * Everything here is indexed by atom: position[a] at the sweep, velocity[a] = (v, 1/m)
+ * (1/m = 0: a particle the thermostat leaves alone), cellAtoms sorted by atom index.
+ */
+
+/* Each atom's position and cell in the sweep grid, binned as the Reference bins (fractional coordinates). */
+KERNEL void sweepAssign(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
+        GLOBAL const int* RESTRICT atomIndex, mixed4 invBoxSize, int4 numCells, GLOBAL mixed4* RESTRICT position,
+        GLOBAL int* RESTRICT atomCell, GLOBAL int* RESTRICT cellCount) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
+        const int a = atomIndex[k];
+        const mixed4 r = loadPosition(posq, posqCorrection, k);
+        const int c = cellAlong(r.x, invBoxSize.x, numCells.x) +
+                numCells.x*(cellAlong(r.y, invBoxSize.y, numCells.y) + numCells.y*cellAlong(r.z, invBoxSize.z, numCells.z));
+        position[a] = r;
+        atomCell[a] = c;
+        ATOMIC_ADD(&cellCount[c], 1);
+    }
+}
+
+/* fillCells lists each cell's atoms in the order the atomics came; the sweep needs index order. */
+KERNEL void sweepSortCells(int numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL int* RESTRICT cellAtoms) {
+    for (int c = GLOBAL_ID; c < numCells; c += GLOBAL_SIZE)
+        for (int s = cellStart[c]+1; s < cellStart[c+1]; s++) {
+            const int atom = cellAtoms[s];
+            int t = s;
+            for (; t > cellStart[c] && cellAtoms[t-1] > atom; t--)
+                cellAtoms[t] = cellAtoms[t-1];
+            cellAtoms[t] = atom;
+        }
+}
+
+/* The cell at offset (dx, dy, dz) in the periodic grid. */
+inline DEVICE int sweepCellAt(int cell, int dx, int dy, int dz, int4 n) {
+    const int x = (cell%n.x+dx+n.x)%n.x, y = ((cell/n.x)%n.y+dy+n.y)%n.y, z = (cell/(n.x*n.y)+dz+n.z)%n.z;
+    return x+n.x*(y+n.y*z);
+}
+
+/*
+ * The neighbour cells of a cell in the Reference's order; returns how many.  With 3 or more
+ * cells on every axis: the cell itself, then the offsets after (0, 0, 0) in (dz, dy, dx)
+ * order (offsets 13..26 of the 27).  Otherwise every distinct cell of the full shell not
+ * below the cell, in index order.
+ */
+inline DEVICE int sweepNeighbours(int cell, int4 n, bool halfShell, int* out) {
+    int count = 0;
+    for (int m = (halfShell ? 13 : 0); m < 27; m++) {
+        const int other = sweepCellAt(cell, m%3-1, (m/3)%3-1, m/9-1, n);
+        if (halfShell) {
+            out[count++] = other;
+            continue;
+        }
+        bool listed = (other < cell);
+        for (int t = 0; t < count; t++)
+            listed = listed || (out[t] == other);
+        if (listed)
+            continue;
+        int t = count;
+        for (; t > 0 && out[t-1] > other; t--)
+            out[t] = out[t-1];
+        out[t] = other;
+        count++;
+    }
+    return count;
+}
+
+#define SWEEP_SHARDLOW 0
+#define SWEEP_LOWE 1
+#define SWEEP_PAIR_OU 2
+
+typedef struct {
+    int rule;
+    mixed h, kT;
+    unsigned int seed, stream, stepLow, stepHigh;
+} SweepRule;
+
+/* The impulse J along e on the pair: v_i += J/m_i e, v_j -= J/m_j e (FreePairImpulse). */
+inline DEVICE void applyImpulse(mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixed ez, mixed J) {
+    const mixed ji = J*(*vi).w, jj = J*(*vj).w;
+    (*vi).x += ex*ji;
+    (*vi).y += ey*ji;
+    (*vi).z += ez*ji;
+    (*vj).x -= ex*jj;
+    (*vj).y -= ey*jj;
+    (*vj).z -= ez*jj;
+}
+
+/*
+ * One pair (i, j) at d = r_i - r_j: the rule's update of both velocities in place
+ * (ShardlowPairUpdate, LowePairUpdate, PairOrnsteinUhlenbeckUpdate).  p: the type pair's
+ * (friction or collision rate, rc, 1/rc, rc^2).
+ */
+inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixed dz, mixed4 p, GLOBAL mixed4* RESTRICT velocity) {
+    const mixed r2 = dx*dx+dy*dy+dz*dz;
+    if (r2 >= p.w || r2 == 0)
+        return;
+    mixed4 vi = velocity[i], vj = velocity[j];
+    if (vi.w == 0 || vj.w == 0)
+        return;
+    const PhiloxWords w = pairWords(s.seed, s.stream, s.stepLow, s.stepHigh, i, j);
+    if (s.rule == SWEEP_LOWE && ((mixed) w.v[2])*(mixed) 2.3283064365386963e-10f >= p.x*s.h)
+        return;
+    const mixed r = sqrt(r2);
+    const mixed ex = dx/r, ey = dy/r, ez = dz/r;
+    const mixed wR = 1-r/p.y;
+    const mixed mu = 1/(vi.w+vj.w);
+    const mixed gamma = 2*p.x*mu;  // 2 mu friction
+    const mixed xi = boxMuller(w);
+    mixed u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
+    if (s.rule == SWEEP_SHARDLOW) {
+        const mixed noise = sqrt(2*gamma*s.kT)*wR*xi*sqrt(s.h);
+        const mixed friction = gamma*wR*wR*s.h;
+        applyImpulse(&vi, &vj, ex, ey, ez, (mixed) 0.5f*(noise-friction*u));  // explicit half
+        u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
+        applyImpulse(&vi, &vj, ex, ey, ez, (mixed) 0.5f*(noise-friction*u)/(1+friction/(2*mu)));  // implicit half
+    }
+    else if (s.rule == SWEEP_LOWE)
+        applyImpulse(&vi, &vj, ex, ey, ez, mu*(xi*sqrt(s.kT/mu)-u));
+    else {
+        // 1 - decay^2 as -expm1(-2x): in float, 1 - decay*decay loses its digits when decay is near 1 (small wR).
+        const mixed x = gamma*wR*wR*s.h/mu;
+        const mixed target = u*exp(-x)+sqrt(-s.kT/mu*expm1(-2*x))*xi;
+        applyImpulse(&vi, &vj, ex, ey, ez, mu*(target-u));
+    }
+    velocity[i] = vi;
+    velocity[j] = vj;
+}
+
+/* Every pair of one cell, in the sweep order or (reverse) exactly the opposite order. */
+inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell, GLOBAL const mixed4* RESTRICT position,
+        GLOBAL mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams,
+        mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
+    int neighbours[27];
+    const int numNeighbours = sweepNeighbours(cell, numCells, halfShell, neighbours);
+    const int first = cellStart[cell], last = cellStart[cell+1];
+    for (int m = 0; m < last-first; m++) {
+        const int slotI = (reverse ? last-1-m : first+m);
+        const int i = cellAtoms[slotI];
+        const mixed4 ri = position[i];
+        for (int q = 0; q < numNeighbours; q++) {
+            const int other = neighbours[reverse ? numNeighbours-1-q : q];
+            const int begin = (other == cell ? slotI+1 : cellStart[other]), end = cellStart[other+1];
+            for (int t = 0; t < end-begin; t++) {
+                const int j = cellAtoms[reverse ? end-1-t : begin+t];
+                const mixed4 rj = position[j];
+                sweepPair(s, i, j, nearestImage(ri.x-rj.x, boxSize.x, invBoxSize.x), nearestImage(ri.y-rj.y, boxSize.y, invBoxSize.y),
+                          nearestImage(ri.z-rj.z, boxSize.z, invBoxSize.z), typeParams[atomType[i]*numTypes+atomType[j]], velocity);
+            }
+        }
+    }
+}
+
+/*
+ * One colour's cells (colour (x mod 3) + 3 (y mod 3) + 9 (z mod 3)), a work item each; or,
+ * colour < 0 (fewer than 3 cells on an axis), every cell in order in one work item.
+ */
+KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, unsigned int seed, unsigned int stream,
+        unsigned int stepLow, unsigned int stepHigh, GLOBAL const mixed4* RESTRICT position, GLOBAL mixed4* RESTRICT velocity,
+        GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed4 boxSize,
+        mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
+    SweepRule s;
+    s.rule = rule;
+    s.h = h;
+    s.kT = kT;
+    s.seed = seed;
+    s.stream = stream;
+    s.stepLow = stepLow;
+    s.stepHigh = stepHigh;
+    if (colour < 0) {
+        const int total = numCells.x*numCells.y*numCells.z;
+        if (GLOBAL_ID == 0)
+            for (int c = 0; c < total; c++)
+                sweepCell(s, reverse ? total-1-c : c, reverse, false, position, velocity, atomType, numTypes, typeParams,
+                          boxSize, invBoxSize, numCells, cellStart, cellAtoms);
+        return;
+    }
+    const int px = numCells.x/3, py = numCells.y/3, pz = numCells.z/3;
+    for (int t = GLOBAL_ID; t < px*py*pz; t += GLOBAL_SIZE) {
+        const int x = colour%3+3*(t%px), y = (colour/3)%3+3*((t/px)%py), z = colour/9+3*(t/(px*py));
+        sweepCell(s, x+numCells.x*(y+numCells.y*z), reverse, true, position, velocity, atomType, numTypes, typeParams,
+                  boxSize, invBoxSize, numCells, cellStart, cellAtoms);
+    }
+}
+
+/* velm[slot] = velocity[atom] after a sweep; the velocity check. */
+KERNEL void scatterVelocities(int numAtoms, GLOBAL const mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomIndex,
+        GLOBAL mixed4* RESTRICT velm, mixed bound, GLOBAL int* RESTRICT status) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
+        const mixed4 v = velocity[atomIndex[k]];
+        velm[k] = v;
+        checkVelocity(v, bound, status);
+    }
+}
+
+/* v += kick/m F ; r += drift v, with F the carried force (by atom). */
+KERNEL void kickDrift(int numAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm,
+        GLOBAL const int* RESTRICT atomIndex, GLOBAL const mm_long* RESTRICT carried, mixed kick, mixed drift, mixed maxMove2,
+        GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
+        const int a = atomIndex[k];
+        mixed4 v = velm[k];
+        const mixed scale = kick*v.w;
+        v.x += fromFixed(carried[a])*scale;
+        v.y += fromFixed(carried[a+numAtoms])*scale;
+        v.z += fromFixed(carried[a+2*numAtoms])*scale;
+        velm[k] = v;
+        movePosition(posq, posqCorrection, k, make_mixed4(v.x*drift, v.y*drift, v.z*drift, 0), maxMove2, status, moveValue);
+    }
+}
+
+/* The carried force becomes OpenMM's conservative force (by atom); then, if kick != 0, v += kick/m F and the velocity check. */
+KERNEL void takeConservativeForce(int numAtoms, int paddedNumAtoms, GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT atomIndex,
+        GLOBAL const mm_long* RESTRICT conservative, GLOBAL mm_long* RESTRICT carried, mixed kick, mixed bound,
+        GLOBAL int* RESTRICT status) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
+        const int a = atomIndex[k];
+        for (int d = 0; d < 3; d++)
+            carried[a+d*numAtoms] = conservative[k+d*paddedNumAtoms];
+        if (kick == 0)
+            continue;
+        mixed4 v = velm[k];
+        const mixed scale = kick*v.w;
+        v.x += fromFixed(carried[a])*scale;
+        v.y += fromFixed(carried[a+numAtoms])*scale;
+        v.z += fromFixed(carried[a+2*numAtoms])*scale;
+        velm[k] = v;
+        checkVelocity(v, bound, status);
+    }
+}

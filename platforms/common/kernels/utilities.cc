@@ -1,0 +1,46 @@
+/*
+ * What every openmm-dpd device program shares: positions (with the mixed-precision
+ * correction), forces in 64-bit fixed point (OpenMM's scale, 2^32 per kJ/mol/nm), and the
+ * nearest image in a rectangular box.
+ */
+
+inline DEVICE mixed4 loadPosition(GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection, int k) {
+    const real4 a = posq[k];
+#ifdef OPENMMDPD_MIXED
+    const real4 b = posqCorrection[k];
+    return make_mixed4(a.x+(mixed) b.x, a.y+(mixed) b.y, a.z+(mixed) b.z, 0);
+#else
+    return make_mixed4(a.x, a.y, a.z, 0);
+#endif
+}
+
+inline DEVICE void storePosition(GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, int k, mixed4 r) {
+    const real w = posq[k].w;
+#ifdef OPENMMDPD_MIXED
+    posq[k] = make_real4((real) r.x, (real) r.y, (real) r.z, w);
+    posqCorrection[k] = make_real4((real) (r.x-(real) r.x), (real) (r.y-(real) r.y), (real) (r.z-(real) r.z), 0);
+#else
+    posq[k] = make_real4(r.x, r.y, r.z, w);
+#endif
+}
+
+/* Conversion truncates toward zero, so toFixed(-x) == -toFixed(x): a pair adds exactly opposite numbers. */
+inline DEVICE mm_long toFixed(mixed x) {
+    return (mm_long) (x*(mixed) 4294967296.0f);
+}
+
+inline DEVICE mixed fromFixed(mm_long x) {
+    return ((mixed) x)*(mixed) 2.3283064365386963e-10f;
+}
+
+inline DEVICE mixed nearestImage(mixed d, mixed size, mixed invSize) {
+    return d-floor(d*invSize+(mixed) 0.5f)*size;
+}
+
+/*
+ * Finite and below `bound` (also false for NaN).  Written as one ordered comparison because
+ * OpenMM compiles with fast math, under which isnan() and isinf() may be folded away.
+ */
+inline DEVICE bool withinBound(mixed x, mixed bound) {
+    return x <= bound;
+}

@@ -1,0 +1,150 @@
+#include "openmmdpd/CommonCellList.h"
+#include "CommonDPDKernelSources.h"
+#include "openmmdpd/internal/ParameterChecks.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/common/ComputeVectorTypes.h"
+#include <algorithm>
+#include <cmath>
+
+using namespace DPDPlugin;
+using namespace OpenMM;
+
+bool DPDPlugin::mixedIsDouble(ComputeContext& cc) {
+    return cc.getUseDoublePrecision() || cc.getUseMixedPrecision();
+}
+
+ComputeProgram DPDPlugin::compileDPDProgram(ComputeContext& cc, const std::vector<std::string>& sources) {
+    std::string source = CommonDPDKernelSources::utilities;
+    for (const std::string& s : sources)
+        source += s;
+    std::map<std::string, std::string> defines;
+    if (cc.getUseMixedPrecision())
+        defines["OPENMMDPD_MIXED"] = "1";
+    // 2 pi as a literal of the `mixed` type (a double literal would need fp64 in single precision).
+    defines["TWO_PI"] = mixedIsDouble(cc) ? "6.283185307179586" : "6.2831853f";
+    return cc.compileProgram(source, defines);
+}
+
+void DPDPlugin::addArrayArgs(ComputeKernel& kernel, std::initializer_list<ArrayInterface*> arrays) {
+    for (ArrayInterface* a : arrays)
+        kernel->addArg(*a);
+}
+
+void DPDPlugin::addMixedArg(ComputeContext& cc, ComputeKernel& kernel, double value) {
+    if (mixedIsDouble(cc))
+        kernel->addArg(value);
+    else
+        kernel->addArg((float) value);
+}
+
+void DPDPlugin::setMixedArg(ComputeContext& cc, ComputeKernel& kernel, int index, double value) {
+    if (mixedIsDouble(cc))
+        kernel->setArg(index, value);
+    else
+        kernel->setArg(index, (float) value);
+}
+
+void DPDPlugin::setMixed4Arg(ComputeContext& cc, ComputeKernel& kernel, int index, const double v[4]) {
+    if (mixedIsDouble(cc))
+        kernel->setArg(index, mm_double4(v[0], v[1], v[2], v[3]));
+    else
+        kernel->setArg(index, mm_float4((float) v[0], (float) v[1], (float) v[2], (float) v[3]));
+}
+
+void DPDPlugin::uploadMixed4(ComputeContext& cc, ComputeArray& array, const std::vector<double>& rows, const std::string& name) {
+    const size_t n = std::max((size_t) 1, rows.size() / 4);
+    if (mixedIsDouble(cc)) {
+        std::vector<mm_double4> data(n, mm_double4(0, 0, 0, 0));
+        for (size_t k = 0; 4 * k < rows.size(); k++)
+            data[k] = mm_double4(rows[4 * k], rows[4 * k + 1], rows[4 * k + 2], rows[4 * k + 3]);
+        if (!array.isInitialized())
+            array.initialize<mm_double4>(cc, n, name);
+        else if (array.getSize() != (int) n)
+            array.resize(n);
+        array.upload(data);
+    }
+    else {
+        std::vector<mm_float4> data(n, mm_float4(0, 0, 0, 0));
+        for (size_t k = 0; 4 * k < rows.size(); k++)
+            data[k] = mm_float4((float) rows[4 * k], (float) rows[4 * k + 1], (float) rows[4 * k + 2], (float) rows[4 * k + 3]);
+        if (!array.isInitialized())
+            array.initialize<mm_float4>(cc, n, name);
+        else if (array.getSize() != (int) n)
+            array.resize(n);
+        array.upload(data);
+    }
+}
+
+CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner) : cc(cc), owner(owner) {
+    const int n = std::max(cc.getNumAtoms(), 1);
+    atomCell.initialize<int>(cc, n, "dpdAtomCell");
+    cellAtoms.initialize<int>(cc, n, "dpdCellAtoms");
+    clearKernel = program->createKernel("clearCells");
+    assignKernel = program->createKernel("assignCells");
+    scanKernel = program->createKernel("scanCells");
+    fillKernel = program->createKernel("fillCells");
+    // Every argument is set at each build (the arrays are resized with the box).
+    for (const std::pair<ComputeKernel*, int>& k : {std::make_pair(&clearKernel, 2), std::make_pair(&assignKernel, 6),
+                                                    std::make_pair(&scanKernel, 3), std::make_pair(&fillKernel, 5)})
+        for (int a = 0; a < k.second; a++)
+            (*k.first)->addArg();
+}
+
+void CommonCellList::build(double cutoff) {
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    if (box[1][0] != 0 || box[2][0] != 0 || box[2][1] != 0)
+        throw OpenMMException(owner + ": a triclinic periodic box is not supported; use the Reference or CPU platform");
+    requireCutoffFitsBox(owner, "the cutoff", cutoff, box);
+    int total = 1;
+    for (int d = 0; d < 3; d++) {
+        boxSize[d] = box[d][d];
+        invBoxSize[d] = 1 / box[d][d];
+        // A little wider than the cutoff: a position rounded into the next cell still finds its partners.
+        numCells[d] = std::max(1, (int) std::floor(box[d][d] / (cutoff * (1 + 1e-5))));
+        total *= numCells[d];
+    }
+    if (total != totalCells) {
+        totalCells = total;
+        if (!cellCount.isInitialized()) {
+            cellCount.initialize<int>(cc, total, "dpdCellCount");
+            cellStart.initialize<int>(cc, total + 1, "dpdCellStart");
+        }
+        else {
+            cellCount.resize(total);
+            cellStart.resize(total + 1);
+        }
+    }
+    const int n = cc.getNumAtoms();
+    const double inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
+    clearKernel->setArg(0, total);
+    clearKernel->setArg(1, cellCount);
+    clearKernel->execute(total);
+    assignKernel->setArg(0, n);
+    assignKernel->setArg(1, cc.getPosq());
+    setMixed4Arg(cc, assignKernel, 2, inverse);
+    assignKernel->setArg(3, mm_int4(numCells[0], numCells[1], numCells[2], 0));
+    assignKernel->setArg(4, atomCell);
+    assignKernel->setArg(5, cellCount);
+    assignKernel->execute(n);
+    scanKernel->setArg(0, total);
+    scanKernel->setArg(1, cellCount);
+    scanKernel->setArg(2, cellStart);
+    scanKernel->execute(1, 1);
+    fillKernel->setArg(0, n);
+    fillKernel->setArg(1, atomCell);
+    fillKernel->setArg(2, cellStart);
+    fillKernel->setArg(3, cellCount);
+    fillKernel->setArg(4, cellAtoms);
+    fillKernel->execute(n);
+}
+
+void CommonCellList::setArgs(ComputeKernel& kernel, int first) {
+    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], 0}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
+    setMixed4Arg(cc, kernel, first, size);
+    setMixed4Arg(cc, kernel, first + 1, inverse);
+    kernel->setArg(first + 2, mm_int4(numCells[0], numCells[1], numCells[2], 0));
+    kernel->setArg(first + 3, atomCell);
+    kernel->setArg(first + 4, cellStart);
+    kernel->setArg(first + 5, cellAtoms);
+}

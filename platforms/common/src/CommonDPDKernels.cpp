@@ -1,0 +1,122 @@
+#include "openmmdpd/CommonDPDKernels.h"
+#include "CommonDPDKernelSources.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/common/ContextSelector.h"
+#include <algorithm>
+
+using namespace DPDPlugin;
+using namespace OpenMM;
+
+void CommonIntegrateDPDVVStepKernel::refuseUnsupported(const System& system, const DPDVVIntegrator& integrator) {
+    if (integrator.getVariant() == DPDVVIntegrator::SelfConsistent)
+        throw OpenMMException("DPDVVIntegrator: the SelfConsistent variant is not supported on the " + getPlatform().getName() +
+                              " platform; use the Reference or CPU platform");
+    CommonDynamics::refuseUnsupported(system, integrator, getPlatform().getName());
+}
+
+void CommonIntegrateDPDVVStepKernel::initialize(const System& system, const DPDVVIntegrator& integrator) {
+    refuseUnsupported(system, integrator);
+    // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do the
+    // same): until then the Context has no particle arrays.
+    cc.initializeContexts();
+    ContextSelector selector(cc);
+    DynamicsStepKernel::initialize(system, integrator);
+}
+
+void CommonIntegrateDPDVVStepKernel::execute(ContextImpl& context, const DPDVVIntegrator& integrator) {
+    refuseUnsupported(context.getSystem(), integrator);
+    DynamicsStepKernel::execute(context, integrator);
+}
+
+CommonDPDVVDynamics* CommonIntegrateDPDVVStepKernel::createDynamics(const System& system, const DPDVVIntegrator& integrator) {
+    return new CommonDPDVVDynamics(cc, system, integrator, getPlatform().getName());
+}
+
+void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRepulsionForce& force) {
+    const std::string owner = "DPDSoftRepulsionForce on the " + getPlatform().getName() + " platform";
+    if (!force.usesPeriodicBoundaryConditions())
+        throw OpenMMException("DPDSoftRepulsionForce: CutoffNonPeriodic is not supported on the " + getPlatform().getName() +
+                              " platform; use CutoffPeriodic, or the Reference or CPU platform");
+    ContextSelector selector(cc);
+    atomType.initialize<int>(cc, std::max(cc.getNumAtoms(), 1), "dpdSoftType");
+    uploadExclusions(force);
+    setParameters(force);
+    ComputeProgram program = compileDPDProgram(cc, {CommonDPDKernelSources::cellList, CommonDPDKernelSources::softRepulsion});
+    cells.reset(new CommonCellList(cc, program, owner));
+    ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
+    kernel = program->createKernel("softRepulsion");
+    kernel->addArg(cc.getNumAtoms());
+    kernel->addArg(cc.getPaddedNumAtoms());
+    kernel->addArg();  // the number of threads: set per call
+    addArrayArgs(kernel, {&cc.getPosq(), &posqCorrection, &cc.getAtomIndexArray(), &atomType});
+    kernel->addArg();  // the number of types and their parameters: set per call
+    kernel->addArg();
+    addArrayArgs(kernel, {&exclusionStart, &exclusions, &cc.getLongForceBuffer(), &cc.getEnergyBuffer()});
+    for (int k = 0; k < 6; k++)
+        kernel->addArg();  // the cell list's
+}
+
+void CommonSoftRepulsionKernel::uploadExclusions(const DPDSoftRepulsionForce& force) {
+    const int n = cc.getNumAtoms();
+    std::vector<std::vector<int>> partners(n);
+    for (int k = 0; k < force.getNumExclusions(); k++) {
+        int i, j;
+        force.getExclusionParticles(k, i, j);
+        partners[i].push_back(j);
+        partners[j].push_back(i);
+    }
+    std::vector<int> start(1, 0), list;
+    for (const std::vector<int>& p : partners) {
+        list.insert(list.end(), p.begin(), p.end());
+        start.push_back((int) list.size());
+    }
+    list.push_back(-1);  // no array is empty
+    exclusionStart.initialize<int>(cc, start.size(), "dpdSoftExclusionStart");
+    exclusionStart.upload(start);
+    exclusions.initialize<int>(cc, list.size(), "dpdSoftExclusions");
+    exclusions.upload(list);
+}
+
+void CommonSoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force) {
+    std::vector<TypePairTable::Entry> entries(force.getNumTypePairs());
+    for (int k = 0; k < force.getNumTypePairs(); k++) {
+        TypePairTable::Entry& e = entries[k];
+        force.getTypePairParameters(k, e.type1, e.type2, e.value, e.cutoff);
+    }
+    const int n = cc.getNumAtoms();
+    const TypePairTable table(n, force.getParticleTypes(), force.getDefaultA(), force.getDefaultCutoff(), entries);
+    std::vector<int> types(std::max(n, 1), 0);
+    for (int a = 0; a < n; a++)
+        types[a] = table.typeOf(a);
+    atomType.upload(types);
+    std::vector<double> rows;
+    for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++)
+        rows.insert(rows.end(), {table.value(t), table.cutoff(t), table.inverseCutoff(t), table.cutoff2(t)});
+    uploadMixed4(cc, typeParams, rows, "dpdSoftTypeParams");
+    maxCutoff = table.getMaxCutoff();
+    numTypes = table.getNumTypes();
+}
+
+double CommonSoftRepulsionKernel::execute(ContextImpl& context, bool includeForces, bool includeEnergy) {
+    ContextSelector selector(cc);
+    cells->build(maxCutoff);
+    // One energy slot per thread: as many threads as OpenMM's energy buffer has slots (it is
+    // made after the kernels are initialized).
+    const int energyThreads = std::min((int) cc.getEnergyBuffer().getSize(), std::max(cc.getNumAtoms(), 1));
+    kernel->setArg(2, energyThreads);
+    kernel->setArg(7, numTypes);
+    kernel->setArg(8, typeParams);
+    cells->setArgs(kernel, 13);
+    kernel->execute(energyThreads);
+    return 0.0;  // the energy is in OpenMM's energy buffer
+}
+
+void CommonSoftRepulsionKernel::copyParametersToContext(ContextImpl& context, const DPDSoftRepulsionForce& force) {
+    ContextSelector selector(cc);
+    setParameters(force);
+}
+
+std::array<double, 6> CommonSoftRepulsionKernel::computeVirial(ContextImpl& context) {
+    throw OpenMMException("DPDSoftRepulsionForce: the virial (the pressure tensor) is not supported on the " +
+                          getPlatform().getName() + " platform; use the Reference or CPU platform");
+}

@@ -1,0 +1,99 @@
+#include "openmmdpd/CommonDPDVVDynamics.h"
+#include "CommonDPDKernelSources.h"
+#include "openmm/common/ContextSelector.h"
+
+using namespace DPDPlugin;
+using namespace OpenMM;
+
+CommonDPDVVDynamics::CommonDPDVVDynamics(ComputeContext& cc, const System& system, const DPDVVIntegrator& integrator,
+                                         const std::string& platform) :
+        CommonDynamics(cc, system, integrator, platform, {CommonDPDKernelSources::dpdvv}) {
+    ContextSelector selector(cc);
+    ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
+    const int n = numAtoms();
+    // The scalars (dt, lambda, bounds) are left empty here and set every step.
+    grootWarren1 = program->createKernel("grootWarrenPart1");
+    grootWarren1->addArg(n);
+    addArrayArgs(grootWarren1, {&cc.getPosq(), &posqCorrection, &cc.getVelm(), &cc.getAtomIndexArray(), &carriedForce, &velocity});
+    grootWarren1->addArg();
+    grootWarren1->addArg();
+    grootWarren1->addArg();
+    grootWarren1->addArg(status);
+    grootWarren1->addArg(moveValue);
+    grootWarren2 = program->createKernel("grootWarrenPart2");
+    grootWarren2->addArg(n);
+    grootWarren2->addArg(cc.getPaddedNumAtoms());
+    addArrayArgs(grootWarren2, {&cc.getVelm(), &cc.getAtomIndexArray(), &cc.getLongForceBuffer(), &fd, &fr, &carriedForce});
+    grootWarren2->addArg();
+    grootWarren2->addArg();
+    grootWarren2->addArg(status);
+    dpdvv1 = program->createKernel("dpdvvPart1");
+    dpdvv1->addArg(n);
+    addArrayArgs(dpdvv1, {&cc.getPosq(), &posqCorrection, &cc.getVelm(), &cc.getAtomIndexArray(), &carriedForce, &velocity});
+    dpdvv1->addArg();
+    dpdvv1->addArg();
+    dpdvv1->addArg(status);
+    dpdvv1->addArg(moveValue);
+    dpdvv2 = program->createKernel("dpdvvPart2");
+    dpdvv2->addArg(n);
+    addArrayArgs(dpdvv2, {&cc.getVelm(), &cc.getAtomIndexArray(), &carriedForce, &fd, &velocity});
+    dpdvv2->addArg();
+    dpdvv3 = program->createKernel("dpdvvPart3");
+    dpdvv3->addArg(n);
+    addArrayArgs(dpdvv3, {&cc.getVelm(), &cc.getAtomIndexArray(), &fd, &carriedForce});
+    dpdvv3->addArg();
+    dpdvv3->addArg(status);
+}
+
+void CommonDPDVVDynamics::step(ContextImpl& context, const DPDVVIntegrator& integrator) {
+    ContextSelector selector(cc);
+    const double dt = integrator.getStepSize();
+    if (!carriedIsValid(context)) {
+        gatherVelocities();
+        conservativeForce(context, integrator.getIntegrationForceGroups());
+        pairForces(cc.getStepCount(), dt, 3);
+        sumIntoCarried(true);
+        carried.setValid();
+    }
+    const long long next = cc.getStepCount() + 1;
+    if (integrator.getVariant() == DPDVVIntegrator::GrootWarren)
+        grootWarrenStep(context, integrator, next);
+    else
+        dpdvvStep(context, integrator, next);
+    checkStatus(context, next);
+    finishStep(dt);
+}
+
+void CommonDPDVVDynamics::grootWarrenStep(ContextImpl& context, const DPDVVIntegrator& integrator, long long next) {
+    const double dt = integrator.getStepSize();
+    // r += dt v + dt^2/(2m) F;  v~ = v + lambda dt F/m
+    setMixedArg(cc, grootWarren1, 7, dt);
+    setMixedArg(cc, grootWarren1, 8, integrator.getLambda());
+    setMixedArg(cc, grootWarren1, 9, maxMove2());
+    grootWarren1->execute(numAtoms());
+    checkStatus(context, next);  // a non-finite position must not reach the cell list
+    // F' = FC(r) + FD(r, v~) + FR(r);  v += dt/(2m) (F + F')
+    conservativeForce(context, integrator.getIntegrationForceGroups());
+    pairForces(next, dt, 3);
+    setMixedArg(cc, grootWarren2, 8, dt);
+    setMixedArg(cc, grootWarren2, 9, velocityBound());
+    grootWarren2->execute(numAtoms());
+}
+
+void CommonDPDVVDynamics::dpdvvStep(ContextImpl& context, const DPDVVIntegrator& integrator, long long next) {
+    const double dt = integrator.getStepSize();
+    // (1) v += dt/(2m) F;  (2) r += dt v
+    setMixedArg(cc, dpdvv1, 7, dt);
+    setMixedArg(cc, dpdvv1, 8, maxMove2());
+    dpdvv1->execute(numAtoms());
+    checkStatus(context, next);
+    // (3) FC(r), FD(r, v), FR(r);  (4) v <- v + dt/(2m) (FC + FR) + dt/(2m) FD;  (5) FD(r, v)
+    conservativeForce(context, integrator.getIntegrationForceGroups());
+    pairForces(next, dt, 3);
+    sumIntoCarried(false);
+    setMixedArg(cc, dpdvv2, 6, dt);
+    dpdvv2->execute(numAtoms());
+    pairForces(next, dt, 1, false);
+    setMixedArg(cc, dpdvv3, 5, velocityBound());
+    dpdvv3->execute(numAtoms());
+}

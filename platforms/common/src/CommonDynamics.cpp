@@ -1,0 +1,224 @@
+#include "openmmdpd/CommonDynamics.h"
+#include "CommonDPDKernelSources.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/common/ContextSelector.h"
+#include "openmm/common/IntegrationUtilities.h"
+#include <cmath>
+
+using namespace DPDPlugin;
+using namespace OpenMM;
+
+namespace {
+
+[[noreturn]] void refuse(const DPDThermostatIntegrator& integrator, const std::string& platform, const std::string& what) {
+    throw OpenMMException(std::string(integrator.className()) + ": " + what + " is not supported on the " + platform +
+                          " platform; use the Reference or CPU platform");
+}
+
+} // namespace
+
+void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform) {
+    if (!system.usesPeriodicBoundaryConditions())
+        refuse(integrator, platform, "a non-periodic System");
+    Vec3 a, b, c;
+    system.getDefaultPeriodicBoxVectors(a, b, c);
+    if (b[0] != 0 || c[0] != 0 || c[1] != 0)
+        refuse(integrator, platform, "a triclinic periodic box");
+    if (system.getNumConstraints() > 0)
+        refuse(integrator, platform, "a System with constraints");
+    for (int i = 0; i < system.getNumParticles(); i++)
+        if (system.isVirtualSite(i))
+            refuse(integrator, platform, "a System with virtual sites");
+    if (integrator.getShearRate() != 0)
+        refuse(integrator, platform, "Lees-Edwards shear (setShearRate)");
+    if (integrator.getPressureTensorEnabled())
+        refuse(integrator, platform, "the pressure tensor (setPressureTensorEnabled)");
+}
+
+CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
+                               const std::string& platform, const std::vector<std::string>& ruleSources) :
+        cc(cc), name(std::string(integrator.className()) + " on the " + platform + " platform"), parameters(system, integrator),
+        random(PairRandom::seedFor(integrator.getRandomNumberSeed())), carried(system.getNumParticles()) {
+    refuseUnsupported(system, integrator, platform);
+    ContextSelector selector(cc);
+    const int n = std::max(numAtoms(), 1);
+    atomType.initialize<int>(cc, n, "dpdAtomType");
+    velocity.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdVelocity");
+    fd.initialize<long long>(cc, 3 * n, "dpdDissipativeForce");
+    fr.initialize<long long>(cc, 3 * n, "dpdRandomForce");
+    carriedForce.initialize<long long>(cc, 3 * n, "dpdCarriedForce");
+    status.initialize<int>(cc, 4, "dpdStatus");
+    status.upload(std::vector<int>(4, 0));
+    moveValue.initialize<float>(cc, 1, "dpdMoveValue");
+    std::vector<std::string> sources = {CommonDPDKernelSources::philox, CommonDPDKernelSources::cellList,
+                                        CommonDPDKernelSources::dpdPairs};
+    sources.insert(sources.end(), ruleSources.begin(), ruleSources.end());
+    program = compileDPDProgram(cc, sources);
+    cells.reset(new CommonCellList(cc, program, name));
+    uploadParameters();
+    createKernels();
+}
+
+void CommonDynamics::updateParameters(const System& system, const DPDThermostatIntegrator& integrator) {
+    parameters = DPDPairParameters(system, integrator);
+    ContextSelector selector(cc);
+    uploadParameters();
+    pairKernel->setArg(6, parameters.getTable().getNumTypes());
+    pairKernel->setArg(7, typeParams);
+}
+
+void CommonDynamics::uploadParameters() {
+    const TypePairTable& table = parameters.getTable();
+    std::vector<int> types(std::max(numAtoms(), 1), 0);
+    for (int a = 0; a < numAtoms(); a++)
+        types[a] = table.typeOf(a);
+    atomType.upload(types);
+    std::vector<double> rows;
+    for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++)
+        rows.insert(rows.end(), {table.value(t), table.cutoff(t), table.inverseCutoff(t), table.cutoff2(t)});
+    uploadMixed4(cc, typeParams, rows, "dpdTypeParams");
+}
+
+void CommonDynamics::createKernels() {
+    ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
+    pairKernel = program->createKernel("dpdPairForces");
+    pairKernel->addArg(numAtoms());
+    pairKernel->addArg(cc.getPosq());
+    pairKernel->addArg(posqCorrection);
+    pairKernel->addArg(cc.getAtomIndexArray());
+    pairKernel->addArg(velocity);
+    pairKernel->addArg(atomType);
+    pairKernel->addArg(parameters.getTable().getNumTypes());
+    pairKernel->addArg(typeParams);
+    for (int k = 8; k < 14; k++)
+        pairKernel->addArg();  // kT, 1/sqrt(dt), seed, step, terms: set per pass
+    pairKernel->addArg(fd);
+    pairKernel->addArg(fr);
+    for (int k = 0; k < 6; k++)
+        pairKernel->addArg();  // the cell list's
+    gatherKernel = program->createKernel("gatherVelocities");
+    gatherKernel->addArg(numAtoms());
+    gatherKernel->addArg(cc.getVelm());
+    gatherKernel->addArg(cc.getAtomIndexArray());
+    gatherKernel->addArg(velocity);
+    sumKernel = program->createKernel("sumForces");
+    sumKernel->addArg(numAtoms());
+    sumKernel->addArg(cc.getPaddedNumAtoms());
+    sumKernel->addArg(cc.getAtomIndexArray());
+    sumKernel->addArg(cc.getLongForceBuffer());
+    sumKernel->addArg(fd);
+    sumKernel->addArg(fr);
+    sumKernel->addArg();
+    sumKernel->addArg(carriedForce);
+}
+
+bool CommonDynamics::carriedIsValid(ContextImpl& context) {
+    std::vector<Vec3> r, v;
+    if (awaitingRestoreCheck) {
+        context.getPositions(r);
+        context.getVelocities(v);
+        awaitingRestoreCheck = false;
+    }
+    return carried.isValid(r, v);
+}
+
+void CommonDynamics::gatherVelocities() {
+    gatherKernel->execute(numAtoms());
+}
+
+void CommonDynamics::conservativeForce(ContextImpl& context, int groups) {
+    context.calcForcesAndEnergy(true, false, groups);
+}
+
+void CommonDynamics::pairForces(long long step, double dt, int terms, bool rebuildCells) {
+    if (rebuildCells)
+        cells->build(parameters.getMaxCutoff());
+    setMixedArg(cc, pairKernel, 8, parameters.getKT());
+    setMixedArg(cc, pairKernel, 9, 1 / std::sqrt(dt));
+    pairKernel->setArg(10, (unsigned int) random.getSeed());
+    pairKernel->setArg(11, (unsigned int) (uint64_t) step);
+    pairKernel->setArg(12, (unsigned int) ((uint64_t) step >> 32));
+    pairKernel->setArg(13, terms);
+    cells->setArgs(pairKernel, 16);
+    pairKernel->execute(numAtoms());
+}
+
+void CommonDynamics::sumIntoCarried(bool withDissipative) {
+    sumKernel->setArg(6, withDissipative ? 1 : 0);
+    sumKernel->execute(numAtoms());
+}
+
+void CommonDynamics::checkStatus(ContextImpl& context, long long step) {
+    std::vector<int> flags;
+    status.download(flags);
+    if (flags[0] == 0 && flags[1] == 0 && flags[2] == 0)
+        return;
+    status.upload(std::vector<int>(4, 0));
+    std::vector<Vec3> r, v;
+    context.getPositions(r);
+    context.getVelocities(v);
+    checkFinite(r, "position", step, name);
+    if (flags[1] != 0) {
+        std::vector<float> move2;
+        moveValue.download(move2);
+        checkMove(move2[0], parameters.getMaxCutoff(), step, name);
+    }
+    checkVelocities(v, parameters, step, name);
+}
+
+void CommonDynamics::finishStep(double dt) {
+    cc.setTime(cc.getTime() + dt);
+    cc.setStepCount(cc.getStepCount() + 1);
+    cc.reorderAtoms();
+}
+
+double CommonDynamics::velocityBound() const {
+    const double threshold = parameters.getInstabilityThreshold(), kT = parameters.getKT();
+    return threshold > 0 && kT > 0 ? 2 * threshold * kT : 1e30;
+}
+
+double CommonDynamics::maxMove2() const {
+    const double limit = MAX_MOVE_PER_STEP * parameters.getMaxCutoff();
+    return limit * limit;
+}
+
+double CommonDynamics::computeKineticEnergy(ContextImpl& context) {
+    ContextSelector selector(cc);
+    return cc.getIntegrationUtilities().computeKineticEnergy(0);
+}
+
+void CommonDynamics::createCheckpoint(std::ostream& stream) const {
+    ContextSelector selector(cc);
+    std::vector<long long> fixed;
+    const_cast<ComputeArray&>(carriedForce).download(fixed);
+    CarriedForce copy = carried;
+    const int n = numAtoms();
+    for (int a = 0; a < n; a++)
+        for (int d = 0; d < 3; d++)
+            copy.force[a][d] = std::ldexp((double) fixed[a + d * n], -32);  // exact: |force| < 2^21
+    copy.write(stream, random.getSeed());
+}
+
+void CommonDynamics::loadCheckpoint(ContextImpl& context, CheckpointReader& reader) {
+    CarriedForce loaded(numAtoms());
+    std::vector<Vec3> r, v;
+    context.getPositions(r);
+    context.getVelocities(v);
+    const uint32_t seed = loaded.read(reader, r, v);
+    reader.expectEnd();
+    const int n = numAtoms();
+    std::vector<long long> fixed(3 * std::max(n, 1), 0);
+    for (int a = 0; a < n; a++)
+        for (int d = 0; d < 3; d++)
+            fixed[a + d * n] = (long long) std::ldexp(loaded.force[a][d], 32);
+    ContextSelector selector(cc);
+    carriedForce.upload(fixed);
+    carried = std::move(loaded);
+    random = PairRandom(seed);
+    awaitingRestoreCheck = true;
+}
+
+void CommonDynamics::resetState() {
+    carried = CarriedForce(numAtoms());
+    awaitingRestoreCheck = false;
+}

@@ -1,0 +1,220 @@
+#include "openmmdpd/CommonSweepDynamics.h"
+#include "CommonDPDKernelSources.h"
+#include "openmmdpd/BoxGeometry.h"
+#include "openmmdpd/internal/ParameterChecks.h"
+#include "openmm/common/ComputeVectorTypes.h"
+#include "openmm/common/ContextSelector.h"
+#include <cmath>
+
+using namespace DPDPlugin;
+using namespace OpenMM;
+
+namespace {
+
+/** Set array arguments of a kernel, from index `first` on. */
+void setArrayArgs(ComputeKernel& kernel, int first, std::initializer_list<ArrayInterface*> arrays) {
+    for (ArrayInterface* a : arrays)
+        kernel->setArg(first++, *a);
+}
+
+} // namespace
+
+CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
+                                         const std::string& platform) :
+        CommonDynamics(cc, system, integrator, platform, {CommonDPDKernelSources::dpdvv, CommonDPDKernelSources::sweep}) {
+    ContextSelector selector(cc);
+    const int n = std::max(numAtoms(), 1);
+    position.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdSweepPosition");
+    atomCell.initialize<int>(cc, n, "dpdSweepAtomCell");
+    cellAtoms.initialize<int>(cc, n, "dpdSweepCellAtoms");
+    // The arguments that change with the grid, the box or the step are set where they are used.
+    const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
+            {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&scanKernel, {"scanCells", 3}},
+            {&fillKernel, {"fillCells", 5}}, {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 19}},
+            {&scatterKernel, {"scatterVelocities", 6}}, {&kickDriftKernel, {"kickDrift", 11}},
+            {&conservativeKernel, {"takeConservativeForce", 9}}};
+    for (const auto& k : kernels) {
+        *k.first = program->createKernel(k.second.first);
+        for (int a = 0; a < k.second.second; a++)
+            (*k.first)->addArg();
+    }
+    ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
+    kickDriftKernel->setArg(0, numAtoms());
+    kickDriftKernel->setArg(1, cc.getPosq());
+    kickDriftKernel->setArg(2, posqCorrection);
+    kickDriftKernel->setArg(3, cc.getVelm());
+    kickDriftKernel->setArg(4, cc.getAtomIndexArray());
+    kickDriftKernel->setArg(5, carriedForce);
+    kickDriftKernel->setArg(9, status);
+    kickDriftKernel->setArg(10, moveValue);
+    conservativeKernel->setArg(0, numAtoms());
+    conservativeKernel->setArg(1, cc.getPaddedNumAtoms());
+    conservativeKernel->setArg(2, cc.getVelm());
+    conservativeKernel->setArg(3, cc.getAtomIndexArray());
+    conservativeKernel->setArg(4, cc.getLongForceBuffer());
+    conservativeKernel->setArg(5, carriedForce);
+    conservativeKernel->setArg(8, status);
+    scatterKernel->setArg(0, numAtoms());
+    scatterKernel->setArg(1, velocity);
+    scatterKernel->setArg(2, cc.getAtomIndexArray());
+    scatterKernel->setArg(3, cc.getVelm());
+    scatterKernel->setArg(5, status);
+}
+
+void CommonSweepDynamics::ensureCarriedForce(ContextImpl& context, int forceGroups) {
+    if (!carriedIsValid(context)) {
+        takeConservativeForce(context, forceGroups, 0);
+        carried.setValid();
+    }
+}
+
+void CommonSweepDynamics::kickDrift(ContextImpl& context, double kick, double drift, long long next) {
+    setMixedArg(cc, kickDriftKernel, 6, kick);
+    setMixedArg(cc, kickDriftKernel, 7, drift);
+    setMixedArg(cc, kickDriftKernel, 8, maxMove2());
+    kickDriftKernel->execute(numAtoms());
+    checkStatus(context, next);  // a non-finite position must not reach a cell list
+}
+
+void CommonSweepDynamics::takeConservativeForce(ContextImpl& context, int forceGroups, double kick) {
+    conservativeForce(context, forceGroups);
+    setMixedArg(cc, conservativeKernel, 6, kick);
+    setMixedArg(cc, conservativeKernel, 7, velocityBound());
+    conservativeKernel->execute(numAtoms());
+}
+
+void CommonSweepDynamics::velocityVerlet(ContextImpl& context, int forceGroups, double dt, long long next) {
+    kickDrift(context, 0.5 * dt, dt, next);
+    takeConservativeForce(context, forceGroups, 0.5 * dt);
+}
+
+void CommonSweepDynamics::buildGrid() {
+    Vec3 box[3], rows[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), box);
+    inverseBoxRows(box, rows);
+    int total = 1;
+    for (int k = 0; k < 3; k++) {
+        // As ReferencePairList::bin, to the bit: the same cells give the same pair order.
+        const double reach = parameters.getMaxCutoff() * std::sqrt(rows[k].dot(rows[k]));
+        numCells[k] = std::max(1, (int) std::floor(1.0 / reach));
+        if (numCells[k] >= 3)
+            numCells[k] -= numCells[k] % 3;
+        boxSize[k] = box[k][k];
+        invBoxSize[k] = rows[k][k];
+        total *= numCells[k];
+    }
+    if (total != totalCells) {
+        if (!cellCount.isInitialized()) {
+            cellCount.initialize<int>(cc, total, "dpdSweepCellCount");
+            cellStart.initialize<int>(cc, total + 1, "dpdSweepCellStart");
+        }
+        else {
+            cellCount.resize(total);
+            cellStart.resize(total + 1);
+        }
+        totalCells = total;
+    }
+    const double inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
+    const mm_int4 cells(numCells[0], numCells[1], numCells[2], 0);
+    ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
+    clearKernel->setArg(0, total);
+    clearKernel->setArg(1, cellCount);
+    clearKernel->execute(total);
+    assignKernel->setArg(0, numAtoms());
+    setArrayArgs(assignKernel, 1, {&cc.getPosq(), &posqCorrection, &cc.getAtomIndexArray()});
+    setMixed4Arg(cc, assignKernel, 4, inverse);
+    assignKernel->setArg(5, cells);
+    setArrayArgs(assignKernel, 6, {&position, &atomCell, &cellCount});
+    assignKernel->execute(numAtoms());
+    scanKernel->setArg(0, total);
+    setArrayArgs(scanKernel, 1, {&cellCount, &cellStart});
+    scanKernel->execute(1, 1);
+    fillKernel->setArg(0, numAtoms());
+    setArrayArgs(fillKernel, 1, {&atomCell, &cellStart, &cellCount, &cellAtoms});
+    fillKernel->execute(numAtoms());
+    sortKernel->setArg(0, total);
+    setArrayArgs(sortKernel, 1, {&cellStart, &cellAtoms});
+    sortKernel->execute(total);
+}
+
+void CommonSweepDynamics::sweep(Rule rule, double h, PairRandom::Stream stream, long long step, bool reverse) {
+    gatherVelocities();
+    buildGrid();
+    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], 0}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
+    colourKernel->setArg(1, reverse ? 1 : 0);
+    colourKernel->setArg(2, (int) rule);
+    setMixedArg(cc, colourKernel, 3, h);
+    setMixedArg(cc, colourKernel, 4, parameters.getKT());
+    colourKernel->setArg(5, (unsigned int) random.getSeed());
+    colourKernel->setArg(6, (unsigned int) stream);
+    colourKernel->setArg(7, (unsigned int) (uint64_t) step);
+    colourKernel->setArg(8, (unsigned int) ((uint64_t) step >> 32));
+    setArrayArgs(colourKernel, 9, {&position, &velocity, &atomType});
+    colourKernel->setArg(12, parameters.getTable().getNumTypes());
+    colourKernel->setArg(13, typeParams);
+    setMixed4Arg(cc, colourKernel, 14, size);
+    setMixed4Arg(cc, colourKernel, 15, inverse);
+    colourKernel->setArg(16, mm_int4(numCells[0], numCells[1], numCells[2], 0));
+    setArrayArgs(colourKernel, 17, {&cellStart, &cellAtoms});
+    const bool coloured = (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
+    const int cellsPerColour = totalCells / 27;
+    for (int k = 0; k < (coloured ? 27 : 1); k++) {
+        colourKernel->setArg(0, coloured ? (reverse ? 26 - k : k) : -1);
+        colourKernel->execute(coloured ? cellsPerColour : 1);
+    }
+    setMixedArg(cc, scatterKernel, 4, velocityBound());
+    scatterKernel->execute(numAtoms());
+}
+
+void CommonShardlowDynamics::step(ContextImpl& context, const ShardlowIntegrator& integrator) {
+    ContextSelector selector(cc);
+    const double dt = integrator.getStepSize();
+    const int forceGroups = integrator.getIntegrationForceGroups();
+    // Every random number of the step is keyed by the step it starts from.
+    const long long current = cc.getStepCount(), next = current + 1;
+    ensureCarriedForce(context, forceGroups);
+    const bool secondOrder = (integrator.getOrder() == 2);
+    const double h = secondOrder ? 0.5 * dt : dt;
+    // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
+    // the pairs at the new positions and with numbers of their own.
+    sweep(ShardlowRule, h, PairRandom::RandomForce, current, false);
+    velocityVerlet(context, forceGroups, dt, next);
+    if (secondOrder)
+        sweep(ShardlowRule, h, PairRandom::SecondSweep, current, true);
+    checkStatus(context, next);
+    finishStep(dt);
+}
+
+void CommonLoweAndersenDynamics::step(ContextImpl& context, const LoweAndersenIntegrator& integrator) {
+    ContextSelector selector(cc);
+    const double dt = integrator.getStepSize();
+    const int forceGroups = integrator.getIntegrationForceGroups();
+    const long long current = cc.getStepCount(), next = current + 1;
+    ensureCarriedForce(context, forceGroups);
+    if (integrator.getSplitting() == LoweAndersenIntegrator::Middle)
+        middleStep(context, integrator);
+    else {
+        // B A A B O: VV ; the pair thermostat over dt, over the pairs at the new positions.
+        velocityVerlet(context, forceGroups, dt, next);
+        applyThermostat(integrator, current);
+    }
+    checkStatus(context, next);
+    finishStep(dt);
+}
+
+void CommonLoweAndersenDynamics::middleStep(ContextImpl& context, const LoweAndersenIntegrator& integrator) {
+    const double dt = integrator.getStepSize();
+    const long long current = cc.getStepCount(), next = current + 1;
+    // B B (the last step's closing half kick and this step's opening one) A ; O over dt at
+    // the mid-step positions ; A ; F <- FC(r)
+    kickDrift(context, dt, 0.5 * dt, next);
+    applyThermostat(integrator, current);
+    kickDrift(context, 0, 0.5 * dt, next);
+    takeConservativeForce(context, integrator.getIntegrationForceGroups(), 0);
+}
+
+void CommonLoweAndersenDynamics::applyThermostat(const LoweAndersenIntegrator& integrator, long long step) {
+    const Rule rule = (integrator.getMethod() == LoweAndersenIntegrator::Lowe ? LoweRule : PairOrnsteinUhlenbeckRule);
+    sweep(rule, integrator.getStepSize(), PairRandom::PairThermalisation, step, false);
+}

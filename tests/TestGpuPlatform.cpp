@@ -1,0 +1,413 @@
+// The OpenCL platform's kernels (platforms/common) against the Reference platform and the host's
+// PairRandom.  OpenCL runs on the CPU here (POCL), in single precision unless a test asks for
+// mixed; each Context compiles OpenMM's programs and ours (seconds), so the tests share few.
+//
+// Tolerance: a position or velocity on the device is a float (6e-8 relative); a step adds the
+// rounding of ~20 pair terms in float before the fixed-point sum, so after 3 steps the device
+// differs from the Reference (double) by ~1e-6 relative.  We ask for 2e-5 relative (to the box
+// for positions, to the largest speed for velocities): any error in the rule or the random
+// numbers (a wrong Philox word moves a particle by sigma dt^1.5 ~ 1e-2 nm) is 1000x that.
+#include "TestHelpers.h"
+#include "openmmdpd/CommonPairRandomCheck.h"
+#include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/EDPDIntegrator.h"
+#include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/ShardlowIntegrator.h"
+#include "openmm/VerletIntegrator.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/internal/ContextImpl.h"
+#include "openmmdpd/OpenCLDPDKernelFactory.h"
+
+using namespace DPDPlugin;
+
+namespace {
+
+bool haveOpenCL() {
+    try {
+        Platform::getPlatformByName("OpenCL");
+        return true;
+    }
+    catch (const OpenMMException&) {
+        return false;
+    }
+}
+
+#define REQUIRE_OPENCL() \
+    if (!haveOpenCL()) \
+        GTEST_SKIP() << "OpenMM has no OpenCL platform here"
+
+// Reaches the ContextImpl of a Context (Force's protected accessor), for the device's ComputeContext.
+class ContextAccess : public Force {
+public:
+    ContextImpl& of(Context& context) { return getContextImpl(context); }
+    bool usesPeriodicBoundaryConditions() const override { return false; }
+
+protected:
+    ForceImpl* createImpl() const override { return nullptr; }
+};
+
+ComputeContext& computeContext(Context& context) {
+    ContextAccess access;
+    return getOpenCLComputeContext(access.of(context));
+}
+
+// A soft DPD fluid of two particle types with their own type pairs, mixed masses and a few exclusions.
+System* makeSoftSystem(int n, std::vector<Vec3>& positions) {
+    System* system = makeFluid(n, 0, positions);
+    system->removeForce(0);
+    DPDSoftRepulsionForce* force = new DPDSoftRepulsionForce(25.0, 1.0);
+    for (int i = 0; i < n; i += 3)
+        force->setParticleType(i, 1);
+    force->addTypePair(0, 1, 30.0, 0.9);
+    for (int i = 0; i + 1 < n; i += 50)
+        force->addExclusion(i, i + 1);
+    system->addForce(force);
+    for (int i = 0; i < n; i += 4)
+        system->setParticleMass(i, 2.0);
+    return system;
+}
+
+void configure(DPDVVIntegrator& integrator, DPDVVIntegrator::Variant variant) {
+    integrator.setVariant(variant);
+    integrator.setLambda(0.65);
+    integrator.setRandomNumberSeed(1234);
+    for (int i = 0; i < 600; i += 3)
+        integrator.setParticleType(i, 1);
+    integrator.addTypePair(0, 1, 6.0, 0.9);
+}
+
+double maxNorm(const std::vector<Vec3>& a) {
+    double m = 0;
+    for (const Vec3& x : a)
+        m = std::max(m, std::sqrt(x.dot(x)));
+    return m;
+}
+
+double maxDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double m = 0;
+    for (size_t i = 0; i < a.size(); i++)
+        m = std::max(m, std::sqrt((a[i] - b[i]).dot(a[i] - b[i])));
+    return m;
+}
+
+Vec3 momentum(System& system, const State& state) {
+    Vec3 p;
+    for (int i = 0; i < system.getNumParticles(); i++)
+        p += state.getVelocities()[i] * system.getParticleMass(i);
+    return p;
+}
+
+} // namespace
+
+TEST(GpuPlatform, PhiloxWordsEqualTheHostsBitForBit) {
+    REQUIRE_OPENCL();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(8, 0, positions));
+    VerletIntegrator integrator(0.001);
+    Context context(*system, integrator, Platform::getPlatformByName("OpenCL"));
+    std::vector<PairRandomKey> keys;
+    std::mt19937 rng(3);
+    for (int k = 0; k < 500; k++)
+        keys.push_back({(PairRandom::Stream) (k % 5), (long long) rng() * (k % 3 == 0 ? 4099 : 1), (int) (rng() % 100000),
+                        (int) (rng() % 100000)});
+    const uint32_t seed = 987654321u;
+    std::vector<uint32_t> words;
+    std::vector<float> normals;
+    drawDevicePairRandom(computeContext(context), seed, keys, words, normals);
+    const PairRandom host(seed);
+    for (size_t k = 0; k < keys.size(); k++) {
+        const r123::Philox4x32::ctr_type expected = host.bits(keys[k].stream, keys[k].step, keys[k].i, keys[k].j);
+        for (int m = 0; m < 4; m++)
+            ASSERT_EQ(words[4 * k + m], expected[m]) << "key " << k << " word " << m;
+        // Box-Muller in float: 1e-4 absolute covers float log and cos of these arguments.
+        EXPECT_NEAR(normals[k], PairRandom::boxMuller(expected), 1e-4) << "key " << k;
+    }
+}
+
+TEST(GpuPlatform, SoftRepulsionForceEqualsReference) {
+    REQUIRE_OPENCL();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(600, positions));
+    VerletIntegrator a(0.001), b(0.001);
+    Context reference(*system, a, Platform::getPlatformByName("Reference"));
+    Context device(*system, b, Platform::getPlatformByName("OpenCL"));
+    reference.setPositions(positions);
+    device.setPositions(positions);
+    const State expected = reference.getState(State::Forces | State::Energy);
+    const State actual = device.getState(State::Forces | State::Energy);
+    // Float pair terms: 1e-5 of the largest force, 1e-5 relative energy (see the tolerance note above).
+    EXPECT_LT(maxDifference(expected.getForces(), actual.getForces()), 1e-5 * maxNorm(expected.getForces()));
+    EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-5 * std::fabs(expected.getPotentialEnergy()));
+}
+
+namespace {
+
+struct Run {
+    std::vector<Vec3> positions, velocities;
+};
+
+// Steps 1 and 3 of the soft fluid from the same start on a platform.
+std::vector<Run> runSteps(System& system, const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+                          DPDVVIntegrator::Variant variant, const std::string& platform,
+                          const std::map<std::string, std::string>& properties = {}) {
+    DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.02);
+    configure(integrator, variant);
+    Context context(system, integrator, Platform::getPlatformByName(platform), properties);
+    context.setPositions(positions);
+    context.setVelocities(velocities);
+    std::vector<Run> runs;
+    for (int steps : {1, 2}) {
+        integrator.step(steps);
+        const State s = context.getState(State::Positions | State::Velocities);
+        runs.push_back({s.getPositions(), s.getVelocities()});
+    }
+    return runs;
+}
+
+void expectFollowsReference(DPDVVIntegrator::Variant variant, const std::map<std::string, std::string>& properties) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(600, positions));
+    std::vector<Vec3> velocities(positions.size());
+    std::mt19937 rng(17);
+    std::normal_distribution<double> normal(0, 1);
+    for (size_t i = 0; i < velocities.size(); i++)
+        velocities[i] = Vec3(normal(rng), normal(rng), normal(rng)) * std::sqrt(1 / system->getParticleMass(i));
+    const std::vector<Run> expected = runSteps(*system, positions, velocities, variant, "Reference");
+    const std::vector<Run> actual = runSteps(*system, positions, velocities, variant, "OpenCL", properties);
+    Vec3 a, b, c;
+    system->getDefaultPeriodicBoxVectors(a, b, c);
+    for (int k = 0; k < 2; k++) {
+        const double speed = maxNorm(expected[k].velocities);
+        // Positions may be wrapped differently: compare the nearest image of the difference.
+        double dr = 0;
+        for (size_t i = 0; i < positions.size(); i++) {
+            Vec3 d = actual[k].positions[i] - expected[k].positions[i];
+            for (int m = 0; m < 3; m++)
+                d[m] -= a[0] * std::round(d[m] / a[0]);
+            dr = std::max(dr, std::sqrt(d.dot(d)));
+        }
+        EXPECT_LT(dr, 2e-5 * a[0]) << "positions after " << (k == 0 ? 1 : 3) << " steps";
+        EXPECT_LT(maxDifference(expected[k].velocities, actual[k].velocities), 2e-5 * speed)
+                << "velocities after " << (k == 0 ? 1 : 3) << " steps";
+    }
+}
+
+} // namespace
+
+TEST(GpuPlatform, GrootWarrenFollowsReference) {
+    REQUIRE_OPENCL();
+    expectFollowsReference(DPDVVIntegrator::GrootWarren, {});
+}
+
+TEST(GpuPlatform, DPDVVFollowsReferenceInSingleAndMixedPrecision) {
+    REQUIRE_OPENCL();
+    expectFollowsReference(DPDVVIntegrator::DPDVV, {});
+    expectFollowsReference(DPDVVIntegrator::DPDVV, {{"Precision", "mixed"}});
+}
+
+TEST(GpuPlatform, MomentumSeedsAndCheckpoints) {
+    REQUIRE_OPENCL();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(600, positions));
+    for (DPDVVIntegrator::Variant variant : {DPDVVIntegrator::GrootWarren, DPDVVIntegrator::DPDVV}) {
+        DPDVVIntegrator first(KT_KELVIN, 4.5, 1.0, 0.02), second(KT_KELVIN, 4.5, 1.0, 0.02);
+        configure(first, variant);
+        configure(second, variant);
+        std::unique_ptr<Context> a = makeContext(*system, first, "OpenCL", positions);
+        std::unique_ptr<Context> b = makeContext(*system, second, "OpenCL", positions);
+        const Vec3 p0 = momentum(*system, a->getState(State::Velocities));
+        first.step(5);
+        second.step(5);
+        const State sa = a->getState(State::Positions | State::Velocities), sb = b->getState(State::Positions | State::Velocities);
+        // Forces cancel exactly in fixed point; what remains is the float rounding of each m v (~1e-7 of ~1 per particle).
+        const Vec3 dp = momentum(*system, sa) - p0;
+        EXPECT_LT(std::sqrt(dp.dot(dp)), 1e-4) << "variant " << variant;
+        for (size_t i = 0; i < positions.size(); i++) {
+            ASSERT_EQ(sa.getPositions()[i], sb.getPositions()[i]) << "one seed, two runs: particle " << i;
+            ASSERT_EQ(sa.getVelocities()[i], sb.getVelocities()[i]) << "one seed, two runs: particle " << i;
+        }
+        expectCheckpointContinuesBitForBit(*a, first, "OpenCL variant " + std::to_string(variant));
+    }
+}
+
+TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
+    REQUIRE_OPENCL();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(100, positions));
+    DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.02);
+    std::unique_ptr<Context> context = makeContext(*system, integrator, "OpenCL", positions);
+    integrator.step(1);
+    const State before = context->getState(State::Positions);
+    integrator.setShearRate(0.1);
+    expectErrorNaming([&] { integrator.step(1); }, "Lees-Edwards shear (setShearRate) is not supported on the OpenCL platform");
+    integrator.setShearRate(0);
+    integrator.setPressureTensorEnabled(true);
+    expectErrorNaming([&] { integrator.step(1); }, "the pressure tensor (setPressureTensorEnabled) is not supported on the OpenCL");
+    integrator.setPressureTensorEnabled(false);
+    integrator.setVariant(DPDVVIntegrator::SelfConsistent);
+    expectErrorNaming([&] { integrator.step(1); }, "the SelfConsistent variant is not supported on the OpenCL platform");
+    EXPECT_EQ(context->getState(State::Positions).getPositions(), before.getPositions()) << "nothing changed";
+    EXPECT_EQ(context->getState(0).getStepCount(), 1);
+    system->addConstraint(0, 1, 0.5);
+    DPDVVIntegrator constrained(KT_KELVIN, 4.5, 1.0, 0.02);
+    expectErrorNaming([&] { makeContext(*system, constrained, "OpenCL", positions); }, "constraints is not supported on the OpenCL");
+    // An integrator with no OpenCL kernels: OpenMM's own refusal, when the Context is made.
+    EDPDIntegrator edpd(KT_KELVIN, 4.5, 1.0, 1.0, 0.02);
+    expectErrorNaming([&] { makeContext(*system, edpd, "OpenCL", positions); }, "does not support all required kernels");
+}
+
+namespace {
+
+// The sweep integrators (S1, S2, Lowe, pair OU), configured as the DPD-VV tests' integrators:
+// two particle types with their own type pair (friction or collision rate 6, cutoff 0.9).
+using MakeIntegrator = std::function<std::unique_ptr<DPDThermostatIntegrator>(int numParticles)>;
+
+void configureSweep(DPDThermostatIntegrator& integrator, int numParticles) {
+    integrator.setRandomNumberSeed(1234);
+    for (int i = 0; i < numParticles; i += 3)
+        integrator.setParticleType(i, 1);
+    integrator.addTypePair(0, 1, 6.0, 0.9);
+}
+
+MakeIntegrator shardlow(int order) {
+    return [order](int numParticles) {
+        std::unique_ptr<ShardlowIntegrator> integrator(new ShardlowIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
+        integrator->setOrder(order);
+        configureSweep(*integrator, numParticles);
+        return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+    };
+}
+
+MakeIntegrator loweAndersen(LoweAndersenIntegrator::Method method, LoweAndersenIntegrator::Splitting splitting) {
+    return [method, splitting](int numParticles) {
+        std::unique_ptr<LoweAndersenIntegrator> integrator(new LoweAndersenIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
+        integrator->setMethod(method);
+        integrator->setSplitting(splitting);
+        configureSweep(*integrator, numParticles);
+        return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+    };
+}
+
+// Steps 1 and 3 of the soft fluid from the same start on a platform.
+std::vector<Run> runSweepSteps(System& system, const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities,
+                               const MakeIntegrator& make, const std::string& platform,
+                               const std::map<std::string, std::string>& properties) {
+    std::unique_ptr<DPDThermostatIntegrator> integrator = make(system.getNumParticles());
+    Context context(system, *integrator, Platform::getPlatformByName(platform), properties);
+    context.setPositions(positions);
+    context.setVelocities(velocities);
+    std::vector<Run> runs;
+    for (int steps : {1, 2}) {
+        integrator->step(steps);
+        const State s = context.getState(State::Positions | State::Velocities);
+        runs.push_back({s.getPositions(), s.getVelocities()});
+    }
+    return runs;
+}
+
+// n = 900: a box of 6.08 nm, 6 sweep cells per axis (8 cells of each colour swept at once);
+// n = 100: 2.92 nm, 2 cells per axis (no colours: one work item sweeps every cell in order).
+void expectSweepFollowsReference(const MakeIntegrator& make, int n, const std::string& label,
+                                 const std::map<std::string, std::string>& properties = {}) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(n, positions));
+    std::vector<Vec3> velocities(positions.size());
+    std::mt19937 rng(17);
+    std::normal_distribution<double> normal(0, 1);
+    for (size_t i = 0; i < velocities.size(); i++)
+        velocities[i] = Vec3(normal(rng), normal(rng), normal(rng)) * std::sqrt(1 / system->getParticleMass(i));
+    const std::vector<Run> expected = runSweepSteps(*system, positions, velocities, make, "Reference", {});
+    const std::vector<Run> actual = runSweepSteps(*system, positions, velocities, make, "OpenCL", properties);
+    Vec3 a, b, c;
+    system->getDefaultPeriodicBoxVectors(a, b, c);
+    for (int k = 0; k < 2; k++) {
+        double dr = 0;  // the nearest image of the difference: positions may be wrapped differently
+        for (size_t i = 0; i < positions.size(); i++) {
+            Vec3 d = actual[k].positions[i] - expected[k].positions[i];
+            for (int m = 0; m < 3; m++)
+                d[m] -= a[0] * std::round(d[m] / a[0]);
+            dr = std::max(dr, std::sqrt(d.dot(d)));
+        }
+        const std::string after = label + ": after " + (k == 0 ? "1 step" : "3 steps");
+        EXPECT_LT(dr, 2e-5 * a[0]) << after << ", positions";
+        EXPECT_LT(maxDifference(expected[k].velocities, actual[k].velocities), 2e-5 * maxNorm(expected[k].velocities))
+                << after << ", velocities";
+    }
+}
+
+// Momentum, one seed twice, and a checkpoint that continues bit for bit (900 particles).
+void expectSweepMomentumSeedsAndCheckpoints(const MakeIntegrator& make, const std::string& label) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(900, positions));
+    std::unique_ptr<DPDThermostatIntegrator> first = make(900), second = make(900);
+    std::unique_ptr<Context> a = makeContext(*system, *first, "OpenCL", positions);
+    std::unique_ptr<Context> b = makeContext(*system, *second, "OpenCL", positions);
+    const Vec3 p0 = momentum(*system, a->getState(State::Velocities));
+    first->step(5);
+    second->step(5);
+    const State sa = a->getState(State::Positions | State::Velocities), sb = b->getState(State::Positions | State::Velocities);
+    // Each pair update moves equal and opposite momenta (J e); what remains is the float
+    // rounding of the two velocities it writes (~6e-8 of m v ~ 2), a random walk over 5 steps
+    // of ~7500 pairs and up to 4 updates each: ~5e-5 (measured 4e-6 to 6e-5).  1e-3 allows
+    // 20 times that; a wrong impulse (v_j -= J/m_i e) gives > 5.
+    const Vec3 dp = momentum(*system, sa) - p0;
+    EXPECT_LT(std::sqrt(dp.dot(dp)), 1e-3) << label;
+    for (size_t i = 0; i < positions.size(); i++) {
+        ASSERT_EQ(sa.getPositions()[i], sb.getPositions()[i]) << label << ": one seed, two runs: particle " << i;
+        ASSERT_EQ(sa.getVelocities()[i], sb.getVelocities()[i]) << label << ": one seed, two runs: particle " << i;
+    }
+    expectCheckpointContinuesBitForBit(*a, *first, "OpenCL " + label);
+}
+
+} // namespace
+
+TEST(GpuPlatform, ShardlowFollowsReference) {
+    REQUIRE_OPENCL();
+    expectSweepFollowsReference(shardlow(1), 900, "S1");
+    expectSweepFollowsReference(shardlow(2), 900, "S2");
+    expectSweepFollowsReference(shardlow(2), 900, "S2 mixed precision", {{"Precision", "mixed"}});
+    expectSweepFollowsReference(shardlow(2), 100, "S2, 2 cells per axis");
+}
+
+TEST(GpuPlatform, LoweAndersenFollowsReference) {
+    REQUIRE_OPENCL();
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet), 900, "Lowe");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::AfterVerlet), 900,
+                                "pair OU");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle), 900, "Lowe, Middle");
+    expectSweepFollowsReference(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle), 100,
+                                "pair OU, Middle, 2 cells per axis");
+}
+
+TEST(GpuPlatform, SweepMomentumSeedsAndCheckpoints) {
+    REQUIRE_OPENCL();
+    expectSweepMomentumSeedsAndCheckpoints(shardlow(1), "S1");
+    expectSweepMomentumSeedsAndCheckpoints(shardlow(2), "S2");
+    expectSweepMomentumSeedsAndCheckpoints(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet), "Lowe");
+    expectSweepMomentumSeedsAndCheckpoints(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle),
+                                           "pair OU, Middle");
+}
+
+TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
+    REQUIRE_OPENCL();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(100, positions));
+    std::unique_ptr<DPDThermostatIntegrator> s2 = shardlow(2)(100);
+    std::unique_ptr<Context> context = makeContext(*system, *s2, "OpenCL", positions);
+    s2->step(1);
+    const State before = context->getState(State::Positions | State::Velocities);
+    s2->setShearRate(0.1);
+    expectErrorNaming([&] { s2->step(1); }, "ShardlowIntegrator: Lees-Edwards shear (setShearRate) is not supported on the OpenCL platform");
+    s2->setShearRate(0);
+    s2->setPressureTensorEnabled(true);
+    expectErrorNaming([&] { s2->step(1); }, "the pressure tensor (setPressureTensorEnabled) is not supported on the OpenCL");
+    const State after = context->getState(State::Positions | State::Velocities);
+    EXPECT_EQ(after.getPositions(), before.getPositions()) << "nothing changed";
+    EXPECT_EQ(after.getVelocities(), before.getVelocities()) << "nothing changed";
+    EXPECT_EQ(after.getStepCount(), 1);
+    system->addConstraint(0, 1, 0.5);
+    std::unique_ptr<DPDThermostatIntegrator> lowe = loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle)(100);
+    expectErrorNaming([&] { makeContext(*system, *lowe, "OpenCL", positions); },
+                      "LoweAndersenIntegrator: a System with constraints is not supported on the OpenCL platform");
+}
