@@ -1,64 +1,19 @@
-// The CUDA platform's kernels: the common ones (platforms/common) on the CudaContext.
+// The CUDA platform's kernels: the common ones (platforms/common) on its CudaContext.
 #include "openmmdpd/CudaDPDKernelFactory.h"
-#include "openmmdpd/CommonDPDKernels.h"
+#include "openmmdpd/CommonDPDKernelFactory.h"
 #include "openmmdpd/OpenMMVersionCheck.h"
 #include "CudaPlatform.h"
-#include "openmm/KernelFactory.h"
-#include "openmm/OpenMMException.h"
-#include "openmm/internal/ContextImpl.h"
-#include "openmm/internal/windowsExport.h"
 
 using namespace DPDPlugin;
 using namespace OpenMM;
 
-/*
- * CudaContext.h is not included: it pulls in Lepton's headers, which Debian's OpenMM 7.7 does not
- * ship.  CudaContext derives from ComputeContext alone (OpenMM 7.7 to 8.5), so its address is
- * that of its ComputeContext; the particle count checks that the object is the one expected.
- */
 ComputeContext& DPDPlugin::getCudaComputeContext(ContextImpl& context) {
-    CudaContext* device = static_cast<CudaPlatform::PlatformData*>(context.getPlatformData())->contexts[0];
-    ComputeContext& cc = *reinterpret_cast<ComputeContext*>(device);
-    if (cc.getNumAtoms() != context.getSystem().getNumParticles())
-        throw OpenMMException("openmm-dpd CUDA plugin: the CUDA platform's data is not laid out as expected; rebuild "
-                              "openmm-dpd against the OpenMM it runs with");
-    return cc;
+    return computeContextOf<CudaPlatform::PlatformData>(context, "openmm-dpd CUDA plugin");
 }
-
-namespace {
-
-class CudaDPDKernelFactory : public KernelFactory {
-public:
-    KernelImpl* createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const override {
-        ComputeContext& cc = getCudaComputeContext(context);
-        if (name == IntegrateDPDVVStepKernel::Name())
-            return new CommonIntegrateDPDVVStepKernel(name, platform, cc);
-        if (name == IntegrateShardlowStepKernel::Name())
-            return new CommonIntegrateShardlowStepKernel(name, platform, cc);
-        if (name == IntegrateLoweAndersenStepKernel::Name())
-            return new CommonIntegrateLoweAndersenStepKernel(name, platform, cc);
-        if (name == CalcDPDSoftRepulsionForceKernel::Name())
-            return new CommonSoftRepulsionKernel(name, platform, cc);
-        throw OpenMMException("openmm-dpd CUDA plugin: unknown kernel '" + name + "'");
-    }
-};
-
-} // namespace
 
 /** Registers the kernels with OpenMM's CUDA platform, if OpenMM has one (no CUDA library or device: nothing). */
 extern "C" OPENMM_EXPORT void registerDPDCudaKernelFactories() {
-    Platform* platform;
-    try {
-        platform = &Platform::getPlatformByName("CUDA");
-    }
-    catch (const OpenMMException&) {
-        return;
-    }
-    KernelFactory* factory = new CudaDPDKernelFactory();
-    platform->registerKernelFactory(IntegrateDPDVVStepKernel::Name(), factory);
-    platform->registerKernelFactory(IntegrateShardlowStepKernel::Name(), factory);
-    platform->registerKernelFactory(IntegrateLoweAndersenStepKernel::Name(), factory);
-    platform->registerKernelFactory(CalcDPDSoftRepulsionForceKernel::Name(), factory);
+    CommonDPDKernelFactory::registerWith("CUDA", "openmm-dpd CUDA plugin", getCudaComputeContext);
 }
 
 extern "C" OPENMM_EXPORT void registerKernelFactories() {

@@ -1,0 +1,33 @@
+#include "openmmdpd/CommonDPDKernelFactory.h"
+#include "openmmdpd/CommonDPDKernels.h"
+#include "openmm/Platform.h"
+
+using namespace DPDPlugin;
+using namespace OpenMM;
+
+KernelImpl* CommonDPDKernelFactory::createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const {
+    ComputeContext& cc = find(context);
+    if (name == IntegrateDPDVVStepKernel::Name())
+        return new CommonIntegrateDPDVVStepKernel(name, platform, cc);
+    if (name == IntegrateShardlowStepKernel::Name())
+        return new CommonIntegrateShardlowStepKernel(name, platform, cc);
+    if (name == IntegrateLoweAndersenStepKernel::Name())
+        return new CommonIntegrateLoweAndersenStepKernel(name, platform, cc);
+    if (name == CalcDPDSoftRepulsionForceKernel::Name())
+        return new CommonSoftRepulsionKernel(name, platform, cc);
+    throw OpenMMException(plugin + ": unknown kernel '" + name + "'");
+}
+
+void CommonDPDKernelFactory::registerWith(const std::string& platformName, const std::string& plugin, ContextFinder find) {
+    Platform* platform;
+    try {
+        platform = &Platform::getPlatformByName(platformName);
+    }
+    catch (const OpenMMException&) {
+        return;
+    }
+    KernelFactory* factory = new CommonDPDKernelFactory(plugin, find);
+    for (const std::string& name : {IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(),
+                                    IntegrateLoweAndersenStepKernel::Name(), CalcDPDSoftRepulsionForceKernel::Name()})
+        platform->registerKernelFactory(name, factory);
+}
