@@ -45,23 +45,33 @@ __version__ = _build.version
 __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
            "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "DenOtterClarkeIntegrator",
            "calibrate_den_otter_clarke", "KT_TEMPERATURE", "kT_from_temperature",
-           "reduced_temperature", "strip_units", "loaded_plugins", "scenes", "__version__"]
+           "reduced_temperature", "strip_units", "loaded_plugins", "skipped_plugins", "scenes", "__version__"]
 
 
 def _load_kernel_plugins():
+    """(paths loaded, {path: why not} for the GPU plugins that could not load).
+
+    The GPU plugins are built only where OpenMM has those platforms, and load only where their
+    platform's runtime is (the CUDA plugin needs libcuda, i.e. a driver): without it they are
+    skipped, as OpenMM skips its own platform plugins.
+    """
     here = _os.path.dirname(_os.path.abspath(__file__))
-    loaded = []
-    # The GPU plugins are built only where OpenMM has those platforms; each registers its kernels
-    # only if its platform loaded (CUDA needs a driver, OpenCL an ICD).
+    loaded, skipped = [], {}
     for name in ("libOpenMMDPDReference.so", "libOpenMMDPDCPU.so", "libOpenMMDPDOpenCL.so", "libOpenMMDPDCUDA.so"):
         path = _os.path.join(here, name)
-        if _os.path.exists(path):
+        if not _os.path.exists(path):
+            continue
+        try:
             _openmm.Platform.loadPluginLibrary(path)
             loaded.append(path)
-    return tuple(loaded)
+        except _openmm.OpenMMException as error:
+            if name in ("libOpenMMDPDReference.so", "libOpenMMDPDCPU.so"):
+                raise
+            skipped[path] = str(error)
+    return tuple(loaded), skipped
 
 
-loaded_plugins = _load_kernel_plugins()
+loaded_plugins, skipped_plugins = _load_kernel_plugins()
 
 # After the plugins: `openmmdpd.scenes` works after a plain `import openmmdpd`.
 from . import scenes  # noqa: E402

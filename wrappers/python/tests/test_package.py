@@ -40,3 +40,15 @@ def test_openmm_of_another_major_minor_is_refused():
 def test_openmm_platforms_found_without_environment_variables():
     names = [openmm.Platform.getPlatform(i).getName() for i in range(openmm.Platform.getNumPlatforms())]
     assert "CPU" in names
+
+
+def test_every_kernel_plugin_is_loaded_or_skipped_with_a_reason():
+    """A GPU plugin whose platform runtime is missing (CUDA without a driver) is skipped, and
+    says why; the Reference and CPU plugins always load."""
+    here = os.path.dirname(openmmdpd.__file__)
+    built = {os.path.join(here, name) for name in os.listdir(here)
+             if name.startswith("libOpenMMDPD") and name.endswith(".so") and name != "libOpenMMDPD.so"}
+    assert built == set(openmmdpd.loaded_plugins) | set(openmmdpd.skipped_plugins)
+    assert all(reason for reason in openmmdpd.skipped_plugins.values())
+    assert not any(os.path.basename(p) in ("libOpenMMDPDReference.so", "libOpenMMDPDCPU.so")
+                   for p in openmmdpd.skipped_plugins)
