@@ -23,7 +23,7 @@ from dpdtest import make_context, reduced_kT, set_velocities
 N = 2000
 DT = 0.04
 EQUILIBRATION_STEPS = 200
-SAMPLES = 300
+SAMPLES = 400
 STEPS_PER_SAMPLE = 5
 MAX_SIGMA = 0.003
 
