@@ -90,10 +90,7 @@ KERNEL void dpdvvPart1(int numAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* 
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         mixed4 v = velm[k];
-        const mixed scale = (mixed) 0.5f*dt*v.w;
-        v.x += fromFixed(carried[a])*scale;
-        v.y += fromFixed(carried[a+numAtoms])*scale;
-        v.z += fromFixed(carried[a+2*numAtoms])*scale;
+        v = addScaledForce(v, carried, a, numAtoms, (mixed) 0.5f*dt*v.w);
         velm[k] = v;
         velocity[a] = v;
         movePosition(posq, posqCorrection, k, make_mixed4(v.x*dt, v.y*dt, v.z*dt, 0), maxMove2, status, moveValue);
@@ -107,9 +104,7 @@ KERNEL void dpdvvPart2(int numAtoms, GLOBAL mixed4* RESTRICT velm, GLOBAL const 
         const int a = atomIndex[k];
         mixed4 v = velm[k];
         const mixed scale = (mixed) 0.5f*dt*v.w;
-        v.x = (v.x+fromFixed(carried[a])*scale)+fromFixed(fd[a])*scale;
-        v.y = (v.y+fromFixed(carried[a+numAtoms])*scale)+fromFixed(fd[a+numAtoms])*scale;
-        v.z = (v.z+fromFixed(carried[a+2*numAtoms])*scale)+fromFixed(fd[a+2*numAtoms])*scale;
+        v = addScaledForce(addScaledForce(v, carried, a, numAtoms, scale), fd, a, numAtoms, scale);
         velm[k] = v;
         velocity[a] = v;
     }

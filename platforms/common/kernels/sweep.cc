@@ -208,10 +208,7 @@ KERNEL void kickDrift(int numAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* R
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         mixed4 v = velm[k];
-        const mixed scale = kick*v.w;
-        v.x += fromFixed(carried[a])*scale;
-        v.y += fromFixed(carried[a+numAtoms])*scale;
-        v.z += fromFixed(carried[a+2*numAtoms])*scale;
+        v = addScaledForce(v, carried, a, numAtoms, kick*v.w);
         velm[k] = v;
         movePosition(posq, posqCorrection, k, make_mixed4(v.x*drift, v.y*drift, v.z*drift, 0), maxMove2, status, moveValue);
     }
@@ -228,10 +225,7 @@ KERNEL void takeConservativeForce(int numAtoms, int paddedNumAtoms, GLOBAL mixed
         if (kick == 0)
             continue;
         mixed4 v = velm[k];
-        const mixed scale = kick*v.w;
-        v.x += fromFixed(carried[a])*scale;
-        v.y += fromFixed(carried[a+numAtoms])*scale;
-        v.z += fromFixed(carried[a+2*numAtoms])*scale;
+        v = addScaledForce(v, carried, a, numAtoms, kick*v.w);
         velm[k] = v;
         checkVelocity(v, bound, status);
     }

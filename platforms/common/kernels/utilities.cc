@@ -33,6 +33,14 @@ inline DEVICE mixed fromFixed(mm_long x) {
     return ((mixed) x)*(mixed) 2.3283064365386963e-10f;
 }
 
+/* v + scale F, F an atom's fixed-point force in an array laid out by component (x, y, z numAtoms apart). */
+inline DEVICE mixed4 addScaledForce(mixed4 v, GLOBAL const mm_long* RESTRICT force, int a, int numAtoms, mixed scale) {
+    v.x += fromFixed(force[a])*scale;
+    v.y += fromFixed(force[a+numAtoms])*scale;
+    v.z += fromFixed(force[a+2*numAtoms])*scale;
+    return v;
+}
+
 inline DEVICE mixed nearestImage(mixed d, mixed size, mixed invSize) {
     return d-floor(d*invSize+(mixed) 0.5f)*size;
 }
