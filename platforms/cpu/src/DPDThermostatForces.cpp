@@ -27,6 +27,7 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
         cellMultiple(cellMultiple), random(PairRandom::seedFor(integrator.getRandomNumberSeed())) {
     const int workers = executor.getNumWorkers();
     workerPairs.resize(workers);
+    keptPairs.resize(workers);
     workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
     if (workers > 1)
         workerRandom.assign(workers, std::vector<Vec3>(system.getNumParticles()));
@@ -372,7 +373,6 @@ struct DPDSlotForces {
 
 void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step,
                                               double dt, bool keep) {
-    keptPairs.resize(executor.getNumWorkers());
     keptPairs[w].clear();
     std::unique_ptr<DPDSlotForces> evaluate(
             new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, sortedTypes, sortedSoftTypes,
