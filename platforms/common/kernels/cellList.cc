@@ -27,17 +27,63 @@ KERNEL void assignCells(int numAtoms, GLOBAL const real4* RESTRICT posq, mixed4 
     }
 }
 
-/* One thread: the start of every cell (cellStart[numCells] = numAtoms); the counts are zeroed for fillCells. */
-KERNEL void scanCells(int numCells, GLOBAL int* RESTRICT cellCount, GLOBAL int* RESTRICT cellStart) {
-    if (GLOBAL_ID != 0)
-        return;
-    int sum = 0;
-    for (int c = 0; c < numCells; c++) {
-        cellStart[c] = sum;
-        sum += cellCount[c];
-        cellCount[c] = 0;
+/*
+ * cellStart = the exclusive prefix sum of cellCount (cellStart[numCells] = numAtoms), in
+ * three launches of CELL_SCAN_BLOCK-item work groups: scanCellBlocks scans each block of
+ * cells and keeps its total, scanBlockSums (one work group) turns the totals into the
+ * blocks' starts, addBlockStarts adds them.  Integer sums: the same starts as one loop.
+ * The counts are zeroed for fillCells.
+ */
+
+/* The inclusive prefix sum of `value` over the work group (Hillis-Steele, in `buffer`). */
+inline DEVICE int scanWorkGroup(int value, LOCAL_ARG int* buffer) {
+    SYNC_THREADS;  // the last call's buffer may still be read
+    buffer[LOCAL_ID] = value;
+    SYNC_THREADS;
+    for (int offset = 1; offset < CELL_SCAN_BLOCK; offset *= 2) {
+        const int add = (LOCAL_ID >= offset ? buffer[LOCAL_ID-offset] : 0);
+        SYNC_THREADS;
+        buffer[LOCAL_ID] += add;
+        SYNC_THREADS;
     }
-    cellStart[numCells] = sum;
+    return buffer[LOCAL_ID];
+}
+
+KERNEL void scanCellBlocks(int numCells, GLOBAL int* RESTRICT cellCount, GLOBAL int* RESTRICT cellStart,
+        GLOBAL int* RESTRICT blockSums) {
+    LOCAL int buffer[CELL_SCAN_BLOCK];
+    for (int block = GROUP_ID; block*CELL_SCAN_BLOCK < numCells; block += NUM_GROUPS) {
+        const int c = block*CELL_SCAN_BLOCK+LOCAL_ID;
+        const int count = (c < numCells ? cellCount[c] : 0);
+        const int inclusive = scanWorkGroup(count, buffer);
+        if (c < numCells) {
+            cellStart[c] = inclusive-count;
+            cellCount[c] = 0;
+        }
+        if (LOCAL_ID == CELL_SCAN_BLOCK-1)
+            blockSums[block] = inclusive;
+    }
+}
+
+/* One work group: blockSums[b] becomes the start of block b, in chunks of CELL_SCAN_BLOCK blocks. */
+KERNEL void scanBlockSums(int numBlocks, int numCells, GLOBAL int* RESTRICT blockSums, GLOBAL int* RESTRICT cellStart) {
+    LOCAL int buffer[CELL_SCAN_BLOCK];
+    int total = 0;
+    for (int first = 0; first < numBlocks; first += CELL_SCAN_BLOCK) {
+        const int b = first+LOCAL_ID;
+        const int sum = (b < numBlocks ? blockSums[b] : 0);
+        const int inclusive = scanWorkGroup(sum, buffer);
+        if (b < numBlocks)
+            blockSums[b] = total+inclusive-sum;
+        total += buffer[CELL_SCAN_BLOCK-1];
+    }
+    if (LOCAL_ID == 0)
+        cellStart[numCells] = total;
+}
+
+KERNEL void addBlockStarts(int numCells, GLOBAL const int* RESTRICT blockSums, GLOBAL int* RESTRICT cellStart) {
+    for (int c = GLOBAL_ID; c < numCells; c += GLOBAL_SIZE)
+        cellStart[c] += blockSums[c/CELL_SCAN_BLOCK];
 }
 
 KERNEL void fillCells(int numAtoms, GLOBAL const int* RESTRICT atomCell, GLOBAL const int* RESTRICT cellStart,

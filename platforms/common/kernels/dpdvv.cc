@@ -39,7 +39,8 @@ inline DEVICE void movePosition(GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTR
     const mixed move2 = move.x*move.x+move.y*move.y+move.z*move.z;
     if (!withinBound(r.x*r.x+r.y*r.y+r.z*r.z, (mixed) 1e30f))
         status[0] = 1;
-    else if (!withinBound(move2, maxMove2)) {
+    // Also past 1e15 nm, where the host finds the position finite and reports the move.
+    if (!withinBound(move2, maxMove2)) {
         status[1] = 1;
         moveValue[0] = (float) move2;
     }

@@ -22,6 +22,7 @@ ComputeProgram DPDPlugin::compileDPDProgram(ComputeContext& cc, const std::vecto
         defines["OPENMMDPD_MIXED"] = "1";
     // 2 pi as a literal of the `mixed` type (a double literal would need fp64 in single precision).
     defines["TWO_PI"] = mixedIsDouble(cc) ? "6.283185307179586" : "6.2831853f";
+    defines["CELL_SCAN_BLOCK"] = std::to_string(CommonCellScan::BlockSize);
     return cc.compileProgram(source, defines);
 }
 
@@ -75,17 +76,50 @@ void DPDPlugin::uploadMixed4(ComputeContext& cc, ComputeArray& array, const std:
     }
 }
 
-CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner) : cc(cc), owner(owner) {
+CommonCellScan::CommonCellScan(ComputeContext& cc, ComputeProgram program) : cc(cc) {
+    blockKernel = program->createKernel("scanCellBlocks");
+    sumsKernel = program->createKernel("scanBlockSums");
+    addKernel = program->createKernel("addBlockStarts");
+    // Every argument is set at each call (the arrays are resized with the box).
+    for (const std::pair<ComputeKernel*, int>& k : {std::make_pair(&blockKernel, 4), std::make_pair(&sumsKernel, 4),
+                                                    std::make_pair(&addKernel, 3)})
+        for (int a = 0; a < k.second; a++)
+            (*k.first)->addArg();
+}
+
+void CommonCellScan::execute(int numCells, ComputeArray& cellCount, ComputeArray& cellStart) {
+    const int numBlocks = (numCells + BlockSize - 1) / BlockSize;
+    if (!blockSums.isInitialized())
+        blockSums.initialize<int>(cc, numBlocks, "dpdCellBlockSums");
+    else if (blockSums.getSize() < numBlocks)
+        blockSums.resize(numBlocks);
+    blockKernel->setArg(0, numCells);
+    blockKernel->setArg(1, cellCount);
+    blockKernel->setArg(2, cellStart);
+    blockKernel->setArg(3, blockSums);
+    blockKernel->execute(numBlocks * BlockSize, BlockSize);
+    sumsKernel->setArg(0, numBlocks);
+    sumsKernel->setArg(1, numCells);
+    sumsKernel->setArg(2, blockSums);
+    sumsKernel->setArg(3, cellStart);
+    sumsKernel->execute(BlockSize, BlockSize);
+    addKernel->setArg(0, numCells);
+    addKernel->setArg(1, blockSums);
+    addKernel->setArg(2, cellStart);
+    addKernel->execute(numCells);
+}
+
+CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner) :
+        cc(cc), owner(owner), scan(cc, program) {
     const int n = std::max(cc.getNumAtoms(), 1);
     atomCell.initialize<int>(cc, n, "dpdAtomCell");
     cellAtoms.initialize<int>(cc, n, "dpdCellAtoms");
     clearKernel = program->createKernel("clearCells");
     assignKernel = program->createKernel("assignCells");
-    scanKernel = program->createKernel("scanCells");
     fillKernel = program->createKernel("fillCells");
     // Every argument is set at each build (the arrays are resized with the box).
     for (const std::pair<ComputeKernel*, int>& k : {std::make_pair(&clearKernel, 2), std::make_pair(&assignKernel, 6),
-                                                    std::make_pair(&scanKernel, 3), std::make_pair(&fillKernel, 5)})
+                                                    std::make_pair(&fillKernel, 5)})
         for (int a = 0; a < k.second; a++)
             (*k.first)->addArg();
 }
@@ -127,10 +161,7 @@ void CommonCellList::build(double cutoff) {
     assignKernel->setArg(4, atomCell);
     assignKernel->setArg(5, cellCount);
     assignKernel->execute(n);
-    scanKernel->setArg(0, total);
-    scanKernel->setArg(1, cellCount);
-    scanKernel->setArg(2, cellStart);
-    scanKernel->execute(1, 1);
+    scan.execute(total, cellCount, cellStart);
     fillKernel->setArg(0, n);
     fillKernel->setArg(1, atomCell);
     fillKernel->setArg(2, cellStart);

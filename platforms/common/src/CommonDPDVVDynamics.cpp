@@ -7,7 +7,7 @@ using namespace OpenMM;
 
 CommonDPDVVDynamics::CommonDPDVVDynamics(ComputeContext& cc, const System& system, const DPDVVIntegrator& integrator,
                                          const std::string& platform) :
-        CommonDynamics(cc, system, integrator, platform, {CommonDPDKernelSources::dpdvv}) {
+        CommonDynamics(cc, system, integrator, platform, {CommonDPDKernelSources::dpdvv}, true) {
     ContextSelector selector(cc);
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     const int n = numAtoms();
@@ -71,7 +71,6 @@ void CommonDPDVVDynamics::grootWarrenStep(ContextImpl& context, const DPDVVInteg
     setMixedArg(cc, grootWarren1, 8, integrator.getLambda());
     setMixedArg(cc, grootWarren1, 9, maxMove2());
     grootWarren1->execute(numAtoms());
-    checkStatus(context, next);  // a non-finite position must not reach the cell list
     // F' = FC(r) + FD(r, v~) + FR(r);  v += dt/(2m) (F + F')
     conservativeForce(context, integrator.getIntegrationForceGroups());
     pairForces(next, dt, 3);
@@ -86,7 +85,6 @@ void CommonDPDVVDynamics::dpdvvStep(ContextImpl& context, const DPDVVIntegrator&
     setMixedArg(cc, dpdvv1, 7, dt);
     setMixedArg(cc, dpdvv1, 8, maxMove2());
     dpdvv1->execute(numAtoms());
-    checkStatus(context, next);
     // (3) FC(r), FD(r, v), FR(r);  (4) v <- v + dt/(2m) (FC + FR) + dt/(2m) FD;  (5) FD(r, v)
     conservativeForce(context, integrator.getIntegrationForceGroups());
     pairForces(next, dt, 3);

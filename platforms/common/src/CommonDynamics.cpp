@@ -36,7 +36,7 @@ void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostat
 }
 
 CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
-                               const std::string& platform, const std::vector<std::string>& ruleSources) :
+                               const std::string& platform, const std::vector<std::string>& ruleSources, bool withPairForces) :
         cc(cc), name(std::string(integrator.className()) + " on the " + platform + " platform"), parameters(system, integrator),
         random(PairRandom::seedFor(integrator.getRandomNumberSeed())), carried(system.getNumParticles()) {
     refuseUnsupported(system, integrator, platform);
@@ -44,27 +44,38 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     const int n = std::max(numAtoms(), 1);
     atomType.initialize<int>(cc, n, "dpdAtomType");
     velocity.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdVelocity");
-    fd.initialize<long long>(cc, 3 * n, "dpdDissipativeForce");
-    fr.initialize<long long>(cc, 3 * n, "dpdRandomForce");
     carriedForce.initialize<long long>(cc, 3 * n, "dpdCarriedForce");
     status.initialize<int>(cc, 4, "dpdStatus");
     status.upload(std::vector<int>(4, 0));
     moveValue.initialize<float>(cc, 1, "dpdMoveValue");
-    std::vector<std::string> sources = {CommonDPDKernelSources::philox, CommonDPDKernelSources::cellList,
-                                        CommonDPDKernelSources::dpdPairs};
+    std::vector<std::string> sources = {CommonDPDKernelSources::philox, CommonDPDKernelSources::cellList};
+    if (withPairForces) {
+        fd.initialize<long long>(cc, 3 * n, "dpdDissipativeForce");
+        fr.initialize<long long>(cc, 3 * n, "dpdRandomForce");
+        sources.push_back(CommonDPDKernelSources::dpdPairs);
+    }
     sources.insert(sources.end(), ruleSources.begin(), ruleSources.end());
     program = compileDPDProgram(cc, sources);
-    cells.reset(new CommonCellList(cc, program, name));
     uploadParameters();
-    createKernels();
+    gatherKernel = program->createKernel("gatherVelocities");
+    gatherKernel->addArg(numAtoms());
+    gatherKernel->addArg(cc.getVelm());
+    gatherKernel->addArg(cc.getAtomIndexArray());
+    gatherKernel->addArg(velocity);
+    if (withPairForces) {
+        cells.reset(new CommonCellList(cc, program, name));
+        createPairKernels();
+    }
 }
 
 void CommonDynamics::updateParameters(const System& system, const DPDThermostatIntegrator& integrator) {
     parameters = DPDPairParameters(system, integrator);
     ContextSelector selector(cc);
     uploadParameters();
-    pairKernel->setArg(6, parameters.getTable().getNumTypes());
-    pairKernel->setArg(7, typeParams);
+    if (cells) {
+        pairKernel->setArg(6, parameters.getTable().getNumTypes());
+        pairKernel->setArg(7, typeParams);
+    }
 }
 
 void CommonDynamics::uploadParameters() {
@@ -79,7 +90,7 @@ void CommonDynamics::uploadParameters() {
     uploadMixed4(cc, typeParams, rows, "dpdTypeParams");
 }
 
-void CommonDynamics::createKernels() {
+void CommonDynamics::createPairKernels() {
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     pairKernel = program->createKernel("dpdPairForces");
     pairKernel->addArg(numAtoms());
@@ -96,11 +107,6 @@ void CommonDynamics::createKernels() {
     pairKernel->addArg(fr);
     for (int k = 0; k < 6; k++)
         pairKernel->addArg();  // the cell list's
-    gatherKernel = program->createKernel("gatherVelocities");
-    gatherKernel->addArg(numAtoms());
-    gatherKernel->addArg(cc.getVelm());
-    gatherKernel->addArg(cc.getAtomIndexArray());
-    gatherKernel->addArg(velocity);
     sumKernel = program->createKernel("sumForces");
     sumKernel->addArg(numAtoms());
     sumKernel->addArg(cc.getPaddedNumAtoms());

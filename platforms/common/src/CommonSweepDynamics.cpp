@@ -21,7 +21,8 @@ void setArrayArgs(ComputeKernel& kernel, int first, std::initializer_list<ArrayI
 
 CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
                                          const std::string& platform) :
-        CommonDynamics(cc, system, integrator, platform, {CommonDPDKernelSources::dpdvv, CommonDPDKernelSources::sweep}) {
+        CommonDynamics(cc, system, integrator, platform, {CommonDPDKernelSources::dpdvv, CommonDPDKernelSources::sweep}, false),
+        scan(cc, program) {
     ContextSelector selector(cc);
     const int n = std::max(numAtoms(), 1);
     position.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdSweepPosition");
@@ -29,10 +30,9 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     cellAtoms.initialize<int>(cc, n, "dpdSweepCellAtoms");
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
-            {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&scanKernel, {"scanCells", 3}},
-            {&fillKernel, {"fillCells", 5}}, {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 19}},
-            {&scatterKernel, {"scatterVelocities", 6}}, {&kickDriftKernel, {"kickDrift", 11}},
-            {&conservativeKernel, {"takeConservativeForce", 9}}};
+            {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
+            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 19}}, {&scatterKernel, {"scatterVelocities", 6}},
+            {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels) {
         *k.first = program->createKernel(k.second.first);
         for (int a = 0; a < k.second.second; a++)
@@ -68,12 +68,11 @@ void CommonSweepDynamics::ensureCarriedForce(ContextImpl& context, int forceGrou
     }
 }
 
-void CommonSweepDynamics::kickDrift(ContextImpl& context, double kick, double drift, long long next) {
+void CommonSweepDynamics::kickDrift(double kick, double drift) {
     setMixedArg(cc, kickDriftKernel, 6, kick);
     setMixedArg(cc, kickDriftKernel, 7, drift);
     setMixedArg(cc, kickDriftKernel, 8, maxMove2());
     kickDriftKernel->execute(numAtoms());
-    checkStatus(context, next);  // a non-finite position must not reach a cell list
 }
 
 void CommonSweepDynamics::takeConservativeForce(ContextImpl& context, int forceGroups, double kick) {
@@ -83,8 +82,8 @@ void CommonSweepDynamics::takeConservativeForce(ContextImpl& context, int forceG
     conservativeKernel->execute(numAtoms());
 }
 
-void CommonSweepDynamics::velocityVerlet(ContextImpl& context, int forceGroups, double dt, long long next) {
-    kickDrift(context, 0.5 * dt, dt, next);
+void CommonSweepDynamics::velocityVerlet(ContextImpl& context, int forceGroups, double dt) {
+    kickDrift(0.5 * dt, dt);
     takeConservativeForce(context, forceGroups, 0.5 * dt);
 }
 
@@ -127,9 +126,7 @@ void CommonSweepDynamics::buildGrid() {
     assignKernel->setArg(5, cells);
     setArrayArgs(assignKernel, 6, {&position, &atomCell, &cellCount});
     assignKernel->execute(numAtoms());
-    scanKernel->setArg(0, total);
-    setArrayArgs(scanKernel, 1, {&cellCount, &cellStart});
-    scanKernel->execute(1, 1);
+    scan.execute(total, cellCount, cellStart);
     fillKernel->setArg(0, numAtoms());
     setArrayArgs(fillKernel, 1, {&atomCell, &cellStart, &cellCount, &cellAtoms});
     fillKernel->execute(numAtoms());
@@ -179,7 +176,7 @@ void CommonShardlowDynamics::step(ContextImpl& context, const ShardlowIntegrator
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
     // the pairs at the new positions and with numbers of their own.
     sweep(ShardlowRule, h, PairRandom::RandomForce, current, false);
-    velocityVerlet(context, forceGroups, dt, next);
+    velocityVerlet(context, forceGroups, dt);
     if (secondOrder)
         sweep(ShardlowRule, h, PairRandom::SecondSweep, current, true);
     checkStatus(context, next);
@@ -196,7 +193,7 @@ void CommonLoweAndersenDynamics::step(ContextImpl& context, const LoweAndersenIn
         middleStep(context, integrator);
     else {
         // B A A B O: VV ; the pair thermostat over dt, over the pairs at the new positions.
-        velocityVerlet(context, forceGroups, dt, next);
+        velocityVerlet(context, forceGroups, dt);
         applyThermostat(integrator, current);
     }
     checkStatus(context, next);
@@ -205,12 +202,12 @@ void CommonLoweAndersenDynamics::step(ContextImpl& context, const LoweAndersenIn
 
 void CommonLoweAndersenDynamics::middleStep(ContextImpl& context, const LoweAndersenIntegrator& integrator) {
     const double dt = integrator.getStepSize();
-    const long long current = cc.getStepCount(), next = current + 1;
+    const long long current = cc.getStepCount();
     // B B (the last step's closing half kick and this step's opening one) A ; O over dt at
     // the mid-step positions ; A ; F <- FC(r)
-    kickDrift(context, dt, 0.5 * dt, next);
+    kickDrift(dt, 0.5 * dt);
     applyThermostat(integrator, current);
-    kickDrift(context, 0, 0.5 * dt, next);
+    kickDrift(0, 0.5 * dt);
     takeConservativeForce(context, integrator.getIntegrationForceGroups(), 0);
 }
 

@@ -12,6 +12,25 @@
 namespace DPDPlugin {
 
 /**
+ * Each cell's start from the cells' counts, on the device (kernels/cellList.cc): a prefix
+ * sum in parallel, over blocks of BlockSize cells (one work group each), then over the
+ * blocks' totals.  Integer sums: the same starts as a sequential loop.
+ */
+class CommonCellScan {
+public:
+    static const int BlockSize = 128;
+    /** @param program  a program compiled with kernels/cellList.cc */
+    CommonCellScan(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program);
+    /** cellStart[c] = the sum of cellCount below c (cellStart[numCells] = the total); cellCount is zeroed. */
+    void execute(int numCells, OpenMM::ComputeArray& cellCount, OpenMM::ComputeArray& cellStart);
+
+private:
+    OpenMM::ComputeContext& cc;
+    OpenMM::ComputeKernel blockKernel, sumsKernel, addKernel;
+    OpenMM::ComputeArray blockSums;
+};
+
+/**
  * A cell list on the device (kernels/cellList.cc), rebuilt at the current positions before
  * every pair pass: cells at least the cutoff wide in the rectangular periodic box.  A pair
  * kernel takes its six arguments (box size, inverse box size, cell counts, each slot's
@@ -29,7 +48,8 @@ public:
 private:
     OpenMM::ComputeContext& cc;
     std::string owner;
-    OpenMM::ComputeKernel clearKernel, assignKernel, scanKernel, fillKernel;
+    OpenMM::ComputeKernel clearKernel, assignKernel, fillKernel;
+    CommonCellScan scan;
     OpenMM::ComputeArray atomCell, cellCount, cellStart, cellAtoms;
     double boxSize[3], invBoxSize[3];
     int numCells[3], totalCells = 0;

@@ -28,10 +28,13 @@ namespace DPDPlugin {
  */
 class CommonDynamics {
 public:
-    /** Refuses (OpenMMException naming `platform`) what the device path does not do. */
-    /** @param ruleSources  the kernel sources of the subclass's update rule */
+    /**
+     * Refuses (OpenMMException naming `platform`) what the device path does not do.
+     * @param ruleSources     the kernel sources of the subclass's update rule
+     * @param withPairForces  whether the rule uses pairForces (fd, fr, the cell list) and sumIntoCarried
+     */
     CommonDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
-                   const std::string& platform, const std::vector<std::string>& ruleSources);
+                   const std::string& platform, const std::vector<std::string>& ruleSources, bool withPairForces);
     virtual ~CommonDynamics() {}
     double computeKineticEnergy(OpenMM::ContextImpl& context);
     void invalidateForces() { carried.invalidate(); }
@@ -60,7 +63,12 @@ protected:
     void pairForces(long long step, double dt, int terms, bool rebuildCells = true);
     /** carried = FC + FR (+ FD): the sums of the current pass. */
     void sumIntoCarried(bool withDissipative);
-    /** Throws the core's blow-up messages if a kernel of this step flagged a problem. */
+    /**
+     * Throws the core's blow-up messages if a kernel of this step flagged a problem.  Called
+     * once, at the end of a step (a read stalls the queue): the rest of a step that drifted a
+     * position to a non-finite value only wastes work (the cell lists keep it inside their
+     * grids), and the flags raised during it name the step, as the Reference's checks do.
+     */
     void checkStatus(OpenMM::ContextImpl& context, long long step);
     /** Advance step count and time; let OpenMM reorder its slots for locality. */
     void finishStep(double dt);
@@ -75,13 +83,13 @@ protected:
     CarriedForce carried;
     bool awaitingRestoreCheck = false;
     OpenMM::ComputeProgram program;
-    std::unique_ptr<CommonCellList> cells;
+    std::unique_ptr<CommonCellList> cells;  // with pair forces only, as fd, fr, pairKernel and sumKernel
     OpenMM::ComputeArray atomType, typeParams, velocity, fd, fr, carriedForce, status, moveValue;
     OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel;
 
 private:
     void uploadParameters();
-    void createKernels();
+    void createPairKernels();
 };
 
 } // namespace DPDPlugin

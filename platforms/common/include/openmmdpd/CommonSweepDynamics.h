@@ -24,9 +24,9 @@ protected:
     /** At the start of a step: make sure the carried force is FC at the current positions. */
     void ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r) ; v += dt/2m F. */
-    void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt, long long next);
-    /** v += kick/m F ; r += drift v (F the carried force); stops the run if a position blew up. */
-    void kickDrift(OpenMM::ContextImpl& context, double kick, double drift, long long next);
+    void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
+    /** v += kick/m F ; r += drift v (F the carried force); flags a position that blew up. */
+    void kickDrift(double kick, double drift);
     /** F <- FC(r) at the current positions; then v += kick/m F unless kick is 0. */
     void takeConservativeForce(OpenMM::ContextImpl& context, int forceGroups, double kick);
     /**
@@ -38,7 +38,8 @@ protected:
 private:
     /** The Reference's grid at the current positions, each cell's atoms in index order. */
     void buildGrid();
-    OpenMM::ComputeKernel assignKernel, clearKernel, scanKernel, fillKernel, sortKernel, colourKernel, scatterKernel, kickDriftKernel,
+    CommonCellScan scan;
+    OpenMM::ComputeKernel assignKernel, clearKernel, fillKernel, sortKernel, colourKernel, scatterKernel, kickDriftKernel,
             conservativeKernel;
     OpenMM::ComputeArray position, atomCell, cellCount, cellStart, cellAtoms;
     int numCells[3] = {0, 0, 0}, totalCells = 0;
