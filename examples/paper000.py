@@ -146,7 +146,8 @@ def radius_for(r, g, nc, density=4.0):
 def measure_costs(args):
     """{name: seconds per step}: one interleaved bench run, model B, N particles, dt 0.05, best of repeats."""
     made = factories("soft")
-    settings = SimpleNamespace(dt=0.05, warmup=10, steps=None, seconds=args.cost_seconds, repeats=args.repeats)
+    settings = SimpleNamespace(platform="CPU", dt=0.05, warmup=10, steps=None, seconds=args.cost_seconds,
+                               repeats=args.repeats)
     rates = bench.measure(scenes.soft_scene(num_particles=args.particles), [(n, made[n]) for n in COST_NAMES],
                           args.threads, settings)
     return {name: (1 / rate if isinstance(rate, float) and rate > 0 else float("nan")) for name, rate in rates.items()}
