@@ -30,6 +30,7 @@ def main(argv=None):
     parser.add_argument("--particles", type=int, default=2000)
     parser.add_argument("--dt", type=float, default=0.01)
     parser.add_argument("--alphas", type=float, nargs="+", default=[0.5, 5.0, 50.0])
+    parser.add_argument("--prepare", type=int, default=2000, help="steps of DPD-VV that equilibrate the one start")
     parser.add_argument("--equilibrate", type=int, default=500, help="steps of each integrator before sampling")
     parser.add_argument("--frames", type=int, default=600, help="velocity frames, one per step")
     parser.add_argument("--platform", default="CPU")
@@ -42,7 +43,7 @@ def main(argv=None):
     context = openmm.Context(scene.system, warmup, openmm.Platform.getPlatformByName(args.platform))
     context.setPositions(scene.positions)
     context.setVelocitiesToTemperature(openmmdpd.KT_TEMPERATURE, 3)
-    warmup.step(2000)
+    warmup.step(args.prepare)
     start = context.getState(getPositions=True, getVelocities=True)
     del context
 

@@ -4,6 +4,7 @@ paper did not measure), its Table VI (Nc in model B) and its Table VII (cost per
 to DPD-VV), ours next to the paper's, written to docs/results/paper000/.
 
     PYTHONPATH=build/python nice -n 10 /usr/bin/python3 examples/paper000.py [--quick] [--out DIR]
+        [--scenes soft] [--integrators GW S1] [--dts 0.01 0.05]
 
 Every run goes through the main job's run_one (openmmdpd.compare: the same observables, pymbar
 standard errors and strict stability criteria), all of a scene's from one start equilibrated with
@@ -122,8 +123,8 @@ def run_scene(scene_name, args):
     settings = run_args(scene_name, args)
     positions = compare.equilibrated_positions(scene, settings)
     rows, g_of = [], {}
-    for name in NAMES:
-        for dt in DTS[scene_name]:
+    for name in args.integrators:
+        for dt in args.dts or DTS[scene_name]:
             start = time.perf_counter()
             row, g = compare.run_one(scene, positions, name, made[name], dt, every_frame(dt, settings))
             rows.append(row)
@@ -146,7 +147,8 @@ def radius_for(r, g, nc, density=4.0):
 def measure_costs(args):
     """{name: seconds per step}: one interleaved bench run, model B, N particles, dt 0.05, best of repeats."""
     made = factories("soft")
-    settings = SimpleNamespace(dt=0.05, warmup=10, steps=None, seconds=args.cost_seconds, repeats=args.repeats)
+    settings = SimpleNamespace(platform="CPU", dt=0.05, warmup=10, steps=None, seconds=args.cost_seconds,
+                               repeats=args.repeats)
     rates = bench.measure(scenes.soft_scene(num_particles=args.particles), [(n, made[n]) for n in COST_NAMES],
                           args.threads, settings)
     return {name: (1 / rate if isinstance(rate, float) and rate > 0 else float("nan")) for name, rate in rates.items()}
@@ -340,10 +342,12 @@ def write_readme(path, lines):
         f.write(head + BEGIN + "\n" + "\n".join(lines) + "\n" + END + tail)
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default=os.path.join("docs", "results", "paper000"))
     parser.add_argument("--scenes", nargs="+", default=["ideal", "soft", "polymer"], choices=list(DTS))
+    parser.add_argument("--integrators", nargs="+", default=NAMES, choices=NAMES)
+    parser.add_argument("--dts", type=float, nargs="+", help="default: each scene's in the paper's figures")
     parser.add_argument("--particles", type=int, default=4000)
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--seed", type=int, default=5)
@@ -352,7 +356,7 @@ def main():
     parser.add_argument("--no-costs", action="store_true")
     parser.add_argument("--quick", action="store_true", help="a tenth of the sampling, for trying the script")
     parser.add_argument("--report-only", action="store_true", help="only redraw the report from the CSVs in --out")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     args.scale = 0.1 if args.quick else 1.0
     os.makedirs(args.out, exist_ok=True)
     start = time.perf_counter()

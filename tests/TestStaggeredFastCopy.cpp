@@ -3,6 +3,7 @@
 // (the main Context evaluates the fast groups instead), so what must copy is tested here,
 // and that PolymerForceContext gives the polymer the forces the full System gives it.
 #if OPENMMDPD_HAVE_CPU
+#include "StaggeredTestSystems.h"
 #include "openmmdpd/PolymerForceContext.h"
 #include "openmm/Context.h"
 #include "openmm/CustomBondForce.h"
@@ -89,30 +90,20 @@ System* makePolymerSystem(std::vector<Vec3>& positions) {
     CustomNonbondedForce* soft = new CustomNonbondedForce("10*(1-r)^2");
     soft->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
     soft->setCutoffDistance(1.0);
-    std::set<int> beads;
     for (int i = 0; i < 300; i++) {
         system->addParticle(1.0);
         positions.push_back(Vec3(box * uniform(random), box * uniform(random), box * uniform(random)));
         wca->addParticle({0.8 + 0.2 * uniform(random)});
         soft->addParticle({});
-        if (i < 60) {
-            beads.insert(i);
-            if (i % 20 != 0) {
-                // chains cross the periodic boundary: positions wrapped into the box
-                const Vec3 step(0.5 + 0.4 * uniform(random), 0.5 * uniform(random) - 0.25, 0.5 * uniform(random) - 0.25);
-                positions[i] = positions[i - 1] + step;
-                for (int d = 0; d < 3; d++)
-                    positions[i][d] -= box * std::floor(positions[i][d] / box);
-                fene->addBond(i - 1, i, {});
-                wca->addExclusion(i - 1, i);
-            }
+        if (i < 60 && i % 20 != 0) {
+            // chains cross the periodic boundary: positions wrapped into the box
+            const Vec3 step(0.5 + 0.4 * uniform(random), 0.5 * uniform(random) - 0.25, 0.5 * uniform(random) - 0.25);
+            positions[i] = positions[i - 1] + step;
+            for (int d = 0; d < 3; d++)
+                positions[i][d] -= box * std::floor(positions[i][d] / box);
         }
     }
-    wca->addInteractionGroup(beads, beads);
-    fene->setForceGroup(1);
-    wca->setForceGroup(1);
-    system->addForce(fene);
-    system->addForce(wca);
+    addChainForces(*system, fene, wca, 3, 20);
     system->addForce(soft);
     return system;
 }
@@ -126,6 +117,17 @@ PolymerSelection firstParticles(int numPolymer, int numParticles) {
     }
     return polymer;
 }
+
+/** A Reference Context of `system` and the copy of its fast group (1) over the first 60 particles, the polymer. */
+struct FastGroupContexts {
+    explicit FastGroupContexts(System& system)
+            : full(system, integrator, Platform::getPlatformByName("Reference")),
+              side(PolymerForceContext::create(system, 1 << 1, firstParticles(60, 300),
+                                               Platform::getPlatformByName("Reference"), {})) {}
+    VerletIntegrator integrator{0.001};
+    Context full;
+    std::unique_ptr<PolymerForceContext> side;
+};
 
 /** Largest |fast[k] - force on particle k of the fast group in `full`| over the polymer, and the largest force. */
 std::pair<double, double> differenceFromFull(Context& full, PolymerForceContext& side, const std::vector<Vec3>& positions) {
@@ -154,13 +156,9 @@ TEST(StaggeredFastCopy, ListedPairsGiveTheFullSystemsForceOnThePolymer) {
     // sheared and resized.
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makePolymerSystem(positions));
-    Platform& reference = Platform::getPlatformByName("Reference");
-    VerletIntegrator integrator(0.001);
-    Context full(*system, integrator, reference);
-    std::unique_ptr<PolymerForceContext> side =
-            PolymerForceContext::create(*system, 1 << 1, firstParticles(60, 300), reference, {});
-    ASSERT_NE(side, nullptr);
-    EXPECT_TRUE(side->evaluatesListedPairs());
+    FastGroupContexts contexts(*system);
+    ASSERT_NE(contexts.side, nullptr);
+    EXPECT_TRUE(contexts.side->evaluatesListedPairs());
     std::mt19937 random(11);
     std::normal_distribution<double> gauss(0, 1);
     std::vector<Vec3> velocity(60);
@@ -168,12 +166,12 @@ TEST(StaggeredFastCopy, ListedPairsGiveTheFullSystemsForceOnThePolymer) {
         v = Vec3(gauss(random), gauss(random), gauss(random));
     for (int round = 0; round < 40; round++) {
         if (round == 20)
-            full.setParameter("eps", 0.7);
+            contexts.full.setParameter("eps", 0.7);
         if (round == 25)
-            full.setPeriodicBoxVectors(Vec3(5, 0, 0), Vec3(0.4, 5, 0), Vec3(0, 0, 5));
+            contexts.full.setPeriodicBoxVectors(Vec3(5, 0, 0), Vec3(0.4, 5, 0), Vec3(0, 0, 5));
         if (round == 30)
-            full.setPeriodicBoxVectors(Vec3(5.2, 0, 0), Vec3(-0.3, 5.1, 0), Vec3(0, 0, 4.9));
-        const std::pair<double, double> d = differenceFromFull(full, *side, positions);
+            contexts.full.setPeriodicBoxVectors(Vec3(5.2, 0, 0), Vec3(-0.3, 5.1, 0), Vec3(0, 0, 4.9));
+        const std::pair<double, double> d = differenceFromFull(contexts.full, *contexts.side, positions);
         EXPECT_GT(d.second, 1.0) << "round " << round << ": the forces act";
         EXPECT_LT(d.first, 1e-12 * (1 + d.second)) << "round " << round;
         // Straight moves of ~0.02 per round: pairs come within the cutoff from beyond the skin
@@ -190,14 +188,10 @@ TEST(StaggeredFastCopy, PairInTwoInteractionGroupsIsCopiedInstead) {
     std::unique_ptr<System> system(makePolymerSystem(positions));
     auto& wca = dynamic_cast<CustomNonbondedForce&>(system->getForce(1));
     wca.addInteractionGroup({0, 1, 2, 3}, {2, 3, 4, 5});
-    Platform& reference = Platform::getPlatformByName("Reference");
-    VerletIntegrator integrator(0.001);
-    Context full(*system, integrator, reference);
-    std::unique_ptr<PolymerForceContext> side =
-            PolymerForceContext::create(*system, 1 << 1, firstParticles(60, 300), reference, {});
-    ASSERT_NE(side, nullptr);
-    EXPECT_FALSE(side->evaluatesListedPairs());
-    const std::pair<double, double> d = differenceFromFull(full, *side, positions);
+    FastGroupContexts contexts(*system);
+    ASSERT_NE(contexts.side, nullptr);
+    EXPECT_FALSE(contexts.side->evaluatesListedPairs());
+    const std::pair<double, double> d = differenceFromFull(contexts.full, *contexts.side, positions);
     EXPECT_LT(d.first, 1e-12 * (1 + d.second));
 }
 

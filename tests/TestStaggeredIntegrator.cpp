@@ -1,3 +1,4 @@
+#include "StaggeredTestSystems.h"
 #include "TestHelpers.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
@@ -21,7 +22,6 @@
 #include "openmm/serialization/XmlSerializer.h"
 #include <algorithm>
 #include <iostream>
-#include <set>
 #include <sstream>
 
 using namespace DPDPlugin;
@@ -49,24 +49,12 @@ System* makeChains(int n, int m, double a, std::vector<Vec3>& positions) {
     CustomNonbondedForce* wca = new CustomNonbondedForce("4*((l/r)^12 - (l/r)^6 + 0.25); l=0.8908987181403393");
     wca->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
     wca->setCutoffDistance(1.0);
-    std::set<int> beads;
     for (int i = 0; i < n; i++)
         wca->addParticle({});
     for (int c = 0; c < CHAINS; c++)
-        for (int k = 0; k < m; k++) {
-            const int i = c * m + k;
-            beads.insert(i);
-            positions[i] = Vec3(0.2 + 0.97 * k, 0.3 + 0.5 * box * (c % 2), 0.4 + 0.5 * box * (c / 2));
-            if (k > 0) {
-                fene->addBond(i - 1, i, {});
-                wca->addExclusion(i - 1, i);
-            }
-        }
-    wca->addInteractionGroup(beads, beads);
-    fene->setForceGroup(1);
-    wca->setForceGroup(1);
-    system->addForce(fene);
-    system->addForce(wca);
+        for (int k = 0; k < m; k++)
+            positions[c * m + k] = Vec3(0.2 + 0.97 * k, 0.3 + 0.5 * box * (c % 2), 0.4 + 0.5 * box * (c / 2));
+    addChainForces(*system, fene, wca, CHAINS, m);
     return system;
 }
 

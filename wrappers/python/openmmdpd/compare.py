@@ -34,6 +34,7 @@ from scipy.spatial import cKDTree
 
 from .analysis import (frame_radial_distributions, mean_squared_displacement, median_with_error, radius_of_gyration,
                        ratio_with_error, standard_error)
+from . import options
 from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
 from .scenes import SCENES, build_scene
 from .units import KT_TEMPERATURE
@@ -445,7 +446,7 @@ def compare(args):
     return rows
 
 
-# --quick: a run of seconds for CI and a first look (explicit options still override it)
+# --quick (options.add_quick)
 QUICK = dict(particles=500, time=3.0, equilibrate=0.5, prepare=1.0, frame_every=0.5, gr_frames=4, cost_block=0.01,
              cost_repeats=3, dts=[0.02, 0.06, 0.15])
 
@@ -467,7 +468,7 @@ def _parser():
     add("--gr-frames", type=int, default=8, help="frames, spread over the run, whose g(r) is measured")
     add("--cost-block", type=float, default=0.1, help="CPU seconds per timed block of the cost ratio to Langevin")
     add("--cost-repeats", type=int, default=7, help="alternating timed blocks (integrator, Langevin)")
-    add("--quick", action="store_true", help=f"a run of seconds for CI: {QUICK}")
+    options.add_quick(parser, QUICK)
     add("--platform", default="CPU")
     add("--threads", type=int, default=os.cpu_count() or 1)
     add("--seed", type=int, default=2024)
@@ -479,10 +480,7 @@ def _parser():
 
 
 def main(argv=None):
-    parser = _parser()
-    if parser.parse_args(argv).quick:
-        parser.set_defaults(**QUICK)
-    args = parser.parse_args(argv)
+    args = options.parse_args(_parser(), argv, QUICK)
     args.out = args.out or os.path.join("results", f"compare-{args.scene}")
     start = time.perf_counter()
     rows = compare(args)

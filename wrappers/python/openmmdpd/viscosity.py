@@ -39,7 +39,7 @@ import numpy as np
 import openmm
 from openmm import unit
 
-from . import shear
+from . import options, shear
 from .analysis import standard_error
 from .catalog import FRICTION, integrators
 from .pressure import PARTS, check_integrator, pressure_tensor
@@ -315,7 +315,7 @@ def _say(args, message):
         print(f"[{time.strftime('%H:%M:%S')}] {message}", flush=True)
 
 
-# --quick: a run of seconds for CI and a first look (explicit options still override it)
+# --quick (options.add_quick)
 QUICK = dict(particles=300, rates=[0.5], nemd_time=2.0, gk_time=4.0, equilibrate=0.5, frame_every=0.5,
              gk_max_lag=0.5, segments=4)
 
@@ -336,7 +336,7 @@ def _parser():
     add("--frame-every", type=float, default=1.0, help="time between frames (velocity profile, peculiar kT)")
     add("--gk-max-lag", type=float, default=10.0, help="longest lag time of the correlation")
     add("--segments", type=int, default=8, help="independent segments giving the Green–Kubo error")
-    add("--quick", action="store_true", help=f"a run of seconds for CI: {QUICK}")
+    options.add_quick(parser, QUICK)
     add("--platform", default="CPU")
     add("--threads", type=int, default=1)
     add("--seed", type=int, default=2024)
@@ -347,10 +347,7 @@ def _parser():
 
 
 def main(argv=None):
-    parser = _parser()
-    if parser.parse_args(argv).quick:
-        parser.set_defaults(**QUICK)
-    args = parser.parse_args(argv)
+    args = options.parse_args(_parser(), argv, QUICK)
     args.command = list(sys.argv[1:] if argv is None else argv)
     if args.integrator not in integrators(None) or args.integrator == "Langevin":
         raise SystemExit(f"unknown or non-DPD integrator {args.integrator!r}; available: "

@@ -33,7 +33,8 @@ BINS = 10
 
 
 def sheared_run(name, rate, dt, sample_time, frame_every=0.1, equilibrate=5.0, seed=3):
-    """Frames of model B under shear: (slopes, edge residuals (n, 2), peculiar kT, kT components (n, 3))."""
+    """Frames of model B under shear: (slopes, edge residuals (n, 2), peculiar kT, kT components (n, 3),
+    the box height Ly)."""
     scene = build_scene("soft", seed=seed)
     integrator = integrators("soft")[name](dt)
     integrator.setShearRate(rate / unit.picosecond)
@@ -60,15 +61,15 @@ def sheared_run(name, rate, dt, sample_time, frame_every=0.1, equilibrate=5.0, s
         kT, per_axis = shear.peculiar_temperature(r, v, masses, rate, height)
         temperatures.append(kT)
         components.append(per_axis)
-    return np.array(slopes), np.array(edges), np.array(temperatures), np.array(components)
+    return np.array(slopes), np.array(edges), np.array(temperatures), np.array(components), height
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("rate, dt, sample_time, frame_every", [(0.5, 0.01, 100.0, 0.1), (0.1, 0.04, 1800.0, 1.0)])
 @pytest.mark.parametrize("name", SCHEMES)
 def test_velocity_profile_is_linear_with_the_imposed_slope(name, rate, dt, sample_time, frame_every):
-    slopes, edges, _, components = sheared_run(name, rate, dt, sample_time, frame_every)
-    jump = rate * 10.0  # U = rate Ly
+    slopes, edges, _, components, height = sheared_run(name, rate, dt, sample_time, frame_every)
+    jump = rate * height  # U = rate Ly
     slope, sigma = slopes.mean(), standard_error(slopes)
     edge, edge_sigma = edges.mean(axis=0), [standard_error(edges[:, k]) for k in range(2)]
     layer, layer_sigma = np.mean(edges[:, 0] - edges[:, 1]), standard_error(edges[:, 0] - edges[:, 1])
@@ -85,7 +86,7 @@ def test_velocity_profile_is_linear_with_the_imposed_slope(name, rate, dt, sampl
 @pytest.mark.slow
 @pytest.mark.parametrize("name", SCHEMES)
 def test_peculiar_temperature_at_low_rate(name):
-    _, _, temperatures, components = sheared_run(name, 0.1, 0.01, 40.0)
+    _, _, temperatures, components, _ = sheared_run(name, 0.1, 0.01, 40.0)
     kT, sigma = temperatures.mean(), standard_error(temperatures)
     print(f"\n{name} rate 0.1 dt 0.01: peculiar kT {kT:.4f} +- {sigma:.4f}, components "
           f"{np.round(components.mean(axis=0), 4)}")

@@ -1,0 +1,115 @@
+"""Every script in examples/, run through its own main() at its smallest sizes (a few seconds
+each), so that an example broken by a change elsewhere fails the suite.  Each checks a cheap
+physical number against a long run's (docs/results/): a run with a broken thermostat, force or
+analysis lands outside those bounds."""
+import csv
+import glob
+import importlib.util
+import json
+import math
+import os
+import re
+
+import pytest
+
+EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "examples")
+
+
+def example(name):
+    """examples/<name>.py as a module (scripts, not a package: loaded from their path)."""
+    spec = importlib.util.spec_from_file_location(f"example_{name}", os.path.join(EXAMPLES, f"{name}.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_every_example_has_a_test():
+    with open(__file__) as f:
+        tested = set(re.findall(r'example\("(\w+)"\)', f.read()))
+    scripts = {os.path.basename(p)[:-3] for p in glob.glob(os.path.join(EXAMPLES, "*.py"))}
+    assert scripts and scripts <= tested, f"examples without a test: {sorted(scripts - tested)}"
+
+
+def test_run_soft(capsys):
+    # GW at dt 0.04 on model B: <kT> ~1.02 (error here ~0.01).
+    example("run_soft").main(["--particles", "500", "--equilibrate", "200", "--steps", "200"])
+    kt = float(re.search(r"<kT> = ([\d.]+) \+- [\d.]+ over 200 steps", capsys.readouterr().out).group(1))
+    assert 0.95 < kt < 1.1
+
+
+def test_kt_sweep(capsys):
+    # GW on model B at dt 0.05: 1.044 +- 0.002 in docs/results/kt-vs-dt.md (error here ~0.006);
+    # dt 3 blows up, reported as a row, not a crash.
+    example("kt_sweep").main(["--particles", "500", "--dts", "0.05", "3.0", "--time", "5"])
+    out = capsys.readouterr().out
+    kt = float(re.search(r"GW +0\.05 +([\d.]+) +[\d.]+\n", out).group(1))
+    assert 0.98 < kt < 1.11
+    assert re.search(r"GW +3\.0 unstable: .*blew up", out)
+
+
+def test_kt_vs_dt_quick(capsys):
+    # docs/results/kt-vs-dt.md, model B at dt 0.05: GW kinetic 1.041, configurational 1.111;
+    # Lowe-mid 0.999 and 1.004.  Errors here ~0.005-0.02: bounds of 3 sigma and more.
+    example("kt_vs_dt").main(["--quick"])
+    rows = {name: (float(kinetic), float(configurational)) for name, kinetic, configurational in
+            re.findall(r"\| ([\w-]+) \| 0\.05 \| ([\d.]+) ± [\d.]+ \| ([\d.]+) ± [\d.]+ \|", capsys.readouterr().out)}
+    assert 0.98 < rows["GW"][0] < 1.12 and 1.04 < rows["GW"][1] < 1.2
+    assert abs(rows["Lowe-mid"][0] - 1) < 0.05 and abs(rows["Lowe-mid"][1] - 1) < 0.06
+
+
+def test_edpd_memory(capsys):
+    # EDPD's pair variables remember: its C(t) decays more slowly than DPD-VV's at the same
+    # friction and D is larger (at alpha 5: C(0.1) 0.78 against 0.70, noise ~0.01).
+    example("edpd_memory").main(["--particles", "500", "--prepare", "1000", "--equilibrate", "200", "--frames", "60",
+                                 "--alphas", "5"])
+    rows = {name: [float(x) for x in values.split()] for name, values in
+            re.findall(r"^(DPD-VV|EDPD a=5) +(.*)$", capsys.readouterr().out, re.M)}
+    for c0, _, c01, _, diffusion, kt, _ in rows.values():
+        assert c0 == 1.0 and 0 < c01 < 1 and diffusion > 0
+        assert 0.85 < kt < 1.15
+    assert rows["EDPD a=5"][2] > rows["DPD-VV"][2] + 0.03
+    assert rows["EDPD a=5"][4] > rows["DPD-VV"][4]
+    assert math.isnan(rows["DPD-VV"][6]) and rows["EDPD a=5"][6] > 1  # pair variables stored per particle
+
+
+def test_paper000_quick(tmp_path):
+    # docs/results/paper000: Nc(1.16) of DPD-VV at dt 0.05 is 25.44 (paper 000: 25.74 to its r1).
+    out = str(tmp_path / "paper000")
+    module = example("paper000")
+    module.main(["--quick", "--scenes", "soft", "--integrators", "DPD-VV", "GW", "--dts", "0.05", "--particles", "500",
+                 "--cost-seconds", "0.02", "--repeats", "1", "--out", out])
+    rows = {row["integrator"]: row for row in read_csv(os.path.join(out, "runs-soft.csv"))}
+    assert sorted(rows) == ["DPD-VV", "GW"]
+    for row in rows.values():
+        assert row["status"] == "ok" and 0.95 < float(row["kT"]) < 1.1
+    assert abs(float(rows["DPD-VV"]["Nc_1.16"]) - 25.44) < 0.5
+    costs = {row["integrator"]: float(row["s_per_step"]) for row in read_csv(os.path.join(out, "costs.csv"))}
+    assert list(costs) == module.COST_NAMES and all(0 < c < 1 for c in costs.values())
+    assert os.path.getsize(os.path.join(out, "kT_vs_dt_soft.png")) > 0
+    report = open(os.path.join(out, "README.md")).read()
+    assert "| DPD-VV | 0.05 | 25.74 ± 0.05 |" in report and "### Table VII" in report
+
+
+@pytest.mark.filterwarnings("ignore:Covariance of the parameters")  # --quick's 2-unit runs barely fit tau
+def test_wlc_shear_quick(tmp_path):
+    # The relaxation starts from the chain 30 % extended along y: <x^2>(0) = (0.3 L)^2 exactly,
+    # then shrinks; the sheared runs stretch the chain (0 < <x>/L < 1) and heat it a little.
+    out = str(tmp_path / "wlc")
+    module = example("wlc_shear")
+    module.main(["--quick", "--out", out])
+    relaxation = read_csv(os.path.join(out, "tau.csv"))
+    assert float(relaxation[0]["mean_x2"]) == pytest.approx((0.3 * module.CONTOUR) ** 2, rel=1e-12)
+    assert float(relaxation[-1]["mean_x2"]) < float(relaxation[0]["mean_x2"])
+    with open(os.path.join(out, "tau.json")) as f:
+        assert json.load(f)["tau"] > 0
+    rows = read_csv(os.path.join(out, "extension.csv"))
+    assert [(row["base"], row["K"]) for row in rows] == [("lowe", "6"), ("vv", "6")]
+    for row in rows:
+        assert 0 < float(row["extension"]) < 1 and 0.9 < float(row["peculiar_kT_end"]) < 1.2
+    for name in ("relaxation.png", "extension.png", "results.md"):
+        assert os.path.getsize(os.path.join(out, name)) > 0
