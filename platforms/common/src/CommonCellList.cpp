@@ -38,6 +38,13 @@ void DPDPlugin::addMixedArg(ComputeContext& cc, ComputeKernel& kernel, double va
         kernel->addArg((float) value);
 }
 
+ComputeKernel DPDPlugin::createKernelWithArgs(ComputeProgram& program, const std::string& name, int args) {
+    ComputeKernel kernel = program->createKernel(name);
+    for (int a = 0; a < args; a++)
+        kernel->addArg();
+    return kernel;
+}
+
 void DPDPlugin::setMixedArg(ComputeContext& cc, ComputeKernel& kernel, int index, double value) {
     if (mixedIsDouble(cc))
         kernel->setArg(index, value);
@@ -77,14 +84,10 @@ void DPDPlugin::uploadMixed4(ComputeContext& cc, ComputeArray& array, const std:
 }
 
 CommonCellScan::CommonCellScan(ComputeContext& cc, ComputeProgram program) : cc(cc) {
-    blockKernel = program->createKernel("scanCellBlocks");
-    sumsKernel = program->createKernel("scanBlockSums");
-    addKernel = program->createKernel("addBlockStarts");
     // Every argument is set at each call (the arrays are resized with the box).
-    for (const std::pair<ComputeKernel*, int>& k : {std::make_pair(&blockKernel, 4), std::make_pair(&sumsKernel, 4),
-                                                    std::make_pair(&addKernel, 3)})
-        for (int a = 0; a < k.second; a++)
-            (*k.first)->addArg();
+    blockKernel = createKernelWithArgs(program, "scanCellBlocks", 4);
+    sumsKernel = createKernelWithArgs(program, "scanBlockSums", 4);
+    addKernel = createKernelWithArgs(program, "addBlockStarts", 3);
 }
 
 void CommonCellScan::execute(int numCells, ComputeArray& cellCount, ComputeArray& cellStart) {
@@ -114,14 +117,10 @@ CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const
     const int n = std::max(cc.getNumAtoms(), 1);
     atomCell.initialize<int>(cc, n, "dpdAtomCell");
     cellAtoms.initialize<int>(cc, n, "dpdCellAtoms");
-    clearKernel = program->createKernel("clearCells");
-    assignKernel = program->createKernel("assignCells");
-    fillKernel = program->createKernel("fillCells");
     // Every argument is set at each build (the arrays are resized with the box).
-    for (const std::pair<ComputeKernel*, int>& k : {std::make_pair(&clearKernel, 2), std::make_pair(&assignKernel, 6),
-                                                    std::make_pair(&fillKernel, 5)})
-        for (int a = 0; a < k.second; a++)
-            (*k.first)->addArg();
+    clearKernel = createKernelWithArgs(program, "clearCells", 2);
+    assignKernel = createKernelWithArgs(program, "assignCells", 6);
+    fillKernel = createKernelWithArgs(program, "fillCells", 5);
 }
 
 void CommonCellList::build(double cutoff) {

@@ -33,11 +33,8 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
             {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
             {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 19}}, {&scatterKernel, {"scatterVelocities", 6}},
             {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
-    for (const auto& k : kernels) {
-        *k.first = program->createKernel(k.second.first);
-        for (int a = 0; a < k.second.second; a++)
-            (*k.first)->addArg();
-    }
+    for (const auto& k : kernels)
+        *k.first = createKernelWithArgs(program, k.second.first, k.second.second);
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     kickDriftKernel->setArg(0, numAtoms());
     kickDriftKernel->setArg(1, cc.getPosq());

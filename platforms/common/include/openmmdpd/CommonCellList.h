@@ -55,6 +55,8 @@ private:
     int numCells[3], totalCells = 0;
 };
 
+/** The kernel `name` of `program` with `args` arguments, each to be set before it runs. */
+OpenMM::ComputeKernel createKernelWithArgs(OpenMM::ComputeProgram& program, const std::string& name, int args);
 /** Add array arguments to a kernel, in order. */
 void addArrayArgs(OpenMM::ComputeKernel& kernel, std::initializer_list<OpenMM::ArrayInterface*> arrays);
 /** Add a `mixed` scalar (double or float, as the context's precision says) to a kernel. */
