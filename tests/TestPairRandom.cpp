@@ -59,11 +59,16 @@ TEST(PairRandom, BatchedNormalsEqualOneAtATime) {
     std::vector<r123::Philox4x32::ctr_type> draws;
     for (int k = 0; k < 7; k++)
         draws.push_back(random.bits(PairRandom::RandomForce, 3, k, 100 + k));
+    std::vector<double> alone(7);
+    for (int k = 0; k < 7; k++)
+        PairRandomBatch::boxMuller(&draws[k][0], &draws[k][1], 1, 4, &alone[k]);
     for (int n = 1; n <= 7; n++) {
         std::vector<double> batch(n);
         PairRandomBatch::boxMuller(&draws[0][0], &draws[0][1], n, 4, batch.data());
-        for (int k = 0; k < n; k++)
+        for (int k = 0; k < n; k++) {
+            EXPECT_EQ(batch[k], alone[k]) << "batch of " << n << ", number " << k;
             EXPECT_NEAR(batch[k], PairRandom::boxMuller(draws[k]), 1e-14) << "batch of " << n << ", number " << k;
+        }
     }
     // ...and agrees with the textbook formula to rounding.
     for (int k = 0; k < 7; k++) {

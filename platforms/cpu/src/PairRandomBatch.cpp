@@ -1,4 +1,7 @@
 #include "openmmdpd/PairRandomBatch.h"
+#include <algorithm>
+#include <climits>
+#include <cmath>
 #include <cstring>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -53,6 +56,38 @@ bool haveAVX2() {
 }
 #endif
 
+#if defined(OPENMMDPD_PHILOX_AVX2) && defined(OPENMMDPD_HAVE_LIBMVEC)
+// glibc's vector math library (libmvec): log and cos of four doubles at once, AVX2 variants.
+extern "C" __m256d _ZGVdN4v_log(__m256d);
+extern "C" __m256d _ZGVdN4v_cos(__m256d);
+
+/** Words k .. k+3 (the last repeating words[n-1] past n) as exact doubles. */
+__attribute__((target("avx2"), always_inline)) inline __m256d fourWords(const uint32_t* words, int k, int n, int stride) {
+    const auto word = [&](int l) { return (int) words[std::min(k + l, n - 1) * stride]; };
+    const __m128i w = _mm_set_epi32(word(3), word(2), word(1), word(0));
+    // Unsigned to double: flip the sign bit, convert as signed, add 2^31 back (all exact).
+    return _mm256_add_pd(_mm256_cvtepi32_pd(_mm_xor_si128(w, _mm_set1_epi32(INT32_MIN))), _mm256_set1_pd(2147483648.0));
+}
+
+__attribute__((target("avx2"))) void boxMullerFour(const uint32_t* first, const uint32_t* second, int n, int stride,
+                                                   double* out) {
+    // PairRandom::toOpenUniform and toUniform, the same operations four at a time.
+    const __m256d scale = _mm256_set1_pd(1.0 / 4294967296.0);
+    for (int k = 0; k < n; k += 4) {
+        // A batch's last lanes repeat its last number, so that it too goes through libmvec.
+        const __m256d u1 = _mm256_mul_pd(_mm256_add_pd(fourWords(first, k, n, stride), _mm256_set1_pd(1.0)), scale);
+        const __m256d u2 = _mm256_mul_pd(fourWords(second, k, n, stride), scale);
+        const __m256d radius = _mm256_sqrt_pd(_mm256_mul_pd(_mm256_set1_pd(-2.0), _ZGVdN4v_log(u1)));
+        const __m256d angle = _mm256_mul_pd(_mm256_set1_pd(2.0 * M_PI), u2);
+        alignas(32) double x[4];
+        _mm256_store_pd(x, _mm256_mul_pd(radius, _ZGVdN4v_cos(angle)));
+        for (int l = 0; l < 4 && k + l < n; l++)
+            out[k + l] = x[l];
+    }
+}
+#define OPENMMDPD_BOX_MULLER_AVX2
+#endif
+
 } // namespace
 
 void PairRandomBatch::bits(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j, int n,
@@ -65,4 +100,16 @@ void PairRandomBatch::bits(const PairRandom& random, PairRandom::Stream stream, 
 #endif
     for (; k < n; k++)
         out[k] = random.bits(stream, step, i[k], j[k]);
+}
+
+void PairRandomBatch::boxMuller(const uint32_t* first, const uint32_t* second, int n, int stride, double* out) {
+#ifdef OPENMMDPD_BOX_MULLER_AVX2
+    if (haveAVX2()) {
+        boxMullerFour(first, second, n, stride, out);
+        return;
+    }
+#endif
+    for (int k = 0; k < n; k++)
+        out[k] = std::sqrt(-2.0 * std::log(PairRandom::toOpenUniform(first[k * stride]))) *
+                 std::cos(2.0 * M_PI * PairRandom::toUniform(second[k * stride]));
 }
