@@ -21,7 +21,8 @@ threshold off and at INSTABILITY_THRESHOLD, alternated --repeats times, medians 
 
 --scale instead measures particle-steps/s from 4000 to a million particles on model B (dt 0.05,
 one thread unless --threads says otherwise), each integrator against GW and Langevin at the
-same N and against itself at the first N; --memory the bytes per particle a Context of each
+same N (timed interleaved with the two, three Contexts at a time) and against itself at the
+first N; --memory the bytes per particle a Context of each
 integrator adds to the resident memory (each in a fresh process):
 
     /usr/bin/python3 -m openmmdpd.bench --scale --memory [--sizes 4000 32000 256000 1000000]
@@ -202,29 +203,56 @@ def measure_sizes(factories, args):
     return rows
 
 
+SCALE_REFERENCES = ("GW", "Langevin")
+
+
+def measure_scale(factories, args):
+    """Rows (N, threads, {label: (steps/s, GW's, Langevin's)}): the references (GW, Langevin)
+    timed alone, then each other integrator timed interleaved with them, so that every ratio
+    comes from runs side by side and at most three Contexts share the memory (all of them at
+    once slow one another down at a million particles: see the README)."""
+    references = [(label, make) for label, make in factories if label in SCALE_REFERENCES]
+    others = [(label, make) for label, make in factories if label not in SCALE_REFERENCES]
+    groups = [references] + [references + [entry] for entry in others] if references else [[entry] for entry in others]
+    rows = []
+    for n in args.sizes:
+        scene = soft_scene(num_particles=n)
+        for threads in args.threads:
+            results = {}
+            for group in groups:
+                print(f"measuring N={n} threads={threads}: {' '.join(label for label, _ in group)} ...",
+                      file=sys.stderr, flush=True)
+                rates = measure(scene, group, threads, args)
+                release_free_memory()
+                for label, rate in rates.items():
+                    results.setdefault(label, (rate, rates.get("GW"), rates.get("Langevin")))
+            rows.append((n, threads, {label: results[label] for label, _ in factories}))
+    return rows
+
+
 def ratio(a, b):
     return f"{a / b:.2f}" if isinstance(a, float) and isinstance(b, float) and b > 0 else "-"
 
 
 def print_scale_table(rows, args):
-    """Particle-steps/s; speed against GW and cost against Langevin at the same N (as issue 16's
-    definition of done states them), and cost per particle-step against the first N's."""
+    """Particle-steps/s; speed against GW and cost against Langevin at the same N, from the runs
+    interleaved with it (as issue 16's definition of done states them), and cost per
+    particle-step against the first N's."""
     print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), {args.platform} platform, dt={args.dt:g}, "
-          f"gamma=4.5, best of {args.repeats} interleaved; speed/GW = steps/s / GW's, cost/Langevin = "
-          f"time per step / Langevin's, at the same N; cost/particle = time per particle-step / "
-          f"the integrator's at N={rows[0][0]}")
+          f"gamma=4.5, best of {args.repeats}, each integrator interleaved with GW and Langevin; "
+          f"speed/GW = steps/s / GW's, cost/Langevin = time per step / Langevin's, in the same runs; "
+          f"cost/particle = time per particle-step / the integrator's at N={rows[0][0]}")
     print(f"{'N':>8} {'threads':>7}  {'integrator':<10} {'steps/s':>9} {'Mparticle-steps/s':>17}  "
           f"{'speed/GW':>8} {'cost/Langevin':>13} {'cost/particle':>13}")
     first = {}
     for n, threads, results in rows:
-        for label, rate in results.items():
+        for label, (rate, gw, langevin) in results.items():
             if isinstance(rate, str):
                 print(f"{n:>8} {threads:>7}  {label:<10} {rate}")
                 continue
             first.setdefault((threads, label), n * rate)
             print(f"{n:>8} {threads:>7}  {label:<10} {rate:>9.2f} {n * rate / 1e6:>17.3f}  "
-                  f"{ratio(rate, results.get('GW')):>8} {ratio(results.get('Langevin'), rate):>13} "
-                  f"{ratio(first[threads, label], n * rate):>13}")
+                  f"{ratio(rate, gw):>8} {ratio(langevin, rate):>13} {ratio(first[threads, label], n * rate):>13}")
 
 
 def resident_bytes():
@@ -464,7 +492,7 @@ def main(argv=None):
     if at_scale:
         if args.scale:
             chosen = args.integrators or (GPU_SCALE_INTEGRATORS if gpu else SCALE_INTEGRATORS)
-            print_scale_table(measure_sizes([(name, factory(name, args.edpd_alpha)) for name in chosen], args), args)
+            print_scale_table(measure_scale([(name, factory(name, args.edpd_alpha)) for name in chosen], args), args)
         if args.memory:
             args.integrators = args.integrators or MEMORY_INTEGRATORS
             print_memory_table(measure_memory(args), args)

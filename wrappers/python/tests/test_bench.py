@@ -29,14 +29,38 @@ def test_scale_table_ratios_agree_with_its_rates(capsys):
     rows = [line.split() for line in lines[2:]]
     assert [row[:3] for row in rows] == [[n, "1", name] for n in ("500", "1000") for name in ("GW", "S1", "Langevin")]
     rate = {(int(row[0]), row[2]): float(row[3]) for row in rows}
-    for n, _, name, _, million, speed, cost, per_particle in rows:
+    for n, _, name, _, million, _, _, per_particle in rows:
         n = int(n)
-        expected = (n * rate[n, name] / 1e6, rate[n, name] / rate[n, "GW"], rate[n, "Langevin"] / rate[n, name],
-                    500 * rate[500, name] / (n * rate[n, name]))
-        assert [float(million), float(speed), float(cost), float(per_particle)] == approx(expected, rel=0.01, abs=0.006)
+        assert [float(million), float(per_particle)] == approx(
+            [n * rate[n, name] / 1e6, 500 * rate[500, name] / (n * rate[n, name])], rel=0.01, abs=0.006)
+    # GW and Langevin are timed together, so their rows' ratios are each other's.
+    for n in (500, 1000):
+        gw, langevin = (next(row for row in rows if row[:3] == [str(n), "1", name]) for name in ("GW", "Langevin"))
+        assert float(gw[6]) == approx(rate[n, "Langevin"] / rate[n, "GW"], rel=0.01, abs=0.006)
+        assert float(langevin[5]) == approx(rate[n, "Langevin"] / rate[n, "GW"], rel=0.01, abs=0.006)
     assert {row[5] for row in rows if row[2] == "GW"} == {"1.00"}
     assert {row[6] for row in rows if row[2] == "Langevin"} == {"1.00"}
     assert {row[7] for row in rows if row[0] == "500"} == {"1.00"}
+
+
+def test_scale_ratios_come_from_the_runs_interleaved_with_each_integrator(capsys, monkeypatch):
+    """Each integrator is timed in a group with GW and Langevin, and its ratios use that group's
+    rates: here the references run at other speeds beside S1 than alone."""
+    groups = []
+
+    def fake_measure(scene, factories, threads, args):
+        labels = [label for label, _ in factories]
+        groups.append(labels)
+        return {"GW": 100.0, "Langevin": 200.0, "S1": 50.0} if "S1" in labels else {"GW": 120.0, "Langevin": 150.0}
+
+    monkeypatch.setattr(bench, "measure", fake_measure)
+    bench.main(["--scale", "--integrators", "S1", "GW", "Langevin", "--sizes", "500"])
+    assert groups == [["GW", "Langevin"], ["GW", "Langevin", "S1"]]
+    rows = {row[2]: row[3:] for row in (line.split() for line in capsys.readouterr().out.splitlines()[2:])}
+    assert list(rows) == ["S1", "GW", "Langevin"]
+    assert rows["S1"][0] == "50.00" and rows["S1"][2:4] == ["0.50", "4.00"]
+    assert rows["GW"][0] == "120.00" and rows["GW"][2:4] == ["1.00", "1.25"]
+    assert rows["Langevin"][0] == "150.00" and rows["Langevin"][2:4] == ["1.25", "1.00"]
 
 
 def test_resident_bytes_sees_an_allocation():
