@@ -57,6 +57,9 @@ SCALE_INTEGRATORS = ["GW", "DPD-VV", "S1", "Lowe", "Langevin"]
 MEMORY_INTEGRATORS = SCALE_INTEGRATORS + ["EDPD"]
 SCALE_SIZES = [4000, 32000, 256000, 1000000]
 SCALE_DT = 0.05  # model B's step (issue 16)
+# A step at a million particles takes most of a second: blocks of 1 s (2 steps) read GW's
+# rate there anywhere from 1.2 to 2.5 steps/s.
+SCALE_SECONDS = 3.0
 GPU_SCALE_SIZES = [32000, 256000, 1000000]
 GPU_SCALE_INTEGRATORS = ["GW", "S1", "Lowe", "Langevin"] + (["OpenMM-DPD"] if hasattr(openmm, "DPDIntegrator") else [])
 # --memory: steps between readings of the resident memory, and the size of the throw-away
@@ -452,8 +455,9 @@ def main(argv=None):
     parser.add_argument("--warmup", type=int, default=10, help="untimed steps per integrator")
     parser.add_argument("--steps", type=int, default=None,
                         help="timed steps per measurement (default: about --seconds worth)")
-    parser.add_argument("--seconds", type=float, default=1.0,
-                        help="target length of one measurement when --steps is not given")
+    parser.add_argument("--seconds", type=float,
+                        help=f"target length of one measurement when --steps is not given, default 1 "
+                        f"({SCALE_SECONDS:g} with --scale)")
     parser.add_argument("--repeats", type=int, default=3,
                         help="interleaved measurements; best kept")
     parser.add_argument("--platform", default="CPU", choices=["CPU", "OpenCL", "CUDA"],
@@ -488,6 +492,7 @@ def main(argv=None):
     args.sizes = args.sizes or ((GPU_SCALE_SIZES if gpu else SCALE_SIZES) if at_scale else [4000, 32000])
     args.threads = args.threads or ([1] if at_scale or gpu else [1, 2])
     args.dt = args.dt or (SCALE_DT if at_scale else 0.04)
+    args.seconds = args.seconds or (SCALE_SECONDS if args.scale else 1.0)
 
     if at_scale:
         if args.scale:
