@@ -113,6 +113,12 @@ def make_context(system, integrator, threads, args):
 
 def measure(scene, factories, threads, args):
     """{label: best steps/s, or the error that stopped it} for one system and thread count."""
+    return {label: max(rates) if isinstance(rates, list) else rates
+            for label, rates in measure_repeats(scene, factories, threads, args).items()}
+
+
+def measure_repeats(scene, factories, threads, args):
+    """{label: steps/s of each of --repeats interleaved rounds, or the error that stopped it}."""
     runs, results = {}, {}
     for label, make in factories:
         try:
@@ -124,12 +130,11 @@ def measure(scene, factories, threads, args):
             results[label] = f"failed: {error}"
             continue
         runs[label] = (context, timed_steps(rate, args))
-        results[label] = 0.0
+        results[label] = []
     for _ in range(args.repeats):
         for label, (context, steps) in list(runs.items()):
             try:
-                results[label] = max(results[label],
-                                     steps_per_second(context.getIntegrator(), steps, waiter(context, args)))
+                results[label].append(steps_per_second(context.getIntegrator(), steps, waiter(context, args)))
             except openmm.OpenMMException as error:
                 results[label] = f"failed: {error}"
                 del runs[label]
@@ -209,11 +214,20 @@ def measure_sizes(factories, args):
 SCALE_REFERENCES = ("GW", "Langevin")
 
 
+def median_ratio(numerators, denominators):
+    """The median over rounds of numerator / denominator of the same round (a slow spell of
+    the machine slows both), or '-' if either failed."""
+    if not (isinstance(numerators, list) and isinstance(denominators, list)):
+        return "-"
+    return statistics.median(a / b for a, b in zip(numerators, denominators))
+
+
 def measure_scale(factories, args):
-    """Rows (N, threads, {label: (steps/s, GW's, Langevin's)}): the references (GW, Langevin)
-    timed alone, then each other integrator timed interleaved with them, so that every ratio
-    comes from runs side by side and at most three Contexts share the memory (all of them at
-    once slow one another down at a million particles: see the README)."""
+    """Rows (N, threads, {label: (best steps/s, speed/GW, cost/Langevin)}): the references (GW,
+    Langevin) timed alone, then each other integrator timed interleaved with them, so that every
+    ratio comes from runs side by side (the median over the rounds of each round's ratio) and at
+    most three Contexts share the memory (all of them at once slow one another down at a million
+    particles: see the README)."""
     references = [(label, make) for label, make in factories if label in SCALE_REFERENCES]
     others = [(label, make) for label, make in factories if label not in SCALE_REFERENCES]
     groups = [references] + [references + [entry] for entry in others] if references else [[entry] for entry in others]
@@ -225,10 +239,12 @@ def measure_scale(factories, args):
             for group in groups:
                 print(f"measuring N={n} threads={threads}: {' '.join(label for label, _ in group)} ...",
                       file=sys.stderr, flush=True)
-                rates = measure(scene, group, threads, args)
+                rates = measure_repeats(scene, group, threads, args)
                 release_free_memory()
-                for label, rate in rates.items():
-                    results.setdefault(label, (rate, rates.get("GW"), rates.get("Langevin")))
+                for label, own in rates.items():
+                    best = max(own) if isinstance(own, list) else own
+                    results.setdefault(label, (best, median_ratio(own, rates.get("GW")),
+                                               median_ratio(rates.get("Langevin"), own)))
             rows.append((n, threads, {label: results[label] for label, _ in factories}))
     return rows
 
@@ -237,25 +253,30 @@ def ratio(a, b):
     return f"{a / b:.2f}" if isinstance(a, float) and isinstance(b, float) and b > 0 else "-"
 
 
+def two_places(x):
+    return f"{x:.2f}" if isinstance(x, float) else "-"
+
+
 def print_scale_table(rows, args):
-    """Particle-steps/s; speed against GW and cost against Langevin at the same N, from the runs
-    interleaved with it (as issue 16's definition of done states them), and cost per
-    particle-step against the first N's."""
+    """Particle-steps/s (best round); speed against GW and cost against Langevin at the same N,
+    from the rounds interleaved with it (as issue 16's definition of done states them); cost
+    per particle-step against the first N's."""
     print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), {args.platform} platform, dt={args.dt:g}, "
-          f"gamma=4.5, best of {args.repeats}, each integrator interleaved with GW and Langevin; "
-          f"speed/GW = steps/s / GW's, cost/Langevin = time per step / Langevin's, in the same runs; "
-          f"cost/particle = time per particle-step / the integrator's at N={rows[0][0]}")
+          f"gamma=4.5, {args.repeats} rounds of {args.seconds:g} s blocks, each integrator interleaved with GW and "
+          f"Langevin; steps/s: best round; speed/GW = steps/s / GW's, cost/Langevin = time per step / Langevin's: "
+          f"medians over the rounds of each round's ratio; cost/particle = time per particle-step (best round) / "
+          f"the integrator's at N={rows[0][0]}")
     print(f"{'N':>8} {'threads':>7}  {'integrator':<10} {'steps/s':>9} {'Mparticle-steps/s':>17}  "
           f"{'speed/GW':>8} {'cost/Langevin':>13} {'cost/particle':>13}")
     first = {}
     for n, threads, results in rows:
-        for label, (rate, gw, langevin) in results.items():
+        for label, (rate, speed, cost) in results.items():
             if isinstance(rate, str):
                 print(f"{n:>8} {threads:>7}  {label:<10} {rate}")
                 continue
             first.setdefault((threads, label), n * rate)
             print(f"{n:>8} {threads:>7}  {label:<10} {rate:>9.2f} {n * rate / 1e6:>17.3f}  "
-                  f"{ratio(rate, gw):>8} {ratio(langevin, rate):>13} {ratio(first[threads, label], n * rate):>13}")
+                  f"{two_places(speed):>8} {two_places(cost):>13} {ratio(first[threads, label], n * rate):>13}")
 
 
 def resident_bytes():

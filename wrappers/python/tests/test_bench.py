@@ -33,32 +33,34 @@ def test_scale_table_ratios_agree_with_its_rates(capsys):
         n = int(n)
         assert [float(million), float(per_particle)] == approx(
             [n * rate[n, name] / 1e6, 500 * rate[500, name] / (n * rate[n, name])], rel=0.01, abs=0.006)
-    # GW and Langevin are timed together, so their rows' ratios are each other's.
-    for n in (500, 1000):
-        gw, langevin = (next(row for row in rows if row[:3] == [str(n), "1", name]) for name in ("GW", "Langevin"))
-        assert float(gw[6]) == approx(rate[n, "Langevin"] / rate[n, "GW"], rel=0.01, abs=0.006)
-        assert float(langevin[5]) == approx(rate[n, "Langevin"] / rate[n, "GW"], rel=0.01, abs=0.006)
+    # GW and Langevin are timed together: each one's ratio to the other is the same median.
+    for n in ("500", "1000"):
+        gw, langevin = (next(row for row in rows if row[:3] == [n, "1", name]) for name in ("GW", "Langevin"))
+        assert gw[6] == langevin[5] and float(gw[6]) > 0
     assert {row[5] for row in rows if row[2] == "GW"} == {"1.00"}
     assert {row[6] for row in rows if row[2] == "Langevin"} == {"1.00"}
     assert {row[7] for row in rows if row[0] == "500"} == {"1.00"}
 
 
-def test_scale_ratios_come_from_the_runs_interleaved_with_each_integrator(capsys, monkeypatch):
-    """Each integrator is timed in a group with GW and Langevin, and its ratios use that group's
-    rates: here the references run at other speeds beside S1 than alone."""
+def test_scale_ratios_are_medians_of_the_rounds_interleaved_with_each_integrator(capsys, monkeypatch):
+    """Each integrator is timed in a group with GW and Langevin, and its ratios are the medians
+    over that group's rounds of each round's ratio: here the references run at other speeds
+    beside S1 than alone, and one round is slowed throughout (a busy spell of the machine)."""
     groups = []
 
-    def fake_measure(scene, factories, threads, args):
+    def fake_measure_repeats(scene, factories, threads, args):
         labels = [label for label, _ in factories]
         groups.append(labels)
-        return {"GW": 100.0, "Langevin": 200.0, "S1": 50.0} if "S1" in labels else {"GW": 120.0, "Langevin": 150.0}
+        if "S1" in labels:  # rounds' S1/GW: 0.5, 0.25, 0.4; Langevin/S1: 4, 8, 4.5 (ratios of the bests: 0.5, 4)
+            return {"GW": [100.0, 10.0, 100.0], "Langevin": [200.0, 20.0, 180.0], "S1": [50.0, 2.5, 40.0]}
+        return {"GW": [120.0, 100.0, 12.0], "Langevin": [150.0, 125.0, 15.0]}
 
-    monkeypatch.setattr(bench, "measure", fake_measure)
+    monkeypatch.setattr(bench, "measure_repeats", fake_measure_repeats)
     bench.main(["--scale", "--integrators", "S1", "GW", "Langevin", "--sizes", "500"])
     assert groups == [["GW", "Langevin"], ["GW", "Langevin", "S1"]]
     rows = {row[2]: row[3:] for row in (line.split() for line in capsys.readouterr().out.splitlines()[2:])}
     assert list(rows) == ["S1", "GW", "Langevin"]
-    assert rows["S1"][0] == "50.00" and rows["S1"][2:4] == ["0.50", "4.00"]
+    assert rows["S1"][0] == "50.00" and rows["S1"][2:4] == ["0.40", "4.50"]
     assert rows["GW"][0] == "120.00" and rows["GW"][2:4] == ["1.00", "1.25"]
     assert rows["Langevin"][0] == "150.00" and rows["Langevin"][2:4] == ["1.25", "1.00"]
 
