@@ -110,6 +110,5 @@ void PairRandomBatch::boxMuller(const uint32_t* first, const uint32_t* second, i
     }
 #endif
     for (int k = 0; k < n; k++)
-        out[k] = std::sqrt(-2.0 * std::log(PairRandom::toOpenUniform(first[k * stride]))) *
-                 std::cos(2.0 * M_PI * PairRandom::toUniform(second[k * stride]));
+        out[k] = PairRandom::boxMuller(first[k * stride], second[k * stride]);
 }

@@ -200,14 +200,15 @@ def print_table(rows):
             print(f"{n:>6} {threads:>7}  {label:<16} {rate:>9.1f}  {ratio:>21}  {speedup:>20}")
 
 
-def measure_sizes(factories, args):
-    """Rows (N, threads, measure's results): one scene per N, shared by every integrator."""
+def measure_sizes(factories, args, measure_one=None):
+    """Rows (N, threads, measure_one's results, by default measure's): one scene per N, shared
+    by every integrator."""
     rows = []
     for n in args.sizes:
         scene = soft_scene(num_particles=n)
         for threads in args.threads:
             print(f"measuring N={n} threads={threads} ...", file=sys.stderr, flush=True)
-            rows.append((n, threads, measure(scene, factories, threads, args)))
+            rows.append((n, threads, (measure_one or measure)(scene, factories, threads, args)))
     return rows
 
 
@@ -222,31 +223,24 @@ def median_ratio(numerators, denominators):
     return statistics.median(a / b for a, b in zip(numerators, denominators))
 
 
-def measure_scale(factories, args):
-    """Rows (N, threads, {label: (best steps/s, speed/GW, cost/Langevin)}): the references (GW,
-    Langevin) timed alone, then each other integrator timed interleaved with them, so that every
-    ratio comes from runs side by side (the median over the rounds of each round's ratio) and at
-    most three Contexts share the memory (all of them at once slow one another down at a million
+def measure_in_groups(scene, factories, threads, args):
+    """{label: (best steps/s, speed/GW, cost/Langevin)}: the references (GW, Langevin) timed
+    alone, then each other integrator timed interleaved with them, so that every ratio comes
+    from runs side by side (the median over the rounds of each round's ratio) and at most three
+    Contexts share the memory (all of them at once slow one another down at a million
     particles: see the README)."""
     references = [(label, make) for label, make in factories if label in SCALE_REFERENCES]
     others = [(label, make) for label, make in factories if label not in SCALE_REFERENCES]
     groups = [references] + [references + [entry] for entry in others] if references else [[entry] for entry in others]
-    rows = []
-    for n in args.sizes:
-        scene = soft_scene(num_particles=n)
-        for threads in args.threads:
-            results = {}
-            for group in groups:
-                print(f"measuring N={n} threads={threads}: {' '.join(label for label, _ in group)} ...",
-                      file=sys.stderr, flush=True)
-                rates = measure_repeats(scene, group, threads, args)
-                release_free_memory()
-                for label, own in rates.items():
-                    best = max(own) if isinstance(own, list) else own
-                    results.setdefault(label, (best, median_ratio(own, rates.get("GW")),
-                                               median_ratio(rates.get("Langevin"), own)))
-            rows.append((n, threads, {label: results[label] for label, _ in factories}))
-    return rows
+    results = {}
+    for group in groups:
+        print(f"  {' '.join(label for label, _ in group)} ...", file=sys.stderr, flush=True)
+        rates = measure_repeats(scene, group, threads, args)
+        release_free_memory()
+        for label, own in rates.items():
+            best = max(own) if isinstance(own, list) else own
+            results.setdefault(label, (best, median_ratio(own, rates.get("GW")), median_ratio(rates.get("Langevin"), own)))
+    return {label: results[label] for label, _ in factories}
 
 
 def ratio(a, b):
@@ -480,7 +474,7 @@ def main(argv=None):
                         help=f"target length of one measurement when --steps is not given, default 1 "
                         f"({SCALE_SECONDS:g} with --scale)")
     parser.add_argument("--repeats", type=int, default=3,
-                        help="interleaved measurements; best kept")
+                        help="interleaved measurements; best kept (with --scale: rounds, ratios their medians)")
     parser.add_argument("--platform", default="CPU", choices=["CPU", "OpenCL", "CUDA"],
                         help="the platform measured (--scale and the default table)")
     parser.add_argument("--scale", action="store_true",
@@ -518,7 +512,8 @@ def main(argv=None):
     if at_scale:
         if args.scale:
             chosen = args.integrators or (GPU_SCALE_INTEGRATORS if gpu else SCALE_INTEGRATORS)
-            print_scale_table(measure_scale([(name, factory(name, args.edpd_alpha)) for name in chosen], args), args)
+            print_scale_table(measure_sizes([(name, factory(name, args.edpd_alpha)) for name in chosen], args, measure_in_groups),
+                              args)
         if args.memory:
             args.integrators = args.integrators or MEMORY_INTEGRATORS
             print_memory_table(measure_memory(args), args)

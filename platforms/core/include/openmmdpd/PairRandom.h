@@ -57,8 +57,10 @@ public:
     }
 
     /** A standard normal number from the first two words of a draw (textbook Box-Muller). */
-    static double boxMuller(const r123::Philox4x32::ctr_type& r) {
-        return std::sqrt(-2.0 * std::log(toOpenUniform(r[0]))) * std::cos(2.0 * M_PI * toUniform(r[1]));
+    static double boxMuller(const r123::Philox4x32::ctr_type& r) { return boxMuller(r[0], r[1]); }
+    /** The same from two words. */
+    static double boxMuller(uint32_t first, uint32_t second) {
+        return std::sqrt(-2.0 * std::log(toOpenUniform(first))) * std::cos(2.0 * M_PI * toUniform(second));
     }
 
 private:
