@@ -297,10 +297,9 @@ void StaggeredDynamics::thermalise(OpenMM::ContextImpl& context, const Staggered
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     thermostat.updatePairs(*data.positions, box);
     pairSweep.prepare(thermostat);
+    thermostat.drawBits(PairRandom::PairThermalisation, current, pairBits);
     pairSweep.run(thermostat, *data.velocities,
-                  LowePairUpdate<>{thermostat.getRandom(), current, integrator.getStepSize(), parameters.getKT(),
-                                   {parameters.getInverseMasses()}},
-                  false);
+                  LowePairUpdate<>{integrator.getStepSize(), parameters.getKT(), {parameters.getInverseMasses()}}, pairBits, false);
 }
 
 // After the shared part (seed, validity, slow force): the fast force on each polymer particle.

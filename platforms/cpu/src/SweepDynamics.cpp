@@ -51,14 +51,14 @@ void SweepDynamics::carryForce(OpenMM::ContextImpl& context, int forceGroups, lo
     forEachParticle(force.size(), [&](size_t i) { force[i] = conservative[i]; });
 }
 
-SweepDynamics::BatchNormals SweepDynamics::normals(PairRandom::Stream stream, long long step) {
+const std::vector<double>& SweepDynamics::normals(PairRandom::Stream stream, long long step) {
     thermostat.drawNormals(stream, step, pairNormals);
-    return BatchNormals{pairNormals, thermostat.getPairs().data()};
+    return pairNormals;
 }
 
-SweepDynamics::BatchBits SweepDynamics::bits(PairRandom::Stream stream, long long step) {
+const std::vector<r123::Philox4x32::ctr_type>& SweepDynamics::bits(PairRandom::Stream stream, long long step) {
     thermostat.drawBits(stream, step, pairBits);
-    return BatchBits{pairBits, thermostat.getPairs().data()};
+    return pairBits;
 }
 
 void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrator& integrator) {
@@ -70,15 +70,13 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
     withPairImpulse(context, dt, [&](const auto& impulse) {
-        sweep(*data.velocities, ShardlowPairUpdate<BatchNormals, decltype(impulse)>{normals(PairRandom::RandomForce, current), h, impulse},
-              false);
+        sweep(*data.velocities, ShardlowPairUpdate<decltype(impulse)>{h, impulse}, normals(PairRandom::RandomForce, current), false);
     });
     constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder) {
         withPairImpulse(context, dt, [&](const auto& impulse) {
-            sweep(*data.velocities, ShardlowPairUpdate<BatchNormals, decltype(impulse)>{normals(PairRandom::SecondSweep, current), h, impulse},
-                  true);
+            sweep(*data.velocities, ShardlowPairUpdate<decltype(impulse)>{h, impulse}, normals(PairRandom::SecondSweep, current), true);
         });
         constrainVelocities(context);
     }
@@ -122,15 +120,12 @@ void LoweAndersenDynamics::middleStep(OpenMM::ContextImpl& context, const LoweAn
 void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator, long long step) {
     std::vector<Vec3>& v = *platformData(context).velocities;
     const double dt = integrator.getStepSize(), kT = thermostat.getParameters().getKT();
-    const PairRandom& random = thermostat.getRandom();
     withPairImpulse(context, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
-            sweep(v, LowePairUpdate<Impulse, BatchBits>{random, step, dt, kT, impulse, bits(PairRandom::PairThermalisation, step)},
-                  false);
+            sweep(v, LowePairUpdate<Impulse>{dt, kT, impulse}, bits(PairRandom::PairThermalisation, step), false);
         else
-            sweep(v, PairOrnsteinUhlenbeckUpdate<BatchNormals, Impulse>{normals(PairRandom::PairThermalisation, step), dt, kT, impulse},
-                  false);
+            sweep(v, PairOrnsteinUhlenbeckUpdate<Impulse>{dt, kT, impulse}, normals(PairRandom::PairThermalisation, step), false);
     });
     constrainVelocities(context);
 }

@@ -189,9 +189,10 @@ void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const Sta
 // end-of-step positions r_s, r_p -- found here, where they are used.
 void ReferenceStaggeredDynamics::thermalise(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator, long long step) {
     std::vector<Vec3>& u = *data(context).velocities;
-    const LowePairUpdate<> collide{random, step, integrator.getStepSize(), parameters.getKT(), {parameters.getInverseMasses()}};
+    const LowePairUpdate<> collide{integrator.getStepSize(), parameters.getKT(), {parameters.getInverseMasses()}};
+    const DrawnBits draw{random, PairRandom::PairThermalisation, step};
     for (const PairGeometry& pair : findPairs(context))
-        collide(pair, u);
+        collide(pair, draw(pair), u);
 }
 
 // The CPU platform's layout: the number of polymer particles, then Fp on each.

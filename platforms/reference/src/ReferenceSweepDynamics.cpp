@@ -7,19 +7,20 @@ namespace {
 
 /**
  * The pairwise-sequential sweep: the rule updates each pair's velocities in place, in the
- * given order, so every pair sees the velocities the pairs before it left.
+ * given order, so every pair sees the velocities the pairs before it left; draw(p) gives
+ * each pair its random input.
  */
-template <class Rule>
-void sweep(const std::vector<PairGeometry>& pairs, const Rule& rule, std::vector<Vec3>& v) {
+template <class Rule, class Draw>
+void sweep(const std::vector<PairGeometry>& pairs, const Rule& rule, const Draw& draw, std::vector<Vec3>& v) {
     for (const PairGeometry& p : pairs)
-        rule(p, v);
+        rule(p, draw(p), v);
 }
 
 /** The same sweep in exactly the opposite order (S2's second half, which makes S2 symmetric). */
-template <class Rule>
-void sweepInReverse(const std::vector<PairGeometry>& pairs, const Rule& rule, std::vector<Vec3>& v) {
+template <class Rule, class Draw>
+void sweepInReverse(const std::vector<PairGeometry>& pairs, const Rule& rule, const Draw& draw, std::vector<Vec3>& v) {
     for (size_t k = pairs.size(); k-- > 0;)
-        rule(pairs[k], v);
+        rule(pairs[k], draw(pairs[k]), v);
 }
 
 } // namespace
@@ -67,15 +68,15 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
     // the pairs at the new positions and with numbers of their own.
     const std::vector<PairGeometry> pairs = findPairs(context);
     withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
-        sweep(pairs, ShardlowPairUpdate<DrawnNormals, decltype(impulse)>{{random, PairRandom::RandomForce, current}, h, impulse}, v);
+        sweep(pairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse}, DrawnNormals{random, PairRandom::RandomForce, current}, v);
     });
     constrainVelocities(context);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder) {
         const std::vector<PairGeometry> newPairs = findPairs(context);
         withPairImpulse(context, newPairs, dt, [&](const auto& impulse) {
-            sweepInReverse(newPairs,
-                           ShardlowPairUpdate<DrawnNormals, decltype(impulse)>{{random, PairRandom::SecondSweep, current}, h, impulse}, v);
+            sweepInReverse(newPairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse},
+                           DrawnNormals{random, PairRandom::SecondSweep, current}, v);
         });
         constrainVelocities(context);
     }
@@ -128,10 +129,10 @@ void ReferenceLoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context
     withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
-            sweep(pairs, LowePairUpdate<Impulse>{random, step, dt, kT, impulse}, v);
+            sweep(pairs, LowePairUpdate<Impulse>{dt, kT, impulse}, DrawnBits{random, PairRandom::PairThermalisation, step}, v);
         else
-            sweep(pairs, PairOrnsteinUhlenbeckUpdate<DrawnNormals, Impulse>{{random, PairRandom::PairThermalisation, step}, dt, kT, impulse},
-                  v);
+            sweep(pairs, PairOrnsteinUhlenbeckUpdate<Impulse>{dt, kT, impulse},
+                  DrawnNormals{random, PairRandom::PairThermalisation, step}, v);
     });
     constrainVelocities(context);
 }

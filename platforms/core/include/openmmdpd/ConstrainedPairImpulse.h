@@ -33,6 +33,8 @@ public:
      * no relative motion along e; keeps the impulse's spread for the next apply() to this pair.
      */
     double inverseReducedMass(const PairGeometry& p) const;
+    /** No value is common: the effective masses vary with the constraints (1 stands for any). */
+    double commonInverseReducedMass() const { return 1.0; }
     /** Apply J along the pair (after inverseReducedMass for the same pair). */
     void apply(const PairGeometry& p, double impulse, std::vector<OpenMM::Vec3>& v) const;
 
@@ -61,6 +63,8 @@ private:
 struct FreePairImpulse {
     const std::vector<double>& invMass;
     double inverseReducedMass(const PairGeometry& p) const { return invMass[p.i] + invMass[p.j]; }
+    /** The value inverseReducedMass() gives most pairs: that of two particles like the first. */
+    double commonInverseReducedMass() const { return invMass.empty() ? 1.0 : invMass[0] + invMass[0]; }
     void apply(const PairGeometry& p, double impulse, std::vector<OpenMM::Vec3>& v) const {
         v[p.i] += p.e * (impulse * invMass[p.i]);
         v[p.j] -= p.e * (impulse * invMass[p.j]);

@@ -87,16 +87,15 @@ struct AuxiliaryRecurrence {
 /*
  * Pairwise-sequential velocity updates (algorithms.md sections 2 and 3): each acts on one
  * pair in place, with an impulse J along e, so momentum is conserved pair by pair.  A sweep
- * applies one of them to every pair in a fixed order.  The Impulse is FreePairImpulse
- * (v_i += J/m_i e, v_j -= J/m_j e, reduced mass m_i m_j/(m_i + m_j)) or, in a System with
- * constraints, ConstrainedPairImpulse (the effective reduced mass and the constraint
- * forces the impulse calls up); a pair the constraints hold rigid along e is left alone.
+ * applies one of them to every pair in a fixed order, giving each pair its random input of
+ * the sweep (DrawnNormals or DrawnBits, or the same numbers drawn ahead in batches).  The
+ * Impulse is FreePairImpulse (v_i += J/m_i e, v_j -= J/m_j e, reduced mass
+ * m_i m_j/(m_i + m_j)) or, in a System with constraints, ConstrainedPairImpulse (the
+ * effective reduced mass and the constraint forces the impulse calls up); a pair the
+ * constraints hold rigid along e is left alone.
  */
 
-/**
- * A pair's normal number for a sweep, drawn from PairRandom (the definition).  A platform
- * may give the sweep rules the same numbers drawn ahead in batches instead.
- */
+/** A pair's normal number for a sweep, drawn from PairRandom (the definition). */
 struct DrawnNormals {
     const PairRandom& random;
     PairRandom::Stream stream;
@@ -104,51 +103,58 @@ struct DrawnNormals {
     double operator()(const PairGeometry& p) const { return random.gaussian(stream, step, p.i, p.j); }
 };
 
-/** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
-template <class Normals = DrawnNormals, class Impulse = FreePairImpulse>
-struct ShardlowPairUpdate {
-    Normals normal;
-    double h;
-    Impulse impulse;
+/** A pair's random words for a sweep, drawn from PairRandom (the definition). */
+struct DrawnBits {
+    const PairRandom& random;
+    PairRandom::Stream stream;
+    long long step;
+    r123::Philox4x32::ctr_type operator()(const PairGeometry& p) const { return random.bits(stream, step, p.i, p.j); }
+};
 
-    void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
+/**
+ * 1/x, where one value is common to most pairs (equal masses) divided once ahead:
+ * the same result bit for bit, without a division per pair.
+ */
+struct Reciprocal {
+    explicit Reciprocal(double common) : common(common), inverse(1 / common) {}
+    double operator()(double x) const { return x == common ? inverse : 1 / x; }
+    double common, inverse;
+};
+
+/** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
+template <class Impulse = FreePairImpulse>
+struct ShardlowPairUpdate {
+    ShardlowPairUpdate(double h, Impulse impulse) :
+            h(h), sqrtH(std::sqrt(h)), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()) {}
+    double h, sqrtH;
+    Impulse impulse;
+    Reciprocal reducedMass;  // mu from 1/mu
+
+    /** xi: the pair's normal number of the sweep (stream RandomForce, or SecondSweep for S2's second). */
+    void operator()(const PairGeometry& p, double xi, std::vector<OpenMM::Vec3>& v) const {
         const double inverseMu = impulse.inverseReducedMass(p);
         if (inverseMu == 0)
             return;
-        const double noise = p.sigmaWR * normal(p) * std::sqrt(h);
+        const double noise = p.sigmaWR * xi * sqrtH;
         const double friction = p.gammaWD * h;
         // explicit half
         double u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
         impulse.apply(p, 0.5 * (noise - friction * u), v);
         // implicit half, with u after the explicit one
         u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
-        const double mu = 1 / inverseMu;
+        const double mu = reducedMass(inverseMu);
         impulse.apply(p, 0.5 * (noise - friction * u) / (1 + friction / (2 * mu)), v);
     }
 };
 
-/**
- * A pair's random words for Lowe-Andersen, drawn from PairRandom (the definition).  A
- * platform may give the rule the same words drawn ahead in batches instead.
- */
-struct DrawnBits {
-    r123::Philox4x32::ctr_type operator()(const PairRandom& random, long long step, const PairGeometry& p) const {
-        return random.bits(PairRandom::PairThermalisation, step, p.i, p.j);
-    }
-};
-
 /** Lowe-Andersen: with probability Gamma h, the pair's relative normal velocity is drawn anew. */
-template <class Impulse = FreePairImpulse, class Bits = DrawnBits>
+template <class Impulse = FreePairImpulse>
 struct LowePairUpdate {
-    const PairRandom& random;
-    long long step;
     double h, kT;
     Impulse impulse;
-    Bits draw = Bits();
 
-    void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
-        // One draw gives both numbers; the Gaussian is only made for the pairs that collide.
-        const r123::Philox4x32::ctr_type bits = draw(random, step, p);
+    /** bits: the pair's words of stream PairThermalisation; the Gaussian is only made for the pairs that collide. */
+    void operator()(const PairGeometry& p, const r123::Philox4x32::ctr_type& bits, std::vector<OpenMM::Vec3>& v) const {
         if (PairRandom::toUniform(bits[2]) >= p.rate * h)
             return;
         const double inverseMu = impulse.inverseReducedMass(p);
@@ -165,20 +171,26 @@ struct LowePairUpdate {
  * The exact solution over h of the pair's Ornstein-Uhlenbeck equation for its relative
  * normal velocity, du = -(gamma wD/mu) u dt + noise: exact for the ideal gas at any h.
  */
-template <class Normals = DrawnNormals, class Impulse = FreePairImpulse>
+template <class Impulse = FreePairImpulse>
 struct PairOrnsteinUhlenbeckUpdate {
-    Normals normal;  // of stream PairThermalisation
+    PairOrnsteinUhlenbeckUpdate(double h, double kT, Impulse impulse) :
+            h(h), kT(kT), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()),
+            commonKTOverMu(kT / reducedMass.inverse) {}
     double h, kT;
     Impulse impulse;
+    Reciprocal reducedMass;  // mu from 1/mu
+    double commonKTOverMu;   // kT/mu for the common mu
 
-    void operator()(const PairGeometry& p, std::vector<OpenMM::Vec3>& v) const {
+    /** xi: the pair's normal number of stream PairThermalisation. */
+    void operator()(const PairGeometry& p, double xi, std::vector<OpenMM::Vec3>& v) const {
         const double inverseMu = impulse.inverseReducedMass(p);
         if (inverseMu == 0)
             return;
-        const double mu = 1 / inverseMu;
+        const double mu = reducedMass(inverseMu);
+        const double kTOverMu = (inverseMu == reducedMass.common ? commonKTOverMu : kT / mu);
         const double decay = std::exp(-p.gammaWD * h / mu);
         const double u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
-        const double target = u * decay + std::sqrt(kT / mu * (1 - decay * decay)) * normal(p);
+        const double target = u * decay + std::sqrt(kTOverMu * (1 - decay * decay)) * xi;
         impulse.apply(p, mu * (target - u), v);
     }
 };

@@ -76,6 +76,7 @@ struct RecordedImpulse {
     const Impulse& impulse;
     PairImpulseRecord& record;
     double inverseReducedMass(const PairGeometry& p) const { return impulse.inverseReducedMass(p); }
+    double commonInverseReducedMass() const { return impulse.commonInverseReducedMass(); }
     void apply(const PairGeometry& p, double J, std::vector<OpenMM::Vec3>& v) const {
         impulse.apply(p, J, v);
         record.add(p, J);

@@ -9,8 +9,10 @@
 namespace DPDPlugin {
 
 /**
- * Applies a pair rule (PairEvaluators.h) to every pair, sequentially: each pair sees the
- * velocities the pairs before it changed.  The order is fixed by the geometry alone:
+ * Applies a pair rule (PairEvaluators.h) to every pair of a DPDThermostatForces list (by
+ * particle, or by slot with each pair's geometry computed again as it is swept), with
+ * the pair's random input drawn ahead, sequentially: each pair sees the velocities the
+ * pairs before it changed.  The order is fixed by the geometry alone:
  * colour by colour (27 colours of cells, see PairSearch::isColourable), cell by cell,
  * pair by pair.  Cells of one colour share no particle, so a colour's cells are split
  * over the workers, and the result is bit for bit the same for any number of workers.
@@ -23,14 +25,21 @@ public:
     PairSweep(ParallelExecutor& executor, bool oneThread = false) : executor(executor), oneThread(oneThread) {}
     /** Group the current pair list's cells by colour (call after every pair update). */
     void prepare(const DPDThermostatForces& pairs);
-    /** Run the rule over all pairs; `reverse` runs exactly the opposite order. */
-    template <class Rule>
-    void run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule, bool reverse);
+    /**
+     * Run the rule over all pairs, pair k with random[k] (drawNormals or drawBits order);
+     * `reverse` runs exactly the opposite order.
+     */
+    template <class Rule, class Random>
+    void run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule,
+             const std::vector<Random>& random, bool reverse);
 
 private:
-    template <class Rule>
-    void runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end,
-                  std::vector<OpenMM::Vec3>& velocities, const Rule& rule, bool reverse) const;
+    /** visit(k) for every pair k, in the sweep order or its reverse. */
+    template <class Visit>
+    void runColours(const DPDThermostatForces& pairs, const Visit& visit, bool reverse);
+    template <class Visit>
+    void runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end, const Visit& visit,
+                  bool reverse) const;
     /** The cells [begin, end) of a colour that worker w sweeps: equal shares of its pairs. */
     void workerCells(int colour, int w, size_t& begin, size_t& end) const;
     ParallelExecutor& executor;
@@ -71,10 +80,9 @@ inline void PairSweep::workerCells(int colour, int w, size_t& begin, size_t& end
     end = (w == workers - 1 ? colourCells[colour].size() : boundary(w + 1));
 }
 
-template <class Rule>
-void PairSweep::runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end,
-                         std::vector<OpenMM::Vec3>& velocities, const Rule& rule, bool reverse) const {
-    const std::vector<PairGeometry>& list = pairs.getPairs();
+template <class Visit>
+void PairSweep::runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end, const Visit& visit,
+                         bool reverse) const {
     const std::vector<int>& start = pairs.getCellPairStart();
     if (independentCells) {
         // Cells of one colour share no particle, so interleaving their pairs changes no
@@ -95,7 +103,7 @@ void PairSweep::runCells(const DPDThermostatForces& pairs, const std::vector<int
                 any = false;
                 for (size_t l = 0; l < lanes; l++)
                     if (next[l] != last[l]) {
-                        rule(list[next[l]], velocities);
+                        visit(next[l]);
                         next[l] += direction;
                         any = true;
                     }
@@ -107,20 +115,27 @@ void PairSweep::runCells(const DPDThermostatForces& pairs, const std::vector<int
         const int cell = cells[reverse ? begin + end - 1 - k : k];
         if (reverse)
             for (int p = start[cell + 1] - 1; p >= start[cell]; p--)
-                rule(list[p], velocities);
+                visit(p);
         else
             for (int p = start[cell]; p < start[cell + 1]; p++)
-                rule(list[p], velocities);
+                visit(p);
     }
 }
 
-template <class Rule>
-void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule, bool reverse) {
+template <class Rule, class Random>
+void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule,
+                    const std::vector<Random>& random, bool reverse) {
+    const std::vector<PairGeometry>& list = pairs.getPairs();
+    runColours(pairs, [&](int k) { rule(list[k], random[k], velocities); }, reverse);
+}
+
+template <class Visit>
+void PairSweep::runColours(const DPDThermostatForces& pairs, const Visit& visit, bool reverse) {
     const int colours = (int) colourCells.size();
     if (!parallel) {
         for (int c = 0; c < colours; c++) {
             const std::vector<int>& cells = colourCells[reverse ? colours - 1 - c : c];
-            runCells(pairs, cells, 0, cells.size(), velocities, rule, reverse);
+            runCells(pairs, cells, 0, cells.size(), visit, reverse);
         }
         return;
     }
@@ -128,7 +143,7 @@ void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>&
         const int colour = reverse ? colours - 1 - c : c;
         size_t begin, end;
         workerCells(colour, w, begin, end);
-        runCells(pairs, colourCells[colour], begin, end, velocities, rule, reverse);
+        runCells(pairs, colourCells[colour], begin, end, visit, reverse);
     });
 }
 

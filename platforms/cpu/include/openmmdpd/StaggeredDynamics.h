@@ -77,6 +77,7 @@ private:
     const StaggeredDPDIntegrator::BaseScheme baseScheme;
     PolymerSelection polymer;
     PairSweep pairSweep;
+    std::vector<r123::Philox4x32::ctr_type> pairBits;  // the Lowe base's words, drawn ahead in batches
     std::vector<OpenMM::Vec3> predicted, newForce;
     // Per polymer particle (index k of polymer[k]): the fast force, the one at the new
     // sub-step positions, the start of the outer step, the slow force driving the sub-steps.

@@ -27,28 +27,22 @@ protected:
     void carryForce(OpenMM::ContextImpl& context, int forceGroups, long long step);
     /** The pair list (and the sweep's colouring) at the current positions, those of `step` (-1: of no step). */
     void updatePairs(OpenMM::ContextImpl& context, long long step);
-    /** The normal numbers of the current pair list, drawn ahead in batches (the same numbers as DrawnNormals). */
-    struct BatchNormals {
-        const std::vector<double>& xi;
-        const PairGeometry* first;  // the pair list's first pair: a pair's index is its offset
-        double operator()(const PairGeometry& p) const { return xi[&p - first]; }
-    };
-    /** Draw this step's numbers of a stream for every pair of the current list. */
-    BatchNormals normals(PairRandom::Stream stream, long long step);
+    /** This step's normal numbers of a stream for every pair of the current list, drawn in batches (as DrawnNormals). */
+    const std::vector<double>& normals(PairRandom::Stream stream, long long step);
     /**
-     * Apply a pair rule (PairEvaluators.h) to every pair, in the sweep order or its reverse;
-     * over a list by slot, on the velocities copied into slot order and back.
+     * Apply a pair rule (PairEvaluators.h) to every pair, pair k with random[k], in the sweep
+     * order or its reverse; over a list by slot, on the velocities copied into slot order and back.
      */
-    template <class Rule>
-    void sweep(std::vector<OpenMM::Vec3>& v, const Rule& rule, bool reverse) {
+    template <class Rule, class Random>
+    void sweep(std::vector<OpenMM::Vec3>& v, const Rule& rule, const std::vector<Random>& random, bool reverse) {
         if (!thermostat.arePairsBySlot()) {
-            pairSweep.run(thermostat, v, rule, reverse);
+            pairSweep.run(thermostat, v, rule, random, reverse);
             return;
         }
         const std::vector<int>& particle = thermostat.getSearch().getSortedIndex();
         slotVelocities.resize(particle.size());
         forEachParticle(particle.size(), [&](size_t k) { slotVelocities[k] = v[particle[k]]; });
-        pairSweep.run(thermostat, slotVelocities, rule, reverse);
+        pairSweep.run(thermostat, slotVelocities, rule, random, reverse);
         forEachParticle(particle.size(), [&](size_t k) { v[particle[k]] = slotVelocities[k]; });
     }
     /**
@@ -71,14 +65,8 @@ protected:
     }
     /** Sweeps take their pairs by slot where they need no particle indices: no constraints, no virial. */
     bool wantsPairsBySlot() const override { return !constrainedImpulse.hasConstraints() && thermostatVirial == nullptr; }
-    /** The random words of the current pair list, drawn ahead in batches (the same words as DrawnBits). */
-    struct BatchBits {
-        const std::vector<r123::Philox4x32::ctr_type>& words;
-        const PairGeometry* first;  // the pair list's first pair: a pair's index is its offset
-        r123::Philox4x32::ctr_type operator()(const PairRandom&, long long, const PairGeometry& p) const { return words[&p - first]; }
-    };
-    /** Draw this step's words of a stream for every pair of the current list. */
-    BatchBits bits(PairRandom::Stream stream, long long step);
+    /** This step's words of a stream for every pair of the current list, drawn in batches (as DrawnBits). */
+    const std::vector<r123::Philox4x32::ctr_type>& bits(PairRandom::Stream stream, long long step);
 
 private:
     ConstrainedPairImpulse constrainedImpulse;
