@@ -76,9 +76,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         }
         else if (phase == 1)
             findWorkerPairs(w, soft);
-        else if (phase == 2 && w == 0 && workers == 1)
-            std::swap(pairs, workerPairs[0]);
-        else if (phase == 2 && w == 0)
+        else if (phase == 2 && w == 0 && workers > 1)
             pairs.resize(workerPairsBefore(workers));
         else if (phase == 3) {
             if (workers > 1)
@@ -93,9 +91,10 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
 void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
-    std::vector<PairGeometry>& out = workerPairs[w];
+    // One worker writes the list itself: a second buffer to swap with would double the
+    // memory the list passes through (two lists of ~20 MB at N = 32000 miss every cache).
+    std::vector<PairGeometry>& out = (executor.getNumWorkers() == 1 ? pairs : workerPairs[w]);
     out.clear();
-    PairGeometry g;
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const TypePairTable& table = parameters.getTable();
     std::vector<Vec3>& softForce = workerDissipative[w];
@@ -107,13 +106,18 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
             const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
             const double imageVx =
                     sortedHeights.empty() ? 0.0 : parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q], d[1], searchedHeight);
-            if (!parameters.pairGeometry(i, j, t, d, g, imageVx))
+            // Written in place: copied from a local, the fields stored one by one and read
+            // back two at a time would stall the copy (no store forwarding).
+            out.emplace_back();
+            PairGeometry& g = out.back();
+            if (!parameters.pairGeometry(i, j, t, d, g, imageVx)) {
+                out.pop_back();
                 return;
+            }
             if (pairsBySlot) {
                 g.i = p;
                 g.j = q;
             }
-            out.push_back(g);
             if (soft != nullptr) {
                 const int softType = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
                 const Vec3 f = g.e * soft->pairForce(i, j, softType, table.cutoff(t) * (1 - g.wR));
