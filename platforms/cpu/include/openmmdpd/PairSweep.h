@@ -9,8 +9,7 @@
 namespace DPDPlugin {
 
 /**
- * Applies a pair rule (PairEvaluators.h) to every pair of a DPDThermostatForces list (by
- * particle, or by slot with each pair's geometry computed again as it is swept), with
+ * Applies a pair rule (PairEvaluators.h) to every pair of a DPDThermostatForces list, with
  * the pair's random input drawn ahead, sequentially: each pair sees the velocities the
  * pairs before it changed.  The order is fixed by the geometry alone:
  * colour by colour (27 colours of cells, see PairSearch::isColourable), cell by cell,
