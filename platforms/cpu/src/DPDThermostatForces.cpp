@@ -27,6 +27,7 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
         cellMultiple(cellMultiple), random(PairRandom::seedFor(integrator.getRandomNumberSeed())) {
     const int workers = executor.getNumWorkers();
     workerPairs.resize(workers);
+    workerPairParticles.resize(workers);
     keptPairs.resize(workers);
     workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
     if (workers > 1)
@@ -76,11 +77,16 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         }
         else if (phase == 1)
             findWorkerPairs(w, soft);
-        else if (phase == 2 && w == 0 && workers > 1)
-            pairs.resize(workerPairsBefore(workers));
+        else if (phase == 2 && w == 0 && workers > 1) {
+            sizeForWorkerLists(workerPairs, pairs);
+            sizeForWorkerLists(workerPairParticles, pairParticles);
+        }
         else if (phase == 3) {
-            if (workers > 1)
-                copyWorkerPairs(w);
+            if (workers > 1) {
+                copyWorkerList(w, workerPairs, pairs);
+                copyWorkerList(w, workerPairParticles, pairParticles);
+                shiftWorkerCells(w);
+            }
             for (size_t k = begin; soft != nullptr && k < end; k++)
                 (*softOut)[sortedIndex[k]] = sumOverWorkers(workerDissipative, k);
         }
@@ -93,15 +99,18 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     search.workerCells(w, executor.getNumWorkers(), begin, end);
     // One worker writes the list itself: a second buffer to swap with would double the
     // memory the list passes through (two lists of ~20 MB at N = 32000 miss every cache).
-    std::vector<PairGeometry>& out = (executor.getNumWorkers() == 1 ? pairs : workerPairs[w]);
+    const bool alone = (executor.getNumWorkers() == 1);
+    std::vector<PairGeometry>& out = (alone ? pairs : workerPairs[w]);
+    std::vector<PairParticles>& outParticles = (alone ? pairParticles : workerPairParticles[w]);
     out.clear();
+    outParticles.clear();
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const TypePairTable& table = parameters.getTable();
     std::vector<Vec3>& softForce = workerDissipative[w];
     if (soft != nullptr)
         std::fill(softForce.begin(), softForce.begin() + sortedIndex.size(), Vec3());
     for (size_t cell = begin; cell < end; cell++) {
-        cellPairStart[cell] = (int) out.size();  // local offset, made global by copyWorkerPairs
+        cellPairStart[cell] = (int) out.size();  // local offset, made global by shiftWorkerCells
         search.forEachSortedPair((int) cell, (int) cell + 1, [&](int p, int q, const Vec3& d) {
             const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
             const double imageVx =
@@ -114,6 +123,7 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
                 out.pop_back();
                 return;
             }
+            outParticles.push_back({i, j});
             if (pairsBySlot) {
                 g.i = p;
                 g.j = q;
@@ -128,6 +138,19 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     }
 }
 
+template <class Entry>
+void DPDThermostatForces::sizeForWorkerLists(const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const {
+    size_t total = 0;
+    for (const std::vector<Entry>& workerList : workerLists)
+        total += workerList.size();
+    list.resize(total);
+}
+
+template <class Entry>
+void DPDThermostatForces::copyWorkerList(int w, const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const {
+    std::copy(workerLists[w].begin(), workerLists[w].end(), list.begin() + workerPairsBefore(w));
+}
+
 size_t DPDThermostatForces::workerPairsBefore(int w) const {
     size_t total = 0;
     for (int v = 0; v < w; v++)
@@ -135,13 +158,12 @@ size_t DPDThermostatForces::workerPairsBefore(int w) const {
     return total;
 }
 
-void DPDThermostatForces::copyWorkerPairs(int w) {
+void DPDThermostatForces::shiftWorkerCells(int w) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
     const size_t offset = workerPairsBefore(w);
     for (size_t cell = begin; cell < end; cell++)
         cellPairStart[cell] += (int) offset;
-    std::copy(workerPairs[w].begin(), workerPairs[w].end(), pairs.begin() + offset);
 }
 
 void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,

@@ -43,8 +43,6 @@ public:
      * Only drawNormals() and the sweeps take such a list.
      */
     bool arePairsBySlot() const { return pairsBySlot; }
-    /** The particle that a pair's i or j names. */
-    int particleOf(int k) const { return pairsBySlot ? search.getSortedIndex()[k] : k; }
     /** The pairs found from cell c are [getCellPairStart()[c], getCellPairStart()[c + 1]). */
     const std::vector<int>& getCellPairStart() const { return cellPairStart; }
     const PairSearch& getSearch() const { return search; }
@@ -125,8 +123,8 @@ private:
             for (size_t c = begin; c < end; c++) {
                 const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
                 for (size_t k = 0; k < n; k++) {
-                    first[k] = particleOf(pairs[start + k].i);
-                    second[k] = particleOf(pairs[start + k].j);
+                    first[k] = pairParticles[start + k].i;
+                    second[k] = pairParticles[start + k].j;
                 }
                 PairRandomBatch::bits(random, stream, step, first, second, (int) n, bits);
                 use(start, n, bits);
@@ -142,10 +140,15 @@ private:
     void sumOverPairs(const Evaluator& evaluator, std::array<std::vector<OpenMM::Vec3>*, Evaluator::OUTPUTS> out);
     /** The sum of the buffers at index k, in worker order. */
     OpenMM::Vec3 sumOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const;
-    /** updatePairs' steps: worker w's pairs; the pairs of the workers before w; w's part copied into pairs. */
+    /** updatePairs' steps: worker w's pairs (and their particles); the lists sized for all workers'; w's part copied in. */
     void findWorkerPairs(int w, const SoftRepulsionKernel* soft);
     size_t workerPairsBefore(int w) const;
-    void copyWorkerPairs(int w);
+    /** Worker w's cells' offsets into its own list made offsets into the whole list. */
+    void shiftWorkerCells(int w);
+    template <class Entry>
+    void sizeForWorkerLists(const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const;
+    template <class Entry>
+    void copyWorkerList(int w, const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const;
     /** sortedTypes (and sortedHeights if asked), or sortedSoftTypes, for the slots [begin, end) of the last search. */
     void sortTypes(size_t begin, size_t end, bool heights);
     void sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft);
@@ -164,6 +167,13 @@ private:
     bool pairsBySlot = false;
     std::vector<int> cellPairStart;
     std::vector<std::vector<PairGeometry>> workerPairs;
+    // Each pair's particles, by list index: what drawing its numbers reads (8 bytes, where
+    // reading them from the list would bring its 72 bytes in from memory once more).
+    struct PairParticles {
+        int i, j;
+    };
+    std::vector<PairParticles> pairParticles;
+    std::vector<std::vector<PairParticles>> workerPairParticles;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
     std::vector<OpenMM::Vec3> sortedVelocities;
     std::vector<double> sortedHeights;  // y of each slot's particle as stored (under shear only)
