@@ -72,6 +72,21 @@ struct FreePairImpulse {
 };
 
 /**
+ * FreePairImpulse where every particle has the same inverse mass: the same arithmetic,
+ * without reading a mass per particle (a sweep of a large system reads them from memory).
+ */
+struct EqualMassPairImpulse {
+    double invMass;
+    double inverseReducedMass(const PairGeometry&) const { return invMass + invMass; }
+    double commonInverseReducedMass() const { return invMass + invMass; }
+    void apply(const PairGeometry& p, double impulse, std::vector<OpenMM::Vec3>& v) const {
+        const double kick = impulse * invMass;
+        v[p.i] += p.e * kick;
+        v[p.j] -= p.e * kick;
+    }
+};
+
+/**
  * body(impulse) with the pair impulse of a sweep at these positions: FreePairImpulse, or
  * `constrained` prepared at them where the System has constraints (every platform's sweeps).
  */

@@ -78,6 +78,8 @@ public:
     /** Particles that move and take part in the thermostat (mass > 0). */
     const std::vector<bool>& getActive() const { return active; }
     const std::vector<double>& getMasses() const { return mass; }
+    /** Whether every particle that takes part has the same mass. */
+    bool hasUniformMass() const { return uniformMass; }
     const std::vector<double>& getInverseMasses() const { return invMass; }
     double getKT() const { return kT; }
     /** The integrator's instability threshold (a multiple of kT; 0 = off). */

@@ -48,7 +48,8 @@ protected:
     /**
      * body(impulse) with the pair impulse of a sweep over the current pair list at the current
      * positions, in a step of length dt (see withRecordedPairImpulse in core); over a list
-     * by slot (no constraints, no virial), FreePairImpulse with the masses in slot order.
+     * by slot (no constraints, no virial), FreePairImpulse with the masses in slot order, or
+     * EqualMassPairImpulse where all masses are equal.
      */
     template <class Body>
     void withPairImpulse(OpenMM::ContextImpl& context, double dt, Body body) {
@@ -59,6 +60,10 @@ protected:
         }
         const std::vector<int>& particle = thermostat.getSearch().getSortedIndex();
         const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
+        if (thermostat.getParameters().hasUniformMass() && !particle.empty()) {
+            body(EqualMassPairImpulse{invMass[particle[0]]});
+            return;
+        }
         slotInverseMasses.resize(particle.size());
         forEachParticle(particle.size(), [&](size_t k) { slotInverseMasses[k] = invMass[particle[k]]; });
         body(FreePairImpulse{slotInverseMasses});
