@@ -97,8 +97,8 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
 void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
-    // One worker writes the list itself: a second buffer to swap with would double the
-    // memory the list passes through (two lists of ~20 MB at N = 32000 miss every cache).
+    // One worker writes the list itself: a second buffer swapped in would double the
+    // memory the list takes.
     const bool alone = (executor.getNumWorkers() == 1);
     std::vector<PairGeometry>& out = (alone ? pairs : workerPairs[w]);
     std::vector<PairParticles>& outParticles = (alone ? pairParticles : workerPairParticles[w]);
