@@ -4,6 +4,7 @@
 #include "openmm/State.h"
 #include "openmm/serialization/XmlSerializer.h"
 #include <sstream>
+#include <utility>
 
 using namespace DPDPlugin;
 
@@ -104,17 +105,20 @@ TEST(SweepIntegrators, SmallBoxSweepsSerially) {
 #if OPENMMDPD_HAVE_CPU
 TEST(SweepIntegrators, SameTrajectoryOnOneOrTwoCpuThreads) {
     // No conservative force: everything is our code, so runs agree bit for bit whatever the
-    // thread count (the sweep order is fixed by the geometry).  CPU against Reference:
-    // TestPlatformsAgree.cpp.
-    std::vector<Vec3> positions;
-    std::unique_ptr<System> system(makeFluid(2000, 0, positions));
-    for (const char* scheme : SCHEMES) {
-        auto one = makeScheme(scheme, 0.05), two = makeScheme(scheme, 0.05);
-        auto cOne = makeContext(*system, *one, "CPU", positions, 1);
-        auto cTwo = makeContext(*system, *two, "CPU", positions, 2);
-        one->step(100);
-        two->step(100);
-        expectSameState(*cOne, *cTwo, std::string(scheme) + " CPU 1 vs 2 threads");
+    // thread count (the sweep order is fixed by the geometry).  With 2000 particles (6 cells
+    // a side, 2 planes per group of colours) two threads share out each colour's cells; with
+    // 6912 (12 a side) each group's planes.  CPU against Reference: TestPlatformsAgree.cpp.
+    for (const auto& [n, steps] : {std::pair<int, int>(2000, 100), std::pair<int, int>(6912, 20)}) {
+        std::vector<Vec3> positions;
+        std::unique_ptr<System> system(makeFluid(n, 0, positions));
+        for (const char* scheme : SCHEMES) {
+            auto one = makeScheme(scheme, 0.05), two = makeScheme(scheme, 0.05);
+            auto cOne = makeContext(*system, *one, "CPU", positions, 1);
+            auto cTwo = makeContext(*system, *two, "CPU", positions, 2);
+            one->step(steps);
+            two->step(steps);
+            expectSameState(*cOne, *cTwo, std::string(scheme) + " CPU 1 vs 2 threads, N = " + std::to_string(n));
+        }
     }
 }
 

@@ -49,6 +49,8 @@ public:
     /** Bin the particles into cells (serial, O(N)). */
     void build(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     int getNumCells() const { return (int) cellStart.size() - 1; }
+    /** The number of cells along axis k (cell = (z ny + y) nx + x). */
+    int getNumCellsAlong(int k) const { return numCells[k]; }
     /**
      * The cells [begin, end) that worker w of `workers` visits: consecutive ranges holding
      * equal shares of the particles (cells hold unequal numbers, and the slowest worker

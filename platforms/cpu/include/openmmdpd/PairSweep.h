@@ -13,11 +13,20 @@ namespace DPDPlugin {
  * the pair's random input drawn ahead, sequentially: each pair sees the velocities the
  * pairs before it changed.  The order is fixed by the geometry alone:
  * colour by colour (27 colours of cells, see PairSearch::isColourable), cell by cell,
- * pair by pair.  Cells of one colour share no particle, so a colour's cells are split
- * over the workers, and the result is bit for bit the same for any number of workers.
- * Without a colouring (a box fewer than 3 cells wide), or where a pair's impulse reaches
- * beyond the pair (oneThread: constraint forces), the sweep runs in one thread, in the same
- * order.
+ * pair by pair.  Without a colouring (a box fewer than 3 cells wide), or where a pair's
+ * impulse reaches beyond the pair (oneThread: constraint forces), it runs in that order in
+ * one thread.
+ *
+ * Otherwise it runs in an order of the same result bit for bit, for any number of workers:
+ * only the order of pairs that share a particle decides the result, and cells of one colour
+ * share none.  Each colour touches cells all over the box, so colour by colour would bring
+ * every velocity in from memory 27 times a sweep; the sweep goes plane by plane instead.  A
+ * cell's pairs reach the next plane of cells along z and no further, so cells in planes more
+ * than one apart share no particle, and the colour's z mod 3 is its most significant digit:
+ * the 9 colours of a group (one z mod 3) can run plane by plane, all 9 in a plane before
+ * the group's next plane, and a group's planes can be shared out over the workers.  Two
+ * planes' velocities stay in cache through a plane's 9 colours.  With too few planes to
+ * share, each colour's cells are shared out instead.
  */
 class PairSweep {
 public:
@@ -36,22 +45,30 @@ private:
     /** visit(k) for every pair k, in the sweep order or its reverse. */
     template <class Visit>
     void runColours(const DPDThermostatForces& pairs, const Visit& visit, bool reverse);
+    /** The planes [begin, end) of a group, each with its colours in turn (or in reverse). */
+    template <class Visit>
+    void runPlanes(const DPDThermostatForces& pairs, int group, int begin, int end, const Visit& visit, bool reverse) const;
     template <class Visit>
     void runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end, const Visit& visit,
                   bool reverse) const;
     /** The cells [begin, end) of a colour that worker w sweeps: equal shares of its pairs. */
     void workerCells(int colour, int w, size_t& begin, size_t& end) const;
+    /** The planes [begin, end) of a group that worker w sweeps: near equal shares of its pairs. */
+    void workerPlanes(int group, int w, int& begin, int& end) const;
+    /** Pairs in the group's planes before plane k. */
+    int pairsBeforePlane(int group, int k) const;
     ParallelExecutor& executor;
     const bool oneThread;
-    bool parallel = false, independentCells = false;
-    std::vector<std::vector<int>> colourCells;
-    std::vector<std::vector<int>> colourPairsBefore;  // pairs in the colour's cells before each
+    bool independentCells = false;
+    static constexpr int GROUPS = 3, GROUP_COLOURS = 9;  // of the 27 colours, by z mod 3
+    std::vector<std::vector<int>> colourCells;           // by colour, in cell order (so plane by plane)
+    std::vector<std::vector<int>> colourPairsBefore;     // pairs in the colour's cells before each
+    std::vector<std::vector<int>> colourPlaneStart;      // where each plane of the colour's group starts in colourCells (27 colours)
 };
 
 inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
     const PairSearch& search = pairs.getSearch();
     independentCells = !oneThread && search.isColourable();
-    parallel = independentCells && executor.getNumWorkers() > 1;
     const int colours = search.isColourable() ? 27 : 1;
     colourCells.assign(colours, std::vector<int>());
     const std::vector<int>& start = pairs.getCellPairStart();
@@ -65,6 +82,40 @@ inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
         for (int cell : colourCells[c])
             before.push_back(before.back() + start[cell + 1] - start[cell]);
     }
+    // Plane k of group g (z mod 3) is z = g + 3k.
+    colourPlaneStart.assign(colours == 27 ? colours : 0, std::vector<int>());
+    const int planeCells = search.getNumCellsAlong(0) * search.getNumCellsAlong(1), planes = search.getNumCellsAlong(2);
+    for (int c = 0; c < (int) colourPlaneStart.size(); c++) {
+        const std::vector<int>& cells = colourCells[c];
+        const int groupPlanes = (planes - c / GROUP_COLOURS + 2) / 3;
+        std::vector<int>& planeStart = colourPlaneStart[c];
+        planeStart.assign(groupPlanes + 1, (int) cells.size());
+        for (int k = 0, index = 0; k < groupPlanes; k++) {
+            while (index < (int) cells.size() && cells[index] / planeCells / 3 < k)
+                index++;
+            planeStart[k] = index;
+        }
+    }
+}
+
+inline int PairSweep::pairsBeforePlane(int group, int k) const {
+    int before = 0;
+    for (int c = group * GROUP_COLOURS; c < (group + 1) * GROUP_COLOURS; c++)
+        before += colourPairsBefore[c][colourPlaneStart[c][k]];
+    return before;
+}
+
+inline void PairSweep::workerPlanes(int group, int w, int& begin, int& end) const {
+    const int planes = (int) colourPlaneStart[group * GROUP_COLOURS].size() - 1, workers = executor.getNumWorkers();
+    const long long total = pairsBeforePlane(group, planes);
+    auto boundary = [&](int k) {
+        int plane = 0;
+        while (plane < planes && pairsBeforePlane(group, plane) < total * k / workers)
+            plane++;
+        return plane;
+    };
+    begin = (w == 0 ? 0 : boundary(w));
+    end = (w == workers - 1 ? planes : boundary(w + 1));
 }
 
 inline void PairSweep::workerCells(int colour, int w, size_t& begin, size_t& end) const {
@@ -129,15 +180,41 @@ void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>&
 }
 
 template <class Visit>
+void PairSweep::runPlanes(const DPDThermostatForces& pairs, int group, int begin, int end, const Visit& visit, bool reverse) const {
+    for (int p = begin; p < end; p++) {
+        const int k = reverse ? begin + end - 1 - p : p;
+        for (int q = 0; q < GROUP_COLOURS; q++) {
+            const int colour = group * GROUP_COLOURS + (reverse ? GROUP_COLOURS - 1 - q : q);
+            const std::vector<int>& planeStart = colourPlaneStart[colour];
+            runCells(pairs, colourCells[colour], planeStart[k], planeStart[k + 1], visit, reverse);
+        }
+    }
+}
+
+template <class Visit>
 void PairSweep::runColours(const DPDThermostatForces& pairs, const Visit& visit, bool reverse) {
     const int colours = (int) colourCells.size();
-    if (!parallel) {
+    if (!independentCells) {
+        // Colour by colour, exactly: without colours, or where an impulse reaches beyond its
+        // pair (constraints) and planes do not bound which particles a cell touches.
         for (int c = 0; c < colours; c++) {
             const std::vector<int>& cells = colourCells[reverse ? colours - 1 - c : c];
             runCells(pairs, cells, 0, cells.size(), visit, reverse);
         }
         return;
     }
+    const int workers = executor.getNumWorkers(), fewestPlanes = (int) colourPlaneStart.back().size() - 1;
+    if (workers == 1 || fewestPlanes >= 2 * workers) {
+        // Plane by plane, each group's planes shared out: one wait per group.
+        executor.executePhases(GROUPS, [&](int w, int g) {
+            const int group = reverse ? GROUPS - 1 - g : g;
+            int begin, end;
+            workerPlanes(group, w, begin, end);
+            runPlanes(pairs, group, begin, end, visit, reverse);
+        });
+        return;
+    }
+    // Too few planes to share: colour by colour, each colour's cells shared out.
     executor.executePhases(colours, [&](int w, int c) {
         const int colour = reverse ? colours - 1 - c : c;
         size_t begin, end;
