@@ -78,16 +78,17 @@ TEST(PairRandom, BatchedNormalsEqualOneAtATime) {
 }
 
 TEST(PairRandom, BatchedDrawsEqualOneAtATime) {
-    // Four at a time (AVX2 where available) or one at a time: the same words, for either
-    // order of the pair, large indices and steps past 2^32, and every tail length.
+    // Eight or four at a time (AVX-512, AVX2 where available) or one at a time: the same
+    // words, for either order of the pair, large indices and steps past 2^32, and every
+    // length of the tails after the eights.
     PairRandom random(0xDEADBEEF);
     std::vector<int> first, second;
-    for (int k = 0; k < 11; k++) {
+    for (int k = 0; k < 19; k++) {
         first.push_back(k % 2 == 0 ? 1000003 * k : k);
         second.push_back(k % 2 == 0 ? k + 1 : 2000000000 - k);
     }
     for (long long step : {0LL, 12345LL, (1LL << 32) + 77}) {
-        for (int n = 0; n <= 11; n++) {
+        for (int n = 0; n <= 19; n++) {
             std::vector<r123::Philox4x32::ctr_type> batch(n);
             PairRandomBatch::bits(random, PairRandom::AuxiliaryNoise, step, first.data(), second.data(), n, batch.data());
             for (int k = 0; k < n; k++) {

@@ -50,8 +50,47 @@ __attribute__((target("avx2"))) void philoxFour(uint32_t seed, uint32_t stream, 
     }
 }
 
+// The same, eight counters at once in 512-bit registers.  (A template over the width,
+// written with GCC's vector types, measured slower: the compiler did not see that the
+// lanes' high halves are zero and made each product of three multiplies.)
+__attribute__((target("avx512f"))) void philoxEight(uint32_t seed, uint32_t stream, long long step, const int* i, const int* j,
+                                                   Counter* out) {
+    const __m512i multiplier0 = _mm512_set1_epi64(PHILOX_M4x32_0), multiplier1 = _mm512_set1_epi64(PHILOX_M4x32_1);
+    const __m512i low = _mm512_set1_epi64(0xffffffffu);
+    const __m256i a = _mm256_loadu_si256((const __m256i*) i), b = _mm256_loadu_si256((const __m256i*) j);
+    const uint64_t s = (uint64_t) step;
+    __m512i c0 = _mm512_set1_epi64((uint32_t) s), c1 = _mm512_set1_epi64((uint32_t) (s >> 32));
+    __m512i c2 = _mm512_cvtepu32_epi64(_mm256_min_epi32(a, b)), c3 = _mm512_cvtepu32_epi64(_mm256_max_epi32(a, b));
+    uint32_t key0 = seed, key1 = stream;
+    for (int round = 0; round < 10; round++) {
+        if (round > 0) {
+            key0 += PHILOX_W32_0;
+            key1 += PHILOX_W32_1;
+        }
+        const __m512i product0 = _mm512_mul_epu32(c0, multiplier0), product1 = _mm512_mul_epu32(c2, multiplier1);
+        const __m512i next0 = _mm512_xor_si512(_mm512_xor_si512(_mm512_srli_epi64(product1, 32), c1), _mm512_set1_epi64(key0));
+        const __m512i next2 = _mm512_xor_si512(_mm512_xor_si512(_mm512_srli_epi64(product0, 32), c3), _mm512_set1_epi64(key1));
+        c1 = _mm512_and_si512(product1, low);
+        c3 = _mm512_and_si512(product0, low);
+        c0 = next0;
+        c2 = next2;
+    }
+    alignas(64) uint64_t words01[8], words23[8];
+    _mm512_store_si512((__m512i*) words01, _mm512_or_si512(c0, _mm512_slli_epi64(c1, 32)));
+    _mm512_store_si512((__m512i*) words23, _mm512_or_si512(c2, _mm512_slli_epi64(c3, 32)));
+    for (int lane = 0; lane < 8; lane++) {
+        std::memcpy(&out[lane].v[0], &words01[lane], 8);
+        std::memcpy(&out[lane].v[2], &words23[lane], 8);
+    }
+}
+
 bool haveAVX2() {
     static const bool have = __builtin_cpu_supports("avx2");
+    return have;
+}
+
+bool haveAVX512() {
+    static const bool have = __builtin_cpu_supports("avx512f");
     return have;
 }
 #endif
@@ -94,6 +133,9 @@ void PairRandomBatch::bits(const PairRandom& random, PairRandom::Stream stream, 
                            Counter* out) {
     int k = 0;
 #ifdef OPENMMDPD_PHILOX_AVX2
+    if (haveAVX512())
+        for (; k + 8 <= n; k += 8)
+            philoxEight(random.getSeed(), (uint32_t) stream, step, i + k, j + k, out + k);
     if (haveAVX2())
         for (; k + 4 <= n; k += 4)
             philoxFour(random.getSeed(), (uint32_t) stream, step, i + k, j + k, out + k);

@@ -11,8 +11,8 @@ namespace DPDPlugin {
  */
 struct PairRandomBatch {
     /**
-     * out[k] = random.bits(stream, step, i[k], j[k]) for k < n, four pairs at a time where
-     * the processor has AVX2.
+     * out[k] = random.bits(stream, step, i[k], j[k]) for k < n, eight or four pairs at a
+     * time where the processor has AVX-512 or AVX2.
      */
     static void bits(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j, int n,
                      r123::Philox4x32::ctr_type* out);
