@@ -110,16 +110,18 @@ std::array<double, 6> SoftRepulsionKernel::computeVirial(OpenMM::ContextImpl& co
     executor->execute([&](int w) {
         size_t begin, end;
         pairSearch->workerCells(w, workers, begin, end);
+        SymmetricTensor sum{};  // a local: the workers' tensors share cache lines
         pairSearch->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
             for (int k = 0; k < count; k++) {
                 const double r2 = d[k].dot(d[k]);
                 int t;
                 if (r2 > 0 && actsOn(p, q[k], r2, t)) {
                     const double r = std::sqrt(r2);
-                    addAlong(workerVirial[w], d[k] / r, r * SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r));
+                    addAlong(sum, d[k] / r, r * SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r));
                 }
             }
         });
+        workerVirial[w] = sum;
     });
     SymmetricTensor virial{};
     for (const SymmetricTensor& v : workerVirial)

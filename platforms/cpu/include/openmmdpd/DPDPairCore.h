@@ -44,11 +44,14 @@ void addVirialAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, s
                          const DPDPairParameters& parameters, SymmetricTensor& virial) {
     evaluate.start(begin, end);
     OpenMM::Vec3 f[Evaluator::OUTPUTS];
+    // Summed in a local: the workers' tensors share cache lines.
+    SymmetricTensor sum = virial;
     for (size_t k = begin; k < end; k++) {
         const PairGeometry& p = pairs[k];
         evaluate(k, p, f);
-        addAlong(virial, p.e, pairDistance(p, parameters) * f[0].dot(p.e));
+        addAlong(sum, p.e, pairDistance(p, parameters) * f[0].dot(p.e));
     }
+    virial = sum;
 }
 
 /**
