@@ -28,6 +28,7 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
     const int workers = executor.getNumWorkers();
     workerPairs.resize(workers);
     workerPairParticles.resize(workers);
+    workerListSize.resize(workers);
     keptPairs.resize(workers);
     workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
     if (workers > 1)
@@ -63,9 +64,10 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     if (soft != nullptr && sortedIndex.size() < softOut->size())
         std::fill(softOut->begin(), softOut->end(), Vec3());
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
-    // number of workers.  Each worker copies its own part (the list is ~15 MB at N = 32000:
-    // copied by one thread it would be a serial part of every step); one worker's list is
-    // the list.  The soft force is summed by slot, as in sumBySlot.  One dispatch.
+    // number of workers.  Worker 0 writes the start of the list itself; the other workers'
+    // parts are copied in after it, every worker copying an equal share (the list is ~15 MB
+    // at N = 32000: copied by one thread it would be a serial part of every step).  The soft
+    // force is summed by slot, as in sumBySlot.  One dispatch.
     const int workers = executor.getNumWorkers();
     executor.executePhases(4, [&](int w, int phase) {
         size_t begin, end;
@@ -78,13 +80,13 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         else if (phase == 1)
             findWorkerPairs(w, soft);
         else if (phase == 2 && w == 0 && workers > 1) {
-            sizeForWorkerLists(workerPairs, pairs);
-            sizeForWorkerLists(workerPairParticles, pairParticles);
+            sizeForWorkerLists(pairs);
+            sizeForWorkerLists(pairParticles);
         }
         else if (phase == 3) {
             if (workers > 1) {
-                copyWorkerList(w, workerPairs, pairs);
-                copyWorkerList(w, workerPairParticles, pairParticles);
+                copyWorkerLists(w, workerPairs, pairs);
+                copyWorkerLists(w, workerPairParticles, pairParticles);
                 shiftWorkerCells(w);
             }
             for (size_t k = begin; soft != nullptr && k < end; k++)
@@ -97,14 +99,14 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
 void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
-    // One worker writes the list itself: a second buffer swapped in would double the
-    // memory the list takes.  The lists grow in vectors of the worker's own, swapped in and
-    // out: the workers' vectors sit side by side in one cache line, and growing them there
-    // made every pair write a line that the other workers' cores were writing too (with two
-    // threads this pass took 2.5 times its one-thread time per thread).
-    const bool alone = (executor.getNumWorkers() == 1);
-    std::vector<PairGeometry>& list = (alone ? pairs : workerPairs[w]);
-    std::vector<PairParticles>& listParticles = (alone ? pairParticles : workerPairParticles[w]);
+    // Worker 0 writes the list itself (with one worker, all of it): a second buffer for its
+    // part would add that much memory and copying.  The lists grow in vectors of the
+    // worker's own, swapped in and out: the workers' vectors sit side by side in one cache
+    // line, and growing them there made every pair write a line that the other workers'
+    // cores were writing too (with two threads this pass took 2.5 times its one-thread time
+    // per thread).
+    std::vector<PairGeometry>& list = (w == 0 ? pairs : workerPairs[w]);
+    std::vector<PairParticles>& listParticles = (w == 0 ? pairParticles : workerPairParticles[w]);
     std::vector<PairGeometry> out;
     std::vector<PairParticles> outParticles;
     out.swap(list);
@@ -143,27 +145,34 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
             }
         });
     }
+    workerListSize[w] = out.size();
     out.swap(list);
     outParticles.swap(listParticles);
 }
 
 template <class Entry>
-void DPDThermostatForces::sizeForWorkerLists(const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const {
-    size_t total = 0;
-    for (const std::vector<Entry>& workerList : workerLists)
-        total += workerList.size();
-    list.resize(total);
+void DPDThermostatForces::sizeForWorkerLists(std::vector<Entry>& list) const {
+    list.resize(workerPairsBefore(executor.getNumWorkers()));
 }
 
 template <class Entry>
-void DPDThermostatForces::copyWorkerList(int w, const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const {
-    std::copy(workerLists[w].begin(), workerLists[w].end(), list.begin() + workerPairsBefore(w));
+void DPDThermostatForces::copyWorkerLists(int w, const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const {
+    // Worker w's share [begin, end) of the entries after worker 0's, wherever they come from.
+    const size_t first = workerListSize[0];
+    size_t begin, end;
+    executor.range(w, list.size() - first, begin, end);
+    for (int v = 1; v < executor.getNumWorkers(); v++) {
+        const size_t start = workerPairsBefore(v) - first, from = std::max(begin, start),
+                     to = std::min(end, start + workerListSize[v]);
+        if (from < to)
+            std::copy(workerLists[v].begin() + (from - start), workerLists[v].begin() + (to - start), list.begin() + first + from);
+    }
 }
 
 size_t DPDThermostatForces::workerPairsBefore(int w) const {
     size_t total = 0;
     for (int v = 0; v < w; v++)
-        total += workerPairs[v].size();
+        total += workerListSize[v];
     return total;
 }
 

@@ -140,15 +140,18 @@ private:
     void sumOverPairs(const Evaluator& evaluator, std::array<std::vector<OpenMM::Vec3>*, Evaluator::OUTPUTS> out);
     /** The sum of the buffers at index k, in worker order. */
     OpenMM::Vec3 sumOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const;
-    /** updatePairs' steps: worker w's pairs (and their particles); the lists sized for all workers'; w's part copied in. */
+    /**
+     * updatePairs' steps: worker w's pairs (and their particles), worker 0's into the list
+     * itself; the list sized for all workers'; w's share of the other workers' parts copied in.
+     */
     void findWorkerPairs(int w, const SoftRepulsionKernel* soft);
     size_t workerPairsBefore(int w) const;
     /** Worker w's cells' offsets into its own list made offsets into the whole list. */
     void shiftWorkerCells(int w);
     template <class Entry>
-    void sizeForWorkerLists(const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const;
+    void sizeForWorkerLists(std::vector<Entry>& list) const;
     template <class Entry>
-    void copyWorkerList(int w, const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const;
+    void copyWorkerLists(int w, const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const;
     /** sortedTypes (and sortedHeights if asked), or sortedSoftTypes, for the slots [begin, end) of the last search. */
     void sortTypes(size_t begin, size_t end, bool heights);
     void sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft);
@@ -166,7 +169,8 @@ private:
     std::vector<PairGeometry> pairs;
     bool pairsBySlot = false;
     std::vector<int> cellPairStart;
-    std::vector<std::vector<PairGeometry>> workerPairs;
+    std::vector<std::vector<PairGeometry>> workerPairs;  // workers 1, 2, ...: their parts of the list
+    std::vector<size_t> workerListSize;                 // each worker's number of pairs
     // Each pair's particles, by list index: what drawing its numbers reads (8 bytes, where
     // reading them from the list would bring its 72 bytes in from memory once more).
     struct PairParticles {
