@@ -51,12 +51,13 @@ private:
     template <class Visit>
     void runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end, const Visit& visit,
                   bool reverse) const;
-    /** The cells [begin, end) of a colour that worker w sweeps: equal shares of its pairs. */
-    void workerCells(int colour, int w, size_t& begin, size_t& end) const;
-    /** The planes [begin, end) of a group that worker w sweeps: near equal shares of its pairs. */
-    void workerPlanes(int group, int w, int& begin, int& end) const;
-    /** Pairs in the group's planes before plane k. */
-    int pairsBeforePlane(int group, int k) const;
+    /**
+     * Worker w's items [begin, end) (a colour's cells, or a group's planes) given the pairs
+     * before each item (`before`, one longer than the items): equal shares of the pairs.
+     */
+    void workerShare(const std::vector<int>& before, int w, size_t& begin, size_t& end) const;
+    /** prepare()'s second half: where each plane starts in each colour's cells, and the pairs before it. */
+    void preparePlanes(const PairSearch& search);
     ParallelExecutor& executor;
     const bool oneThread;
     bool independentCells = false;
@@ -64,6 +65,7 @@ private:
     std::vector<std::vector<int>> colourCells;           // by colour, in cell order (so plane by plane)
     std::vector<std::vector<int>> colourPairsBefore;     // pairs in the colour's cells before each
     std::vector<std::vector<int>> colourPlaneStart;      // where each plane of the colour's group starts in colourCells (27 colours)
+    std::vector<std::vector<int>> groupPairsBefore;      // pairs in the group's planes before each (3 groups)
 };
 
 inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
@@ -82,7 +84,12 @@ inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
         for (int cell : colourCells[c])
             before.push_back(before.back() + start[cell + 1] - start[cell]);
     }
+    preparePlanes(search);
+}
+
+inline void PairSweep::preparePlanes(const PairSearch& search) {
     // Plane k of group g (z mod 3) is z = g + 3k.
+    const int colours = (int) colourCells.size();
     colourPlaneStart.assign(colours == 27 ? colours : 0, std::vector<int>());
     const int planeCells = search.getNumCellsAlong(0) * search.getNumCellsAlong(1), planes = search.getNumCellsAlong(2);
     for (int c = 0; c < (int) colourPlaneStart.size(); c++) {
@@ -96,38 +103,25 @@ inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
             planeStart[k] = index;
         }
     }
+    groupPairsBefore.assign(colourPlaneStart.empty() ? 0 : GROUPS, std::vector<int>());
+    for (int g = 0; g < (int) groupPairsBefore.size(); g++) {
+        const int groupPlanes = (int) colourPlaneStart[g * GROUP_COLOURS].size() - 1;
+        groupPairsBefore[g].assign(groupPlanes + 1, 0);
+        for (int k = 0; k <= groupPlanes; k++)
+            for (int c = g * GROUP_COLOURS; c < (g + 1) * GROUP_COLOURS; c++)
+                groupPairsBefore[g][k] += colourPairsBefore[c][colourPlaneStart[c][k]];
+    }
 }
 
-inline int PairSweep::pairsBeforePlane(int group, int k) const {
-    int before = 0;
-    for (int c = group * GROUP_COLOURS; c < (group + 1) * GROUP_COLOURS; c++)
-        before += colourPairsBefore[c][colourPlaneStart[c][k]];
-    return before;
-}
-
-inline void PairSweep::workerPlanes(int group, int w, int& begin, int& end) const {
-    const int planes = (int) colourPlaneStart[group * GROUP_COLOURS].size() - 1, workers = executor.getNumWorkers();
-    const long long total = pairsBeforePlane(group, planes);
-    auto boundary = [&](int k) {
-        int plane = 0;
-        while (plane < planes && pairsBeforePlane(group, plane) < total * k / workers)
-            plane++;
-        return plane;
-    };
-    begin = (w == 0 ? 0 : boundary(w));
-    end = (w == workers - 1 ? planes : boundary(w + 1));
-}
-
-inline void PairSweep::workerCells(int colour, int w, size_t& begin, size_t& end) const {
-    // Split by pairs, not cells: a colour's cells hold unequal numbers of pairs, and each of
-    // the 27 colours ends with all workers waiting for the slowest.
-    const std::vector<int>& before = colourPairsBefore[colour];
+inline void PairSweep::workerShare(const std::vector<int>& before, int w, size_t& begin, size_t& end) const {
+    // Split by pairs, not items: cells and planes hold unequal numbers of pairs, and each
+    // phase ends with all workers waiting for the slowest.
     const long long total = before.back(), workers = executor.getNumWorkers();
     auto boundary = [&](long long k) {
         return (size_t) (std::lower_bound(before.begin(), before.end(), (int) (total * k / workers)) - before.begin());
     };
     begin = (w == 0 ? 0 : boundary(w));
-    end = (w == workers - 1 ? colourCells[colour].size() : boundary(w + 1));
+    end = (w == workers - 1 ? before.size() - 1 : boundary(w + 1));
 }
 
 template <class Visit>
@@ -208,9 +202,9 @@ void PairSweep::runColours(const DPDThermostatForces& pairs, const Visit& visit,
         // Plane by plane, each group's planes shared out: one wait per group.
         executor.executePhases(GROUPS, [&](int w, int g) {
             const int group = reverse ? GROUPS - 1 - g : g;
-            int begin, end;
-            workerPlanes(group, w, begin, end);
-            runPlanes(pairs, group, begin, end, visit, reverse);
+            size_t begin, end;
+            workerShare(groupPairsBefore[group], w, begin, end);
+            runPlanes(pairs, group, (int) begin, (int) end, visit, reverse);
         });
         return;
     }
@@ -218,7 +212,7 @@ void PairSweep::runColours(const DPDThermostatForces& pairs, const Visit& visit,
     executor.executePhases(colours, [&](int w, int c) {
         const int colour = reverse ? colours - 1 - c : c;
         size_t begin, end;
-        workerCells(colour, w, begin, end);
+        workerShare(colourPairsBefore[colour], w, begin, end);
         runCells(pairs, colourCells[colour], begin, end, visit, reverse);
     });
 }
