@@ -200,15 +200,24 @@ def print_table(rows):
             print(f"{n:>6} {threads:>7}  {label:<16} {rate:>9.1f}  {ratio:>21}  {speedup:>20}")
 
 
-def measure_sizes(factories, args, measure_one=None):
-    """Rows (N, threads, measure_one's results, by default measure's): one scene per N, shared
-    by every integrator."""
+def measure_sizes(factories, args):
+    """Rows (N, threads, measure's results): one scene per N, shared by every integrator."""
     rows = []
     for n in args.sizes:
         scene = soft_scene(num_particles=n)
         for threads in args.threads:
             print(f"measuring N={n} threads={threads} ...", file=sys.stderr, flush=True)
-            rows.append((n, threads, (measure_one or measure)(scene, factories, threads, args)))
+            rows.append((n, threads, measure(scene, factories, threads, args)))
+    return rows
+
+
+def measure_scale(names, args):
+    """Rows (N, threads, measure_in_groups's results) for --scale."""
+    rows = []
+    for n in args.sizes:
+        for threads in args.threads:
+            print(f"measuring N={n} threads={threads} ...", file=sys.stderr, flush=True)
+            rows.append((n, threads, measure_in_groups(n, names, threads, args)))
     return rows
 
 
@@ -223,24 +232,45 @@ def median_ratio(numerators, denominators):
     return statistics.median(a / b for a, b in zip(numerators, denominators))
 
 
-def measure_in_groups(scene, factories, threads, args):
+def measure_in_groups(n, names, threads, args):
     """{label: (best steps/s, speed/GW, cost/Langevin)}: the references (GW, Langevin) timed
     alone, then each other integrator timed interleaved with them, so that every ratio comes
     from runs side by side (the median over the rounds of each round's ratio) and at most three
     Contexts share the memory (all of them at once slow one another down at a million
-    particles: see the README)."""
-    references = [(label, make) for label, make in factories if label in SCALE_REFERENCES]
-    others = [(label, make) for label, make in factories if label not in SCALE_REFERENCES]
-    groups = [references] + [references + [entry] for entry in others] if references else [[entry] for entry in others]
+    particles: see the README). Each group runs in a fresh process (measure_group)."""
+    references = [name for name in names if name in SCALE_REFERENCES]
+    others = [name for name in names if name not in SCALE_REFERENCES]
+    groups = [references] + [references + [name] for name in others] if references else [[name] for name in others]
     results = {}
     for group in groups:
-        print(f"  {' '.join(label for label, _ in group)} ...", file=sys.stderr, flush=True)
-        rates = measure_repeats(scene, group, threads, args)
-        release_free_memory()
+        print(f"  {' '.join(group)} ...", file=sys.stderr, flush=True)
+        rates = measure_group(n, group, threads, args)
         for label, own in rates.items():
             best = max(own) if isinstance(own, list) else own
             results.setdefault(label, (best, median_ratio(own, rates.get("GW")), median_ratio(rates.get("Langevin"), own)))
-    return {label: results[label] for label, _ in factories}
+    return {name: results[name] for name in names}
+
+
+def measure_group(n, names, threads, args):
+    """measure_repeats's rates of `names` on model B with n particles, in a fresh process: in
+    one that has made and dropped Contexts, malloc places the next Context's arrays in the
+    memory they freed, and there GW's passes over the particles at a million ran 3-7 times
+    slower (see the README)."""
+    try:
+        return in_fresh_process(group_rates, n, names, threads, args)
+    except BrokenProcessPool as error:  # killed (memory?)
+        return {name: f"failed: {error}" for name in names}
+
+
+def group_rates(n, names, threads, args):
+    return measure_repeats(soft_scene(num_particles=n), [(name, factory(name, args.edpd_alpha)) for name in names],
+                           threads, args)
+
+
+def in_fresh_process(function, *arguments):
+    """function(*arguments), run in a new Python process (spawned: nothing of this one's memory)."""
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as process:
+        return process.submit(function, *arguments).result()
 
 
 def ratio(a, b):
@@ -338,12 +368,11 @@ def measure_memory(args):
     for n in args.sizes:
         for name in args.integrators:
             print(f"memory N={n} {name} ...", file=sys.stderr, flush=True)
-            with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as process:
-                try:
-                    rows.append((n, name, process.submit(context_memory, name, n, args.threads[0], args.dt,
-                                                         args.edpd_alpha, args.memory_steps).result()))
-                except (openmm.OpenMMException, BrokenProcessPool) as error:  # the latter: killed (memory?)
-                    rows.append((n, name, f"failed: {error}"))
+            try:
+                rows.append((n, name, in_fresh_process(context_memory, name, n, args.threads[0], args.dt,
+                                                       args.edpd_alpha, args.memory_steps)))
+            except (openmm.OpenMMException, BrokenProcessPool) as error:  # the latter: killed (memory?)
+                rows.append((n, name, f"failed: {error}"))
     return rows
 
 
@@ -512,8 +541,7 @@ def main(argv=None):
     if at_scale:
         if args.scale:
             chosen = args.integrators or (GPU_SCALE_INTEGRATORS if gpu else SCALE_INTEGRATORS)
-            print_scale_table(measure_sizes([(name, factory(name, args.edpd_alpha)) for name in chosen], args, measure_in_groups),
-                              args)
+            print_scale_table(measure_scale(chosen, args), args)
         if args.memory:
             args.integrators = args.integrators or MEMORY_INTEGRATORS
             print_memory_table(measure_memory(args), args)

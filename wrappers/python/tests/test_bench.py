@@ -48,14 +48,13 @@ def test_scale_ratios_are_medians_of_the_rounds_interleaved_with_each_integrator
     beside S1 than alone, and one round is slowed throughout (a busy spell of the machine)."""
     groups = []
 
-    def fake_measure_repeats(scene, factories, threads, args):
-        labels = [label for label, _ in factories]
+    def fake_measure_group(n, labels, threads, args):
         groups.append(labels)
         if "S1" in labels:  # rounds' S1/GW: 0.5, 0.25, 0.4; Langevin/S1: 4, 8, 4.5 (ratios of the bests: 0.5, 4)
             return {"GW": [100.0, 10.0, 100.0], "Langevin": [200.0, 20.0, 180.0], "S1": [50.0, 2.5, 40.0]}
         return {"GW": [120.0, 100.0, 12.0], "Langevin": [150.0, 125.0, 15.0]}
 
-    monkeypatch.setattr(bench, "measure_repeats", fake_measure_repeats)
+    monkeypatch.setattr(bench, "measure_group", fake_measure_group)
     bench.main(["--scale", "--integrators", "S1", "GW", "Langevin", "--sizes", "500"])
     assert groups == [["GW", "Langevin"], ["GW", "Langevin", "S1"]]
     rows = {row[2]: row[3:] for row in (line.split() for line in capsys.readouterr().out.splitlines()[2:])}
@@ -98,3 +97,8 @@ def test_scale_table_on_opencl(capsys):
     rows = [line.split() for line in lines[2:]]
     assert [row[:3] for row in rows] == [["500", "1", "GW"], ["500", "1", "Langevin"]]
     assert all(float(row[3]) > 0 for row in rows)
+
+
+def test_scale_groups_run_in_a_process_of_their_own():
+    import os
+    assert bench.in_fresh_process(os.getpid) != os.getpid()
