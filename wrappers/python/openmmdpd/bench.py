@@ -237,17 +237,26 @@ def measure_in_groups(n, names, threads, args):
     alone, then each other integrator timed interleaved with them, so that every ratio comes
     from runs side by side (the median over the rounds of each round's ratio) and at most three
     Contexts share the memory (all of them at once slow one another down at a million
-    particles: see the README). Each group runs in a fresh process (measure_group)."""
+    particles: see the README). Each group runs in a fresh process (measure_group). The
+    references run in every group: their rates and their ratio to each other come from all
+    those rounds (a slow spell of the host can take a whole group)."""
     references = [name for name in names if name in SCALE_REFERENCES]
     others = [name for name in names if name not in SCALE_REFERENCES]
     groups = [references] + [references + [name] for name in others] if references else [[name] for name in others]
-    results = {}
+    results, reference_rounds = {}, {name: [] for name in references}
     for group in groups:
         print(f"  {' '.join(group)} ...", file=sys.stderr, flush=True)
         rates = measure_group(n, group, threads, args)
+        if all(isinstance(rates[name], list) for name in references):
+            for name in references:
+                reference_rounds[name] += rates[name]
         for label, own in rates.items():
             best = max(own) if isinstance(own, list) else own
             results.setdefault(label, (best, median_ratio(own, rates.get("GW")), median_ratio(rates.get("Langevin"), own)))
+    for name, own in reference_rounds.items():
+        if own:
+            results[name] = (max(own), median_ratio(own, reference_rounds.get("GW")),
+                             median_ratio(reference_rounds.get("Langevin"), own))
     return {name: results[name] for name in names}
 
 
