@@ -49,7 +49,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
                                       std::vector<Vec3>* softOut, bool bySlot) {
     checkCutoffFitsBox(box);
     pairsBySlot = bySlot;
-    search.build(positions, box);
+    search.build(positions, box, &executor);
     searched = &positions;
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
@@ -266,7 +266,7 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
 
 void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const Vec3* box) {
     checkCutoffFitsBox(box);
-    search.build(positions, box);
+    search.build(positions, box, &executor);
     searched = &positions;
     searchedHeight = box[1][1];
     slotsSorted = softSorted = false;

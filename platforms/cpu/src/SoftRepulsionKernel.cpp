@@ -46,7 +46,7 @@ void SoftRepulsionKernel::search(OpenMM::ContextImpl& context) {
     OpenMM::ReferencePlatform::PlatformData& data = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    pairSearch->build(*data.positions, box);
+    pairSearch->build(*data.positions, box, executor.get());
     const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
     sortedType.resize(sortedIndex.size());
     for (size_t k = 0; k < sortedIndex.size(); k++)

@@ -2,6 +2,7 @@
 #define OPENMMDPD_PAIRSEARCH_H_
 
 #include "openmmdpd/BoxGeometry.h"
+#include "openmmdpd/ParallelExecutor.h"
 #include "openmm/Vec3.h"
 #include <algorithm>
 #include <cmath>
@@ -46,8 +47,11 @@ public:
      *                      this (3 lets sequential sweeps colour the cells; see getColour)
      */
     PairSearch(const std::vector<bool>& active, double cutoff, bool periodic, int cellMultiple = 1);
-    /** Bin the particles into cells (serial, O(N)). */
-    void build(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
+    /**
+     * Bin the particles into cells, O(N): the per-particle passes over `executor`'s workers
+     * where one is given (the same values either way), the counting sort in one thread.
+     */
+    void build(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, ParallelExecutor* executor = nullptr);
     int getNumCells() const { return (int) cellStart.size() - 1; }
     /** The number of cells along axis k (cell = (z ny + y) nx + x). */
     int getNumCellsAlong(int k) const { return numCells[k]; }
@@ -135,10 +139,10 @@ private:
     template <class BlockVisitor>
     int gatherInChunks(int cell, int p, HitBlock& block, BlockVisitor& visit) const;
     /** build()'s steps: frac and the fractional reach of the cutoff per axis; the cells; the sort. */
-    void fractionalCoordinates(const std::vector<OpenMM::Vec3>& positions, double* reach);
+    void fractionalCoordinates(const std::vector<OpenMM::Vec3>& positions, double* reach, ParallelExecutor* executor);
     void chooseGrid(const double* reach);
     void sortIntoCells();
-    void storeSortedPositions(const std::vector<OpenMM::Vec3>& positions);
+    void storeSortedPositions(const std::vector<OpenMM::Vec3>& positions, ParallelExecutor* executor);
     /**
      * The neighbour cells of every cell, for the current grid: rebuilt when the grid changes;
      * when only the box does (a sliding Lees-Edwards box, every step) only the shifts move.
