@@ -21,8 +21,8 @@ threshold off and at INSTABILITY_THRESHOLD, alternated --repeats times, medians 
 
 --scale instead measures particle-steps/s from 4000 to a million particles on model B (dt 0.05,
 one thread unless --threads says otherwise), each integrator against GW and Langevin at the
-same N (timed interleaved with the two, three Contexts at a time) and against itself at the
-first N; --memory the bytes per particle a Context of each
+same N (timed interleaved with the two, three Contexts at a time, each group in a fresh
+process) and against itself at the first N; --memory the bytes per particle a Context of each
 integrator adds to the resident memory (each in a fresh process):
 
     /usr/bin/python3 -m openmmdpd.bench --scale --memory [--sizes 4000 32000 256000 1000000]
@@ -262,9 +262,8 @@ def measure_in_groups(n, names, threads, args):
 
 def measure_group(n, names, threads, args):
     """measure_repeats's rates of `names` on model B with n particles, in a fresh process: in
-    one that has made and dropped Contexts, malloc places the next Context's arrays in the
-    memory they freed, and there GW's passes over the particles at a million ran 3-7 times
-    slower (see the README)."""
+    one that has made and dropped Contexts, GW at a million read up to a third slower (its
+    passes over whole per-particle arrays took 1.3-7 times the samples; see the README)."""
     try:
         return in_fresh_process(group_rates, n, names, threads, args)
     except BrokenProcessPool as error:  # killed (memory?)
