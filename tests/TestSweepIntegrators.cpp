@@ -107,8 +107,10 @@ TEST(SweepIntegrators, SameTrajectoryOnOneOrTwoCpuThreads) {
     // No conservative force: everything is our code, so runs agree bit for bit whatever the
     // thread count (the sweep order is fixed by the geometry).  With 2000 particles (6 cells
     // a side, 2 planes per group of colours) two threads share out each colour's cells; with
-    // 6912 (12 a side) each group's planes.  CPU against Reference: TestPlatformsAgree.cpp.
-    for (const auto& [n, steps] : {std::pair<int, int>(2000, 100), std::pair<int, int>(6912, 20)}) {
+    // 6912 (12 a side) each group's planes; with 20000 (over ParallelExecutor::SERIAL_LOOP_LIMIT)
+    // the element-wise passes, the search's among them, run on both threads too.  CPU against
+    // Reference: TestPlatformsAgree.cpp.
+    for (const auto& [n, steps] : {std::pair<int, int>(2000, 100), std::pair<int, int>(6912, 20), std::pair<int, int>(20000, 3)}) {
         std::vector<Vec3> positions;
         std::unique_ptr<System> system(makeFluid(n, 0, positions));
         for (const char* scheme : SCHEMES) {

@@ -89,36 +89,20 @@ bool PairSearch::setVectorScan(bool enabled) {
     return gatherWithinCutoff != gatherScalar;
 }
 
-namespace {
-
-/** body(begin, end) over [0, n): in shares over the executor's workers, or at once without one. */
-template <class Body>
-void forShares(ParallelExecutor* executor, size_t n, Body body) {
-    if (executor == nullptr) {
-        body(size_t(0), n);
-        return;
-    }
-    executor->execute([&](int w) {
-        size_t begin, end;
-        executor->range(w, n, begin, end);
-        body(begin, end);
-    });
-}
-
-} // namespace
-
 void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox, ParallelExecutor* executor) {
     for (int k = 0; k < 3; k++)
         box[k] = newBox[k];
+    SerialExecutor serial;
+    ParallelExecutor& workers = (executor != nullptr ? *executor : serial);
     double reach[3];
-    fractionalCoordinates(positions, reach, executor);
+    fractionalCoordinates(positions, reach, workers);
     chooseGrid(reach);
     sortIntoCells();
-    storeSortedPositions(positions, executor);
+    storeSortedPositions(positions, workers);
     updateNeighbourTable();
 }
 
-void PairSearch::fractionalCoordinates(const std::vector<Vec3>& positions, double* reach, ParallelExecutor* executor) {
+void PairSearch::fractionalCoordinates(const std::vector<Vec3>& positions, double* reach, ParallelExecutor& executor) {
     // Fractional coordinate s_d of a particle, and the fractional distance R_d that a
     // displacement as long as the cutoff can span along d.  A cell at least R_d wide means
     // that pairs within the cutoff sit in the same or adjacent cells.
@@ -129,12 +113,11 @@ void PairSearch::fractionalCoordinates(const std::vector<Vec3>& positions, doubl
         inverseBoxRows(box, rows);
         for (int k = 0; k < 3; k++)
             reach[k] = cutoff * std::sqrt(rows[k].dot(rows[k]));
-        forShares(executor, n, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; i++)
-                for (int k = 0; k < 3; k++) {
-                    double s = rows[k].dot(positions[i]);
-                    frac[i][k] = s - floorOf(s);
-                }
+        executor.forEach(n, [&](size_t i) {
+            for (int k = 0; k < 3; k++) {
+                double s = rows[k].dot(positions[i]);
+                frac[i][k] = s - floorOf(s);
+            }
         });
         return;
     }
@@ -193,23 +176,21 @@ void PairSearch::sortIntoCells() {
             sortedIndex[fill[cellOf[i]]++] = i;
 }
 
-void PairSearch::storeSortedPositions(const std::vector<Vec3>& positions, ParallelExecutor* executor) {
+void PairSearch::storeSortedPositions(const std::vector<Vec3>& positions, ParallelExecutor& executor) {
     // Slot by slot, so the four arrays are written in order.
     const size_t slots = sortedIndex.size();
     sortedPositions.resize(slots);
     for (auto* coordinate : {&sortedX, &sortedY, &sortedZ})
         coordinate->resize(slots + 3, 0.0);  // padded for gatherWithinCutoff
-    forShares(executor, slots, [&](size_t begin, size_t end) {
-        for (size_t slot = begin; slot < end; slot++) {
-            const int i = sortedIndex[slot];
-            // Periodic: the image inside the box, so a neighbour cell's particles need only
-            // that cell's fixed shift (see neighbourCells), not a rounding per pair.
-            const Vec3 r = periodic ? box[0] * frac[i][0] + box[1] * frac[i][1] + box[2] * frac[i][2] : positions[i];
-            sortedPositions[slot] = r;
-            sortedX[slot] = r[0];
-            sortedY[slot] = r[1];
-            sortedZ[slot] = r[2];
-        }
+    executor.forEach(slots, [&](size_t slot) {
+        const int i = sortedIndex[slot];
+        // Periodic: the image inside the box, so a neighbour cell's particles need only
+        // that cell's fixed shift (see neighbourCells), not a rounding per pair.
+        const Vec3 r = periodic ? box[0] * frac[i][0] + box[1] * frac[i][1] + box[2] * frac[i][2] : positions[i];
+        sortedPositions[slot] = r;
+        sortedX[slot] = r[0];
+        sortedY[slot] = r[1];
+        sortedZ[slot] = r[2];
     });
 }
 

@@ -112,25 +112,10 @@ protected:
                        std::vector<OpenMM::Vec3>* alsoCorrect = nullptr);
     /** After a velocity change: remove the velocity components along the constraints. */
     void constrainVelocities(OpenMM::ContextImpl& context) { motion.constrainVelocities(context); }
-    /**
-     * Element-wise loops over fewer items than this run in the calling thread: waking the
-     * thread pool (tens of microseconds on a virtual machine) costs more than the loop.
-     */
-    static constexpr size_t SERIAL_LOOP_LIMIT = 16384;
     /** body(i) for i in [0, n), in parallel when n is large enough to pay for it. */
     template <class Body>
     void forEachParticle(size_t n, Body body) {
-        if (n < SERIAL_LOOP_LIMIT) {
-            for (size_t i = 0; i < n; i++)
-                body(i);
-            return;
-        }
-        executor.execute([&](int w) {
-            size_t begin, end;
-            executor.range(w, n, begin, end);
-            for (size_t i = begin; i < end; i++)
-                body(i);
-        });
+        executor.forEach(n, body);
     }
     /**
      * r[i] += displacement(i) for the listed particles only (serially: meant for a small
@@ -201,7 +186,7 @@ void PairDynamics::movePositions(OpenMM::ContextImpl& context, long long step, d
         }
         return maxMove2;
     };
-    if (r.size() < SERIAL_LOOP_LIMIT) {
+    if (r.size() < ParallelExecutor::SERIAL_LOOP_LIMIT) {
         std::fill(workerSums.begin(), workerSums.end(), 0.0);
         workerSums[0] = move(0, r.size());
     }

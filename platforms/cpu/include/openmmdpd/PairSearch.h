@@ -49,7 +49,8 @@ public:
     PairSearch(const std::vector<bool>& active, double cutoff, bool periodic, int cellMultiple = 1);
     /**
      * Bin the particles into cells, O(N): the per-particle passes over `executor`'s workers
-     * where one is given (the same values either way), the counting sort in one thread.
+     * where one is given and N is large (the same values either way), the counting sort in
+     * one thread.
      */
     void build(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, ParallelExecutor* executor = nullptr);
     int getNumCells() const { return (int) cellStart.size() - 1; }
@@ -139,10 +140,10 @@ private:
     template <class BlockVisitor>
     int gatherInChunks(int cell, int p, HitBlock& block, BlockVisitor& visit) const;
     /** build()'s steps: frac and the fractional reach of the cutoff per axis; the cells; the sort. */
-    void fractionalCoordinates(const std::vector<OpenMM::Vec3>& positions, double* reach, ParallelExecutor* executor);
+    void fractionalCoordinates(const std::vector<OpenMM::Vec3>& positions, double* reach, ParallelExecutor& executor);
     void chooseGrid(const double* reach);
     void sortIntoCells();
-    void storeSortedPositions(const std::vector<OpenMM::Vec3>& positions, ParallelExecutor* executor);
+    void storeSortedPositions(const std::vector<OpenMM::Vec3>& positions, ParallelExecutor& executor);
     /**
      * The neighbour cells of every cell, for the current grid: rebuilt when the grid changes;
      * when only the box does (a sliding Lees-Edwards box, every step) only the shifts move.

@@ -26,6 +26,26 @@ public:
         for (int phase = 0; phase < phases; phase++)
             execute([&](int w) { task(w, phase); });
     }
+    /**
+     * Element-wise loops over fewer items than this run in the calling thread: waking the
+     * thread pool (tens of microseconds on a virtual machine) costs more than the loop.
+     */
+    static constexpr size_t SERIAL_LOOP_LIMIT = 16384;
+    /** body(i) for i in [0, n), over the workers when n is large enough to pay for it. */
+    template <class Body>
+    void forEach(size_t n, Body body) {
+        if (n < SERIAL_LOOP_LIMIT) {
+            for (size_t i = 0; i < n; i++)
+                body(i);
+            return;
+        }
+        execute([&](int w) {
+            size_t begin, end;
+            range(w, n, begin, end);
+            for (size_t i = begin; i < end; i++)
+                body(i);
+        });
+    }
     /** The half-open range [begin, end) of n items that a worker handles. */
     void range(int worker, size_t n, size_t& begin, size_t& end) const {
         const size_t w = getNumWorkers();
