@@ -351,8 +351,10 @@ namespace {
 
 /**
  * FD(v) and/or FR (per `terms`; + the soft force, if given) of the pairs within their
- * thermostat cutoff, summed, or with FD as a second output (separate).  One per worker: its
- * scratch arrays are set up once, not per block (a Vec3 zeroes itself).
+ * thermostat cutoff, summed, or with FD as a second output (separate).  The pairs are kept
+ * block by block and their forces made for the whole batch (accumulateBySlot), so that the
+ * random numbers are drawn many at a time.  One per worker: its scratch arrays are set up
+ * once, not per block (a Vec3 zeroes itself).
  */
 struct DPDSlotForces {
     const DPDPairParameters& parameters;
@@ -369,47 +371,53 @@ struct DPDSlotForces {
     bool separate;
     long long step;
     double invSqrtDt;
+    int kept = 0;  // pairs in the batch so far
     PairGeometry g[PairSearch::MAX_BLOCK];
-    int first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
+    int slotP[PairSearch::MAX_BLOCK], slotQ[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
 
-    int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3* forces) {
-        const int i = sortedIndex[p];
+    int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3*) {
+        const int i = sortedIndex[p], start = kept;
         const TypePairTable& table = parameters.getTable();
-        int n = 0;
         for (int k = 0; k < count; k++) {
             const int j = sortedIndex[q[k]];
             const double imageVx =
                     sortedHeights ? parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q[k]], d[k][1], boxHeight) : 0.0;
             const int t = table.indexOfTypes(sortedTypes[p], sortedTypes[q[k]]);
-            if (parameters.pairGeometry(i, j, t, d[k], g[n], imageVx)) {
-                cutoff[n] = table.cutoff(t);
-                slots[n] = q[k];
-                first[n] = i;
-                second[n++] = j;
+            if (parameters.pairGeometry(i, j, t, d[k], g[kept], imageVx)) {
+                cutoff[kept] = table.cutoff(t);
+                slots[kept - start] = slotQ[kept] = q[k];
+                slotP[kept] = p;
+                first[kept] = i;
+                second[kept++] = j;
             }
         }
+        return kept - start;
+    }
+
+    void finishBatch(int n, Vec3* forces) {
         if (terms & RandomTerm) {
-            // The same numbers as random.gaussian(), drawn for the whole block at once.
+            // The same numbers as random.gaussian(), drawn for the whole batch at once.
             PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
             PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
         }
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
         for (int k = 0; k < n; k++) {
+            const int p = slotP[k], q = slotQ[k];
             forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
-            const Vec3 fd = (terms & DissipativeTerm ? DPDPairForce::dissipative(
-                                     g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[slots[k]]))
-                                                     : Vec3());
+            const Vec3 fd = (terms & DissipativeTerm
+                                     ? DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[q]))
+                                     : Vec3());
             dissipative[k] = (separate ? fd : fd + forces[k]);
             if (keep != nullptr)
-                keep->push_back({p, slots[k], g[k].e, g[k].gammaWD, g[k].imageVx});
+                keep->push_back({p, q, g[k].e, g[k].gammaWD, g[k].imageVx});
             if (soft != nullptr) {
-                const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[slots[k]]);
-                forces[k] += g[k].e * soft->pairForce(i, g[k].j, t, cutoff[k] * (1 - g[k].wR));
+                const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
+                forces[k] += g[k].e * soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
             }
         }
-        return n;
+        kept = 0;
     }
 };
 

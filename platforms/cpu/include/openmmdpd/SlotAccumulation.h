@@ -15,9 +15,15 @@ namespace DPDPlugin {
  * does not depend on scheduling.
  *
  * The evaluator sees a block of candidate pairs of slot p, keeps those within range and
- * writes their forces on p:  int operator()(int p, const int* q, const OpenMM::Vec3* d,
- * int count, int* acceptedSlots, OpenMM::Vec3* forces)  returns how many it kept.  With
- * `outputs` buffers it writes output t of accepted pair k to forces[t * MAX_BLOCK + k].
+ * may write their forces on p at once:  int operator()(int p, const int* q, const
+ * OpenMM::Vec3* d, int count, int* acceptedSlots, OpenMM::Vec3* forces)  returns how many
+ * it kept.  Blocks are gathered into batches of up to MAX_BLOCK kept pairs, block after
+ * block at increasing offsets; before a batch is added,  void finishBatch(int n,
+ * OpenMM::Vec3* forces)  completes the forces of its n pairs (a thermostat draws their
+ * random numbers together there: ~8 pairs per block are too few to keep the generator's
+ * vector lanes busy).  With `outputs` buffers output t of batch pair k is forces[t *
+ * MAX_BLOCK + k].  The sums are the same whatever the batches: each block's forces on p are
+ * summed, then added, in block order.
  */
 template <class Evaluator>
 void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& evaluate, std::vector<OpenMM::Vec3>* const* slotForce,
@@ -26,27 +32,51 @@ void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& e
         std::fill(slotForce[t]->begin(), slotForce[t]->begin() + search.getSortedIndex().size(), OpenMM::Vec3());
     size_t begin, end;
     search.workerCells(w, workers, begin, end);
-    int slots[PairSearch::MAX_BLOCK];
+    int slots[PairSearch::MAX_BLOCK], blockSlot[PairSearch::MAX_BLOCK], blockEnd[PairSearch::MAX_BLOCK];
+    int kept = 0, blocks = 0;
     std::vector<OpenMM::Vec3> forces(outputs * PairSearch::MAX_BLOCK);
-    search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const OpenMM::Vec3* d, int count) {
-        const int n = evaluate(p, q, d, count, slots, forces.data());
+    const auto addBatch = [&]() {
+        evaluate.finishBatch(kept, forces.data());
         for (int t = 0; t < outputs; t++) {
             std::vector<OpenMM::Vec3>& out = *slotForce[t];
             const OpenMM::Vec3* f = forces.data() + t * PairSearch::MAX_BLOCK;
-            OpenMM::Vec3 forceP;  // summed here, not in out[p], to keep the loop free of a store-load chain
-            for (int k = 0; k < n; k++) {
-                forceP += f[k];
-                out[slots[k]] -= f[k];
+            for (int b = 0, k = 0; b < blocks; b++) {
+                OpenMM::Vec3 forceP;  // summed here, not in out[p], to keep the loop free of a store-load chain
+                for (; k < blockEnd[b]; k++) {
+                    forceP += f[k];
+                    out[slots[k]] -= f[k];
+                }
+                out[blockSlot[b]] += forceP;
             }
-            out[p] += forceP;
         }
+        kept = blocks = 0;
+    };
+    search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const OpenMM::Vec3* d, int count) {
+        if (kept + count > PairSearch::MAX_BLOCK || blocks == PairSearch::MAX_BLOCK)
+            addBatch();
+        kept += evaluate(p, q, d, count, slots + kept, forces.data() + kept);
+        blockSlot[blocks] = p;
+        blockEnd[blocks++] = kept;
     });
+    addBatch();
 }
 
+/** An evaluator that writes every force as it keeps the pair, with nothing to finish. */
+template <class Function>
+struct ImmediateForces {
+    Function& evaluate;
+    int operator()(int p, const int* q, const OpenMM::Vec3* d, int count, int* slots, OpenMM::Vec3* forces) {
+        return evaluate(p, q, d, count, slots, forces);
+    }
+    void finishBatch(int, OpenMM::Vec3*) {}
+};
+
+/** The same for an evaluator that writes every force as it keeps the pair, into one buffer. */
 template <class Evaluator>
 void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& evaluate, std::vector<OpenMM::Vec3>& slotForce) {
     std::vector<OpenMM::Vec3>* out = &slotForce;
-    accumulateBySlot(search, w, workers, evaluate, &out, 1);
+    ImmediateForces<Evaluator> immediate{evaluate};
+    accumulateBySlot(search, w, workers, immediate, &out, 1);
 }
 
 } // namespace DPDPlugin
