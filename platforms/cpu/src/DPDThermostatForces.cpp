@@ -118,9 +118,12 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     std::vector<Vec3>& softForce = workerDissipative[w];
     if (soft != nullptr)
         std::fill(softForce.begin(), softForce.begin() + sortedIndex.size(), Vec3());
-    for (size_t cell = begin; cell < end; cell++) {
-        cellPairStart[cell] = (int) out.size();  // local offset, made global by shiftWorkerCells
-        search.forEachSortedPair((int) cell, (int) cell + 1, [&](int p, int q, const Vec3& d) {
+    // Each cell's pairs start at a local offset, made global by shiftWorkerCells.
+    const auto startCell = [&](int cell) { cellPairStart[cell] = (int) out.size(); };
+    search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* qs, const Vec3* ds, int count) {
+        for (int k = 0; k < count; k++) {
+            const int q = qs[k];
+            const Vec3& d = ds[k];
             const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
             const double imageVx =
                     sortedHeights.empty() ? 0.0 : parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q], d[1], searchedHeight);
@@ -130,7 +133,7 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
             PairGeometry& g = out.back();
             if (!parameters.pairGeometry(i, j, t, d, g, imageVx)) {
                 out.pop_back();
-                return;
+                continue;
             }
             outParticles.push_back({i, j});
             if (pairsBySlot) {
@@ -143,8 +146,8 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
                 softForce[p] += f;
                 softForce[q] -= f;
             }
-        });
-    }
+        }
+    }, startCell);
     workerListSize[w] = out.size();
     out.swap(list);
     outParticles.swap(listParticles);

@@ -108,7 +108,12 @@ public:
      * k < count <= MAX_BLOCK (usually all of p's pairs in one block).
      */
     template <class BlockVisitor>
-    void forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit) const;
+    void forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit) const {
+        forEachSortedPairBlock(begin, end, visit, [](int) {});
+    }
+    /** The same, calling startCell(cell) before each cell's blocks. */
+    template <class BlockVisitor, class CellVisitor>
+    void forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit, CellVisitor&& startCell) const;
     /** The particle in each sorted slot (active particles only, cell by cell). */
     const std::vector<int>& getSortedIndex() const { return sortedIndex; }
 
@@ -174,13 +179,15 @@ private:
     OpenMM::Vec3 tableBox[3];
 };
 
-template <class BlockVisitor>
-void PairSearch::forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit) const {
+template <class BlockVisitor, class CellVisitor>
+void PairSearch::forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit, CellVisitor&& startCell) const {
     // About one candidate in seven is within the cutoff, so a branch per candidate would be
     // mispredicted often: the hits are gathered without branches (gatherWithinCutoff), and
-    // a particle's hits from all its neighbour cells are visited together.
+    // a particle's hits from all its neighbour cells are visited together.  (One call for
+    // many cells: the block's Vec3s zero themselves, 6 kB.)
     HitBlock block;
-    for (int cell = begin; cell < end; cell++)
+    for (int cell = begin; cell < end; cell++) {
+        startCell(cell);
         for (int p = cellStart[cell]; p < cellStart[cell + 1]; p++) {
             int count = gatherInOneCall(cell, p, block);
             if (count < 0)
@@ -188,6 +195,7 @@ void PairSearch::forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit
             if (count > 0)
                 visit(p, (const int*) block.hits, (const OpenMM::Vec3*) block.d, count);
         }
+    }
 }
 
 template <class BlockVisitor>
