@@ -79,7 +79,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         }
         else if (phase == 1)
             findWorkerPairs(w, soft);
-        else if (phase == 2 && w == 0 && workers > 1) {
+        else if (phase == 2 && w == 0) {
             sizeForWorkerLists(pairs);
             sizeForWorkerLists(pairParticles);
         }
@@ -104,24 +104,26 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     // worker's own, swapped in and out: the workers' vectors sit side by side in one cache
     // line, and growing them there made every pair write a line that the other workers'
     // cores were writing too (with two threads this pass took 2.5 times its one-thread time
-    // per thread).
+    // per thread).  They keep their length from the step before and are overwritten from
+    // the start: cleared, they would be filled with zeros again as they grew (a PairGeometry
+    // zeroes itself), and worker 0's list, sized for all workers' pairs while the others
+    // waited, would be half zeroed by one thread.
     std::vector<PairGeometry>& list = (w == 0 ? pairs : workerPairs[w]);
     std::vector<PairParticles>& listParticles = (w == 0 ? pairParticles : workerPairParticles[w]);
     std::vector<PairGeometry> out;
     std::vector<PairParticles> outParticles;
     out.swap(list);
     outParticles.swap(listParticles);
-    out.clear();
-    outParticles.clear();
+    size_t count = 0;
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const TypePairTable& table = parameters.getTable();
     std::vector<Vec3>& softForce = workerDissipative[w];
     if (soft != nullptr)
         std::fill(softForce.begin(), softForce.begin() + sortedIndex.size(), Vec3());
     // Each cell's pairs start at a local offset, made global by shiftWorkerCells.
-    const auto startCell = [&](int cell) { cellPairStart[cell] = (int) out.size(); };
-    search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* qs, const Vec3* ds, int count) {
-        for (int k = 0; k < count; k++) {
+    const auto startCell = [&](int cell) { cellPairStart[cell] = (int) count; };
+    search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* qs, const Vec3* ds, int hits) {
+        for (int k = 0; k < hits; k++) {
             const int q = qs[k];
             const Vec3& d = ds[k];
             const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
@@ -129,13 +131,14 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
                     sortedHeights.empty() ? 0.0 : parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q], d[1], searchedHeight);
             // Written in place: copied from a local, the fields stored one by one and read
             // back two at a time would stall the copy (no store forwarding).
-            out.emplace_back();
-            PairGeometry& g = out.back();
-            if (!parameters.pairGeometry(i, j, t, d, g, imageVx)) {
-                out.pop_back();
-                continue;
+            if (count == out.size()) {
+                out.emplace_back();
+                outParticles.emplace_back();
             }
-            outParticles.push_back({i, j});
+            PairGeometry& g = out[count];
+            if (!parameters.pairGeometry(i, j, t, d, g, imageVx))
+                continue;
+            outParticles[count++] = {i, j};
             if (pairsBySlot) {
                 g.i = p;
                 g.j = q;
@@ -148,7 +151,7 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
             }
         }
     }, startCell);
-    workerListSize[w] = out.size();
+    workerListSize[w] = count;
     out.swap(list);
     outParticles.swap(listParticles);
 }
