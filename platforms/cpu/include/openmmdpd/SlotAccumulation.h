@@ -52,11 +52,14 @@ void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& e
         kept = blocks = 0;
     };
     search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const OpenMM::Vec3* d, int count) {
-        if (kept + count > PairSearch::MAX_BLOCK || blocks == PairSearch::MAX_BLOCK)
+        if (kept + count > PairSearch::MAX_BLOCK)
             addBatch();
-        kept += evaluate(p, q, d, count, slots + kept, forces.data() + kept);
-        blockSlot[blocks] = p;
-        blockEnd[blocks++] = kept;
+        const int n = evaluate(p, q, d, count, slots + kept, forces.data() + kept);
+        if (n > 0) {  // so there are never more blocks than pairs
+            kept += n;
+            blockSlot[blocks] = p;
+            blockEnd[blocks++] = kept;
+        }
     });
     addBatch();
 }
