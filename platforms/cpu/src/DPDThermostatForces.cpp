@@ -104,10 +104,10 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     // worker's own, swapped in and out: the workers' vectors sit side by side in one cache
     // line, and growing them there made every pair write a line that the other workers'
     // cores were writing too (with two threads this pass took 2.5 times its one-thread time
-    // per thread).  They keep their length from the step before and are overwritten from
-    // the start: cleared, they would be filled with zeros again as they grew (a PairGeometry
-    // zeroes itself), and worker 0's list, sized for all workers' pairs while the others
-    // waited, would be half zeroed by one thread.
+    // per thread).  They are overwritten from the start and keep their length (worker 0's:
+    // the whole list's, from the step before): cleared, they would be filled with zeros
+    // again as they grew (a PairGeometry zeroes itself), and sizeForWorkerLists, run by
+    // worker 0 alone while the others wait, would zero the other workers' part of the list.
     std::vector<PairGeometry>& list = (w == 0 ? pairs : workerPairs[w]);
     std::vector<PairParticles>& listParticles = (w == 0 ? pairParticles : workerPairParticles[w]);
     std::vector<PairGeometry> out;
@@ -377,29 +377,29 @@ struct DPDSlotForces {
     bool separate;
     long long step;
     double invSqrtDt;
-    int kept = 0;  // pairs in the batch so far
+    int batchSize = 0;  // pairs in the batch so far: accumulateBySlot's position in it
     PairGeometry g[PairSearch::MAX_BLOCK];
     int slotP[PairSearch::MAX_BLOCK], slotQ[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
 
     int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3*) {
-        const int i = sortedIndex[p], start = kept;
+        const int i = sortedIndex[p], start = batchSize;
         const TypePairTable& table = parameters.getTable();
         for (int k = 0; k < count; k++) {
             const int j = sortedIndex[q[k]];
             const double imageVx =
                     sortedHeights ? parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q[k]], d[k][1], boxHeight) : 0.0;
             const int t = table.indexOfTypes(sortedTypes[p], sortedTypes[q[k]]);
-            if (parameters.pairGeometry(i, j, t, d[k], g[kept], imageVx)) {
-                cutoff[kept] = table.cutoff(t);
-                slots[kept - start] = slotQ[kept] = q[k];
-                slotP[kept] = p;
-                first[kept] = i;
-                second[kept++] = j;
+            if (parameters.pairGeometry(i, j, t, d[k], g[batchSize], imageVx)) {
+                cutoff[batchSize] = table.cutoff(t);
+                slots[batchSize - start] = slotQ[batchSize] = q[k];
+                slotP[batchSize] = p;
+                first[batchSize] = i;
+                second[batchSize++] = j;
             }
         }
-        return kept - start;
+        return batchSize - start;
     }
 
     void finishBatch(int n, Vec3* forces) {
@@ -423,7 +423,7 @@ struct DPDSlotForces {
                 forces[k] += g[k].e * soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
             }
         }
-        kept = 0;
+        batchSize = 0;
     }
 };
 

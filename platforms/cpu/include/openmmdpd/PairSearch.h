@@ -111,7 +111,7 @@ public:
     void forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit) const {
         forEachSortedPairBlock(begin, end, visit, [](int) {});
     }
-    /** The same, calling startCell(cell) before each cell's blocks. */
+    /** The same, calling startCell(cell) before each cell's blocks (empty cells too). */
     template <class BlockVisitor, class CellVisitor>
     void forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit, CellVisitor&& startCell) const;
     /** The particle in each sorted slot (active particles only, cell by cell). */
@@ -183,8 +183,8 @@ template <class BlockVisitor, class CellVisitor>
 void PairSearch::forEachSortedPairBlock(int begin, int end, BlockVisitor&& visit, CellVisitor&& startCell) const {
     // About one candidate in seven is within the cutoff, so a branch per candidate would be
     // mispredicted often: the hits are gathered without branches (gatherWithinCutoff), and
-    // a particle's hits from all its neighbour cells are visited together.  (One call for
-    // many cells: the block's Vec3s zero themselves, 6 kB.)
+    // a particle's hits from all its neighbour cells are visited together.  Callers should
+    // cover many cells per call: each call zeroes a 6 kB HitBlock (a Vec3 zeroes itself).
     HitBlock block;
     for (int cell = begin; cell < end; cell++) {
         startCell(cell);

@@ -177,7 +177,7 @@ void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>&
     runColours(pairs, [&](int k) {
         const int next = std::max(0, std::min(last, k + ahead));
         __builtin_prefetch(&list[next]);
-        __builtin_prefetch((const char*) &list[next] + sizeof(PairGeometry) - 1);  // it may span two lines
+        __builtin_prefetch((const char*) &list[next] + sizeof(PairGeometry) - 1);  // 72 bytes: it spans two lines
         __builtin_prefetch(&random[next]);
         rule(list[k], random[k], velocities);
     }, reverse);

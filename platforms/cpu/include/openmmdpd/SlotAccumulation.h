@@ -18,10 +18,12 @@ namespace DPDPlugin {
  * may write their forces on p at once:  int operator()(int p, const int* q, const
  * OpenMM::Vec3* d, int count, int* acceptedSlots, OpenMM::Vec3* forces)  returns how many
  * it kept.  Blocks are gathered into batches of up to MAX_BLOCK kept pairs, block after
- * block at increasing offsets; before a batch is added,  void finishBatch(int n,
- * OpenMM::Vec3* forces)  completes the forces of its n pairs (a thermostat draws their
- * random numbers together there: ~8 pairs per block are too few to keep the generator's
- * vector lanes busy).  With `outputs` buffers output t of batch pair k is forces[t *
+ * block: acceptedSlots and forces point at the block's position in the batch, which is the
+ * number of pairs kept since the last finishBatch (so an evaluator may index scratch of its
+ * own the same way).  Before a batch is added,  void finishBatch(int n, OpenMM::Vec3*
+ * forces)  completes the forces of its n pairs (a thermostat draws their random numbers
+ * together there: ~8 pairs per block are too few to keep the generator's vector lanes
+ * busy).  With `outputs` buffers (distinct vectors) output t of batch pair k is forces[t *
  * MAX_BLOCK + k].  The sums are the same whatever the batches: each block's forces on p are
  * summed, then added, in block order.
  */
