@@ -379,7 +379,7 @@ struct DPDSlotForces {
     double invSqrtDt;
     int batchSize = 0;  // pairs in the batch so far: accumulateBySlot's position in it
     PairGeometry g[PairSearch::MAX_BLOCK];
-    int slotP[PairSearch::MAX_BLOCK], slotQ[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
+    int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
 
@@ -393,7 +393,7 @@ struct DPDSlotForces {
             const int t = table.indexOfTypes(sortedTypes[p], sortedTypes[q[k]]);
             if (parameters.pairGeometry(i, j, t, d[k], g[batchSize], imageVx)) {
                 cutoff[batchSize] = table.cutoff(t);
-                slots[batchSize - start] = slotQ[batchSize] = q[k];
+                slots[batchSize - start] = q[k];
                 slotP[batchSize] = p;
                 first[batchSize] = i;
                 second[batchSize++] = j;
@@ -402,7 +402,7 @@ struct DPDSlotForces {
         return batchSize - start;
     }
 
-    void finishBatch(int n, Vec3* forces) {
+    void finishBatch(int n, const int* slots, Vec3* forces) {
         if (terms & RandomTerm) {
             // The same numbers as random.gaussian(), drawn for the whole batch at once.
             PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
@@ -410,7 +410,7 @@ struct DPDSlotForces {
         }
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
         for (int k = 0; k < n; k++) {
-            const int p = slotP[k], q = slotQ[k];
+            const int p = slotP[k], q = slots[k];
             forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
             const Vec3 fd = (terms & DissipativeTerm
                                      ? DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[q]))

@@ -20,8 +20,9 @@ namespace DPDPlugin {
  * it kept.  Blocks are gathered into batches of up to MAX_BLOCK kept pairs, block after
  * block: acceptedSlots and forces point at the block's position in the batch, which is the
  * number of pairs kept since the last finishBatch (so an evaluator may index scratch of its
- * own the same way).  Before a batch is added,  void finishBatch(int n, OpenMM::Vec3*
- * forces)  completes the forces of its n pairs (a thermostat draws their random numbers
+ * own the same way).  Before a batch is added,  void finishBatch(int n, const int*
+ * acceptedSlots, OpenMM::Vec3* forces)  completes the forces of its n pairs, whose other
+ * slots are acceptedSlots[0, n) (a thermostat draws their random numbers
  * together there: ~8 pairs per block are too few to keep the generator's vector lanes
  * busy).  With `outputs` buffers (distinct vectors) output t of batch pair k is forces[t *
  * MAX_BLOCK + k].  The sums are the same whatever the batches: each block's forces on p are
@@ -38,7 +39,7 @@ void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& e
     int kept = 0, blocks = 0;
     std::vector<OpenMM::Vec3> forces(outputs * PairSearch::MAX_BLOCK);
     const auto addBatch = [&]() {
-        evaluate.finishBatch(kept, forces.data());
+        evaluate.finishBatch(kept, slots, forces.data());
         for (int t = 0; t < outputs; t++) {
             std::vector<OpenMM::Vec3>& out = *slotForce[t];
             const OpenMM::Vec3* f = forces.data() + t * PairSearch::MAX_BLOCK;
@@ -73,7 +74,7 @@ struct ImmediateForces {
     int operator()(int p, const int* q, const OpenMM::Vec3* d, int count, int* slots, OpenMM::Vec3* forces) {
         return evaluate(p, q, d, count, slots, forces);
     }
-    void finishBatch(int, OpenMM::Vec3*) {}
+    void finishBatch(int, const int*, OpenMM::Vec3*) {}
 };
 
 /** The same for an evaluator that writes every force as it keeps the pair, into one buffer. */
