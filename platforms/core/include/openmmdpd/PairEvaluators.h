@@ -121,6 +121,17 @@ struct Reciprocal {
     double common, inverse;
 };
 
+/** One pair's velocities as ShardlowPairUpdate::apply sees them: u along e, and an impulse along e. */
+template <class Impulse>
+struct PairVelocities {
+    const PairGeometry& p;
+    std::vector<OpenMM::Vec3>& v;
+    const Impulse& impulse;
+    double mu;  // the reduced mass the impulse sees
+    double normalVelocity() const { return p.e.dot(p.relativeVelocity(v[p.i], v[p.j])); }
+    void kick(double impulseAlongE) const { impulse.apply(p, impulseAlongE, v); }
+};
+
 /** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
 template <class Impulse = FreePairImpulse>
 struct ShardlowPairUpdate {
@@ -135,15 +146,22 @@ struct ShardlowPairUpdate {
         const double inverseMu = impulse.inverseReducedMass(p);
         if (inverseMu == 0)
             return;
-        const double noise = p.sigmaWR * xi * sqrtH;
-        const double friction = p.gammaWD * h;
+        PairVelocities<Impulse> pair{p, v, impulse, reducedMass(inverseMu)};
+        apply(pair, p.sigmaWR, p.gammaWD, xi);
+    }
+    /**
+     * Both halves on a pair (PairVelocities), given sigma wR, gamma wD and xi; or on a row of
+     * pairs with no particle in common at once, Real a vector of their values and Pair the
+     * row's velocities, with the same arithmetic in each lane.
+     */
+    template <class Pair, class Real>
+    void apply(Pair& pair, Real sigmaWR, Real gammaWD, Real xi) const {
+        const Real noise = sigmaWR * xi * sqrtH;
+        const Real friction = gammaWD * h;
         // explicit half
-        double u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
-        impulse.apply(p, 0.5 * (noise - friction * u), v);
+        pair.kick(0.5 * (noise - friction * pair.normalVelocity()));
         // implicit half, with u after the explicit one
-        u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
-        const double mu = reducedMass(inverseMu);
-        impulse.apply(p, 0.5 * (noise - friction * u) / (1 + friction / (2 * mu)), v);
+        pair.kick(0.5 * (noise - friction * pair.normalVelocity()) / (1 + friction / (2 * pair.mu)));
     }
 };
 

@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DPDThermostatForces.h"
 #include "openmmdpd/ParallelExecutor.h"
+#include "openmmdpd/ShardlowRowSweep.h"
 #include <algorithm>
 #include <vector>
 
@@ -42,15 +43,18 @@ public:
              const std::vector<Random>& random, bool reverse);
 
 private:
-    /** visit(k) for every pair k, in the sweep order or its reverse. */
+    /** visit(run) for runs of cells that cover all pairs, in the sweep order or its reverse (SweepCells). */
     template <class Visit>
     void runColours(const DPDThermostatForces& pairs, const Visit& visit, bool reverse);
     /** The planes [begin, end) of a group, each with its colours in turn (or in reverse). */
     template <class Visit>
     void runPlanes(const DPDThermostatForces& pairs, int group, int begin, int end, const Visit& visit, bool reverse) const;
+    /** visit(run) for a colour's cells [begin, end). */
     template <class Visit>
     void runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end, const Visit& visit,
-                  bool reverse) const;
+                  bool reverse) const {
+        visit(SweepCells{cells, pairs.getCellPairStart(), begin, end, reverse, independentCells});
+    }
     /**
      * Worker w's items [begin, end) (a colour's cells, or a group's planes) given the pairs
      * before each item (`before`, one longer than the items): equal shares of the pairs.
@@ -124,63 +128,10 @@ inline void PairSweep::workerShare(const std::vector<int>& before, int w, size_t
     end = (w == workers - 1 ? before.size() - 1 : boundary(w + 1));
 }
 
-template <class Visit>
-void PairSweep::runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end, const Visit& visit,
-                         bool reverse) const {
-    const std::vector<int>& start = pairs.getCellPairStart();
-    if (independentCells) {
-        // Cells of one colour share no particle, so interleaving their pairs changes no
-        // result; LANES cells at a time, pair by pair, give the processor that many
-        // independent chains of velocity updates to overlap (one cell's pairs each depend
-        // on the one before, through the velocities they share).
-        constexpr size_t LANES = 4;
-        const int direction = reverse ? -1 : 1;
-        for (size_t k = begin; k < end; k += LANES) {
-            int next[LANES], last[LANES];
-            const size_t lanes = std::min(LANES, end - k);
-            for (size_t l = 0; l < lanes; l++) {
-                const int cell = cells[reverse ? begin + end - 1 - (k + l) : k + l];
-                next[l] = reverse ? start[cell + 1] - 1 : start[cell];
-                last[l] = reverse ? start[cell] - 1 : start[cell + 1];
-            }
-            for (bool any = true; any;) {
-                any = false;
-                for (size_t l = 0; l < lanes; l++)
-                    if (next[l] != last[l]) {
-                        visit(next[l]);
-                        next[l] += direction;
-                        any = true;
-                    }
-            }
-        }
-        return;
-    }
-    for (size_t k = begin; k < end; k++) {
-        const int cell = cells[reverse ? begin + end - 1 - k : k];
-        if (reverse)
-            for (int p = start[cell + 1] - 1; p >= start[cell]; p--)
-                visit(p);
-        else
-            for (int p = start[cell]; p < start[cell + 1]; p++)
-                visit(p);
-    }
-}
-
 template <class Rule, class Random>
 void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule,
                     const std::vector<Random>& random, bool reverse) {
-    const std::vector<PairGeometry>& list = pairs.getPairs();
-    // A cell's pairs are a run of the list, but the sweep hops between cells (and lanes)
-    // too often for the hardware to see the runs: each pair asks for the one AHEAD further on.
-    constexpr int AHEAD = 8;
-    const int ahead = reverse ? -AHEAD : AHEAD, last = (int) list.size() - 1;
-    runColours(pairs, [&](int k) {
-        const int next = std::max(0, std::min(last, k + ahead));
-        __builtin_prefetch(&list[next]);
-        __builtin_prefetch((const char*) &list[next] + sizeof(PairGeometry) - 1);  // 72 bytes: it spans two lines
-        __builtin_prefetch(&random[next]);
-        rule(list[k], random[k], velocities);
-    }, reverse);
+    runColours(pairs, [&](const SweepCells& cells) { sweepCells(rule, pairs.getPairs(), random, velocities, cells); }, reverse);
 }
 
 template <class Visit>

@@ -1,0 +1,19 @@
+#ifndef OPENMMDPD_SHARDLOWROWSWEEP_H_
+#define OPENMMDPD_SHARDLOWROWSWEEP_H_
+
+#include "openmmdpd/PairEvaluators.h"
+#include "openmmdpd/PairRowSweep.h"
+
+namespace DPDPlugin {
+
+/**
+ * sweepCells for Shardlow's update where all masses are equal (the common case): the pairs
+ * of a row of independent cells are updated as one, a vector lane each, with the arithmetic
+ * of ShardlowPairUpdate::apply in every lane (the same result bit for bit).
+ */
+void sweepCells(const ShardlowPairUpdate<const EqualMassPairImpulse&>& rule, const std::vector<PairGeometry>& list,
+                const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells& run);
+
+} // namespace DPDPlugin
+
+#endif
