@@ -1,5 +1,7 @@
-// The row's vector type is this file's own, so the calling convention for it that the
-// compiler warns about never meets code built with other options.
+// A RowReal passed or returned by value is passed differently by code built for different
+// vector units (the compiler warns of it).  Here none crosses a call between such code: the
+// functions that take or return one are always inlined, and ShardlowPairUpdate::apply takes
+// them by reference.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 #include "openmmdpd/ShardlowRowSweep.h"
@@ -9,10 +11,10 @@ using OpenMM::Vec3;
 
 namespace {
 
-typedef double RowReal __attribute__((vector_size(32)));
+typedef double RowReal __attribute__((vector_size(SWEEP_LANES * sizeof(double))));
 typedef ShardlowPairUpdate<const EqualMassPairImpulse&> EqualMassShardlow;
 
-/** The velocities of a row of 4 pairs with no particle in common, as PairVelocities (equal masses). */
+/** The velocities of a row of pairs with no particle in common, as PairVelocities (equal masses). */
 struct PairRowVelocities {
     RowReal ex, ey, ez, imageVx, vix, viy, viz, vjx, vjy, vjz;
     double invMass, mu;
@@ -32,8 +34,15 @@ struct PairRowVelocities {
 
 __attribute__((always_inline)) inline void updateRow(const EqualMassShardlow& rule, const std::vector<PairGeometry>& list,
                                                      const std::vector<double>& random, const int* row, std::vector<Vec3>& v) {
-    const PairGeometry* p[4] = {&list[row[0]], &list[row[1]], &list[row[2]], &list[row[3]]};
-    auto lanes = [&](auto value) __attribute__((always_inline)) { return RowReal{value(*p[0]), value(*p[1]), value(*p[2]), value(*p[3])}; };
+    const PairGeometry* p[SWEEP_LANES];
+    for (int l = 0; l < SWEEP_LANES; l++)
+        p[l] = &list[row[l]];
+    auto lanes = [&](auto value) __attribute__((always_inline)) {
+        RowReal x;
+        for (int l = 0; l < SWEEP_LANES; l++)
+            x[l] = value(*p[l]);
+        return x;
+    };
     const double invMass = rule.impulse.invMass;
     PairRowVelocities pair{lanes([](const PairGeometry& q) { return q.e[0]; }),
                            lanes([](const PairGeometry& q) { return q.e[1]; }),
@@ -46,10 +55,13 @@ __attribute__((always_inline)) inline void updateRow(const EqualMassShardlow& ru
                            lanes([&](const PairGeometry& q) { return v[q.j][1]; }),
                            lanes([&](const PairGeometry& q) { return v[q.j][2]; }),
                            invMass, rule.reducedMass(invMass + invMass)};
-    const RowReal xi = {random[row[0]], random[row[1]], random[row[2]], random[row[3]]};
+    RowReal xi;
+    for (int l = 0; l < SWEEP_LANES; l++)
+        xi[l] = random[row[l]];
     rule.apply(pair, lanes([](const PairGeometry& q) { return q.sigmaWR; }), lanes([](const PairGeometry& q) { return q.gammaWD; }), xi);
-    // A lane that repeats another's pair stores the same values again.
-    for (int l = 0; l < 4; l++) {
+    // The lanes' particles are distinct, except where a lane repeats lane 0's pair: it stores
+    // the same values again, after lane 0.
+    for (int l = 0; l < SWEEP_LANES; l++) {
         v[p[l]->i] = Vec3(pair.vix[l], pair.viy[l], pair.viz[l]);
         v[p[l]->j] = Vec3(pair.vjx[l], pair.vjy[l], pair.vjz[l]);
     }
@@ -57,7 +69,7 @@ __attribute__((always_inline)) inline void updateRow(const EqualMassShardlow& ru
 
 __attribute__((always_inline)) inline void sweepRows(const EqualMassShardlow& rule, const std::vector<PairGeometry>& list,
                                                      const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells& run) {
-    // always inlined, as everything here, so that it is compiled for the caller's vectors
+    // always inlined, as the row's other functions, so that it is compiled for the caller's vector unit
     forEachPairRow(run, [&](const int* row, int n) __attribute__((always_inline)) {
         prefetchAhead(list, random, row, n, run.reverse);
         updateRow(rule, list, random, row, v);
@@ -76,9 +88,10 @@ __attribute__((target("avx2"))) void sweepRowsAVX2(const EqualMassShardlow& rule
     sweepRows(rule, list, random, v, run);
 }
 
-const auto sweepRowsHere = __builtin_cpu_supports("avx2") ? sweepRowsAVX2 : sweepRowsBase;
-#else
-const auto sweepRowsHere = sweepRowsBase;
+bool haveAVX2() {
+    static const bool have = __builtin_cpu_supports("avx2");
+    return have;
+}
 #endif
 
 } // namespace
@@ -87,6 +100,10 @@ void DPDPlugin::sweepCells(const EqualMassShardlow& rule, const std::vector<Pair
                            std::vector<Vec3>& v, const SweepCells& run) {
     if (!run.independent || rule.impulse.invMass == 0)
         sweepCells<EqualMassShardlow, double>(rule, list, random, v, run);
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    else if (haveAVX2())
+        sweepRowsAVX2(rule, list, random, v, run);
+#endif
     else
-        sweepRowsHere(rule, list, random, v, run);
+        sweepRowsBase(rule, list, random, v, run);
 }

@@ -152,10 +152,11 @@ struct ShardlowPairUpdate {
     /**
      * Both halves on a pair (PairVelocities), given sigma wR, gamma wD and xi; or on a row of
      * pairs with no particle in common at once, Real a vector of their values and Pair the
-     * row's velocities, with the same arithmetic in each lane.
+     * row's velocities, with the same arithmetic in each lane.  (By reference: a vector
+     * passed by value is passed differently by code built for different vector units.)
      */
     template <class Pair, class Real>
-    void apply(Pair& pair, Real sigmaWR, Real gammaWD, Real xi) const {
+    void apply(Pair& pair, const Real& sigmaWR, const Real& gammaWD, const Real& xi) const {
         const Real noise = sigmaWR * xi * sqrtH;
         const Real friction = gammaWD * h;
         // explicit half

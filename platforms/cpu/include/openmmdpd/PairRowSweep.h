@@ -19,16 +19,19 @@ struct SweepCells {
     bool reverse, independent;
 };
 
+/** The cells a sweep interleaves (forEachPairRow): the width of a row of pairs. */
+constexpr int SWEEP_LANES = 4;
+
 /**
- * visitRow(row, n) for the pairs of a run of independent cells, LANES cells at a time, pair by
- * pair: row[l] is the next pair of the l-th of n cells in progress (the lanes past n repeat
- * row[0]), and a cell that ends is followed in its lane by the run's next one.  Each cell's
- * pairs keep their order (or its reverse), which is all that decides the result; the lanes
- * are independent chains of velocity updates for the processor to overlap.
+ * visitRow(row, n) for the pairs of a run of independent cells, SWEEP_LANES cells at a time,
+ * pair by pair: row[l] is the next pair of the l-th of n cells in progress (the lanes past n
+ * repeat row[0]), and a cell that ends is followed in its lane by the run's next one.  Each
+ * cell's pairs keep their order (or its reverse), which is all that decides the result; the
+ * lanes are independent chains of velocity updates for the processor to overlap.
  */
 template <class VisitRow>
 __attribute__((always_inline)) inline void forEachPairRow(const SweepCells& run, VisitRow&& visitRow) {
-    constexpr int LANES = 4;
+    constexpr int LANES = SWEEP_LANES;
     const int direction = run.reverse ? -1 : 1;
     int next[LANES], last[LANES], active = 0;
     size_t taken = run.begin;
@@ -36,7 +39,7 @@ __attribute__((always_inline)) inline void forEachPairRow(const SweepCells& run,
         while (taken < run.end) {
             const int cell = run.cells[run.reverse ? run.begin + run.end - 1 - taken : taken];
             taken++;
-            if (run.start[cell + 1] > run.start[cell]) {
+            if (run.start[cell + 1] > run.start[cell]) {  // (PairSweep lists no empty cell; a lane must not start on one)
                 next[l] = run.reverse ? run.start[cell + 1] - 1 : run.start[cell];
                 last[l] = run.reverse ? run.start[cell] - 1 : run.start[cell + 1];
                 return true;
@@ -47,7 +50,9 @@ __attribute__((always_inline)) inline void forEachPairRow(const SweepCells& run,
     while (active < LANES && takeCell(active))
         active++;
     while (active > 0) {
-        const int row[LANES] = {next[0], next[active > 1 ? 1 : 0], next[active > 2 ? 2 : 0], next[active > 3 ? 3 : 0]};
+        int row[LANES];
+        for (int l = 0; l < LANES; l++)
+            row[l] = next[l < active ? l : 0];
         visitRow(row, active);
         for (int l = 0; l < active; l++) {
             next[l] += direction;
@@ -92,12 +97,11 @@ void sweepCells(const Rule& rule, const std::vector<PairGeometry>& list, const s
     }
     for (size_t k = run.begin; k < run.end; k++) {
         const int cell = run.cells[run.reverse ? run.begin + run.end - 1 - k : k];
-        if (run.reverse)
-            for (int p = run.start[cell + 1] - 1; p >= run.start[cell]; p--)
-                rule(list[p], random[p], v);
-        else
-            for (int p = run.start[cell]; p < run.start[cell + 1]; p++)
-                rule(list[p], random[p], v);
+        const int first = run.reverse ? run.start[cell + 1] - 1 : run.start[cell], last = run.reverse ? run.start[cell] - 1 : run.start[cell + 1];
+        for (int p = first; p != last; p += (run.reverse ? -1 : 1)) {
+            prefetchAhead(list, random, &p, 1, run.reverse);
+            rule(list[p], random[p], v);
+        }
     }
 }
 

@@ -8,8 +8,9 @@ namespace DPDPlugin {
 
 /**
  * sweepCells for Shardlow's update where all masses are equal (the common case): the pairs
- * of a row of independent cells are updated as one, a vector lane each, with the arithmetic
- * of ShardlowPairUpdate::apply in every lane (the same result bit for bit).
+ * of a row of independent cells (forEachPairRow) are updated as one, a vector lane each, with
+ * the arithmetic of ShardlowPairUpdate::apply in every lane (the same result bit for bit).
+ * Cells that are not independent, and massless particles, go pair by pair as before.
  */
 void sweepCells(const ShardlowPairUpdate<const EqualMassPairImpulse&>& rule, const std::vector<PairGeometry>& list,
                 const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells& run);
