@@ -1,10 +1,11 @@
 #include "openmmdpd/PairRandomBatch.h"
+#include "openmmdpd/CpuFeatures.h"
 #include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstring>
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#ifdef OPENMMDPD_X86_VECTORS
 #include <immintrin.h>
 #define OPENMMDPD_PHILOX_AVX2
 #endif
@@ -84,15 +85,6 @@ __attribute__((target("avx512f"))) void philoxEight(uint32_t seed, uint32_t stre
     }
 }
 
-bool haveAVX2() {
-    static const bool have = __builtin_cpu_supports("avx2");
-    return have;
-}
-
-bool haveAVX512() {
-    static const bool have = __builtin_cpu_supports("avx512f");
-    return have;
-}
 #endif
 
 #if defined(OPENMMDPD_PHILOX_AVX2) && defined(OPENMMDPD_HAVE_LIBMVEC)

@@ -1,9 +1,10 @@
 #include "openmmdpd/PairSearch.h"
 #include "openmmdpd/BoxGeometry.h"
+#include "openmmdpd/CpuFeatures.h"
 #include <algorithm>
 #include <cmath>
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#ifdef OPENMMDPD_X86_VECTORS
 #include <immintrin.h>
 #define OPENMMDPD_GATHER_AVX2
 #endif
@@ -83,7 +84,7 @@ PairSearch::PairSearch(const std::vector<bool>& active, double cutoff, bool peri
 bool PairSearch::setVectorScan(bool enabled) {
     gatherWithinCutoff = gatherScalar;
 #ifdef OPENMMDPD_GATHER_AVX2
-    if (enabled && __builtin_cpu_supports("avx2"))
+    if (enabled && haveAVX2())
         gatherWithinCutoff = gatherAVX2;
 #endif
     return gatherWithinCutoff != gatherScalar;

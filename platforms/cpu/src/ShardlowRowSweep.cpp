@@ -5,6 +5,7 @@
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 #include "openmmdpd/ShardlowRowSweep.h"
+#include "openmmdpd/CpuFeatures.h"
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
@@ -81,17 +82,13 @@ void sweepRowsBase(const EqualMassShardlow& rule, const std::vector<PairGeometry
     sweepRows(rule, list, random, v, run);
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#ifdef OPENMMDPD_X86_VECTORS
 // The same code, compiled for 4-wide vectors where the processor has them.
 __attribute__((target("avx2"))) void sweepRowsAVX2(const EqualMassShardlow& rule, const std::vector<PairGeometry>& list,
                                                    const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells& run) {
     sweepRows(rule, list, random, v, run);
 }
 
-bool haveAVX2() {
-    static const bool have = __builtin_cpu_supports("avx2");
-    return have;
-}
 #endif
 
 } // namespace
@@ -100,7 +97,7 @@ void DPDPlugin::sweepCells(const EqualMassShardlow& rule, const std::vector<Pair
                            std::vector<Vec3>& v, const SweepCells& run) {
     if (!run.independent || rule.impulse.invMass == 0)
         sweepCells<EqualMassShardlow, double>(rule, list, random, v, run);
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#ifdef OPENMMDPD_X86_VECTORS
     else if (haveAVX2())
         sweepRowsAVX2(rule, list, random, v, run);
 #endif
