@@ -54,26 +54,32 @@ TEST(PairRandom, UniformInUnitInterval) {
 }
 
 TEST(PairRandom, BatchedNormalsEqualOneAtATime) {
-    // Each number is the same whatever its position in a batch (lane, tail) or batch size.
+    // Each number is the same whatever its position in a batch (eights, fours, the tail) or
+    // the batch's size, and equals random.gaussian() to rounding (vector log and cos).
     PairRandom random(31);
-    std::vector<r123::Philox4x32::ctr_type> draws;
-    for (int k = 0; k < 7; k++)
-        draws.push_back(random.bits(PairRandom::RandomForce, 3, k, 100 + k));
-    std::vector<double> alone(7);
-    for (int k = 0; k < 7; k++)
-        PairRandomBatch::boxMuller(&draws[k][0], &draws[k][1], 1, 4, &alone[k]);
-    for (int n = 1; n <= 7; n++) {
+    const int pairs = 19;
+    std::vector<int> first, second;
+    for (int k = 0; k < pairs; k++) {
+        first.push_back(k % 3 == 0 ? 100 + k : 7 * k);
+        second.push_back(k % 3 == 0 ? k : 1000000 + k);
+    }
+    std::vector<double> alone(pairs);
+    for (int k = 0; k < pairs; k++)
+        PairRandomBatch::normals(random, PairRandom::RandomForce, 3, &first[k], &second[k], 1, &alone[k]);
+    for (int n = 1; n <= pairs; n++) {
         std::vector<double> batch(n);
-        PairRandomBatch::boxMuller(&draws[0][0], &draws[0][1], n, 4, batch.data());
+        PairRandomBatch::normals(random, PairRandom::RandomForce, 3, first.data(), second.data(), n, batch.data());
         for (int k = 0; k < n; k++) {
             EXPECT_EQ(batch[k], alone[k]) << "batch of " << n << ", number " << k;
-            EXPECT_NEAR(batch[k], PairRandom::boxMuller(draws[k]), 1e-14) << "batch of " << n << ", number " << k;
+            EXPECT_NEAR(batch[k], random.gaussian(PairRandom::RandomForce, 3, first[k], second[k]), 1e-14)
+                    << "batch of " << n << ", number " << k;
         }
     }
-    // ...and agrees with the textbook formula to rounding.
-    for (int k = 0; k < 7; k++) {
-        const double u1 = ((double) draws[k][0] + 1.0) / 4294967296.0, u2 = (double) draws[k][1] / 4294967296.0;
-        EXPECT_NEAR(PairRandom::boxMuller(draws[k]), std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2), 1e-13);
+    // ...and the scalar one agrees with the textbook formula to rounding.
+    for (int k = 0; k < pairs; k++) {
+        const r123::Philox4x32::ctr_type draw = random.bits(PairRandom::RandomForce, 3, first[k], second[k]);
+        const double u1 = ((double) draw[0] + 1.0) / 4294967296.0, u2 = (double) draw[1] / 4294967296.0;
+        EXPECT_NEAR(PairRandom::boxMuller(draw), std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2), 1e-13);
     }
 }
 

@@ -380,7 +380,6 @@ struct DPDSlotForces {
     int batchSize = 0;  // pairs in the batch so far: accumulateBySlot's position in it
     PairGeometry g[PairSearch::MAX_BLOCK];
     int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
-    r123::Philox4x32::ctr_type bits[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
 
     int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3*) {
@@ -403,11 +402,8 @@ struct DPDSlotForces {
     }
 
     void finishBatch(int n, const int* slots, Vec3* forces) {
-        if (terms & RandomTerm) {
-            // The same numbers as random.gaussian(), drawn for the whole batch at once.
-            PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
-            PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
-        }
+        if (terms & RandomTerm)  // the same numbers as random.gaussian(), drawn for the whole batch at once
+            PairRandomBatch::normals(random, PairRandom::RandomForce, step, first, second, n, xi);
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
         for (int k = 0; k < n; k++) {
             const int p = slotP[k], q = slots[k];
@@ -460,14 +456,14 @@ void DPDThermostatForces::sumKeptDissipative(int w) {
 
 void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {
     xi.resize(pairs.size());
-    forEachChunkOfBits(stream, step, [&](size_t start, size_t n, const r123::Philox4x32::ctr_type* bits) {
-        PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], (int) n, 4, &xi[start]);
+    forEachChunkOfPairs([&](size_t start, int n, const int* first, const int* second) {
+        PairRandomBatch::normals(random, stream, step, first, second, n, &xi[start]);
     });
 }
 
 void DPDThermostatForces::drawBits(PairRandom::Stream stream, long long step, std::vector<r123::Philox4x32::ctr_type>& words) {
     words.resize(pairs.size());
-    forEachChunkOfBits(stream, step, [&](size_t start, size_t n, const r123::Philox4x32::ctr_type* bits) {
-        std::copy(bits, bits + n, &words[start]);
+    forEachChunkOfPairs([&](size_t start, int n, const int* first, const int* second) {
+        PairRandomBatch::bits(random, stream, step, first, second, n, &words[start]);
     });
 }

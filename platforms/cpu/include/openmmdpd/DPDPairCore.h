@@ -100,9 +100,7 @@ struct DPDListForces {
             first[c] = pairs[chunkStart + c].i;
             second[c] = pairs[chunkStart + c].j;
         }
-        r123::Philox4x32::ctr_type bits[CHUNK];
-        PairRandomBatch::bits(random, PairRandom::RandomForce, step, first, second, n, bits);
-        PairRandomBatch::boxMuller(&bits[0][0], &bits[0][1], n, 4, xi);
+        PairRandomBatch::normals(random, PairRandom::RandomForce, step, first, second, n, xi);
     }
 };
 

@@ -110,24 +110,22 @@ public:
 
 
 private:
-    /** use(start, n, bits): the words of the pairs [start, start + n) of the list, drawn a chunk at a time, in parallel. */
+    /** use(start, n, i, j): the particles of the pairs [start, start + n) of the list, a chunk at a time, in parallel. */
     template <class Use>
-    void forEachChunkOfBits(PairRandom::Stream stream, long long step, Use use) {
+    void forEachChunkOfPairs(Use use) const {
         constexpr size_t CHUNK = 64;
         const size_t chunks = (pairs.size() + CHUNK - 1) / CHUNK;
         executor.execute([&](int w) {
             size_t begin, end;
             executor.range(w, chunks, begin, end);
             int first[CHUNK], second[CHUNK];
-            r123::Philox4x32::ctr_type bits[CHUNK];
             for (size_t c = begin; c < end; c++) {
                 const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
                 for (size_t k = 0; k < n; k++) {
                     first[k] = pairParticles[start + k].i;
                     second[k] = pairParticles[start + k].j;
                 }
-                PairRandomBatch::bits(random, stream, step, first, second, (int) n, bits);
-                use(start, n, bits);
+                use(start, (int) n, first, second);
             }
         });
     }

@@ -18,12 +18,14 @@ struct PairRandomBatch {
                      r123::Philox4x32::ctr_type* out);
 
     /**
-     * out[k] = the Box-Muller normal number of the words first[k * stride] and
-     * second[k * stride], for k < n, four at a time where the processor has AVX2 and glibc's
-     * vector math library is available (log and cos are most of a normal number's cost).
-     * Every number takes the same path whatever its position in the batch.
+     * out[k] = random.gaussian(stream, step, i[k], j[k]) for k < n, to rounding: where the
+     * processor has AVX2 and glibc's vector math library is available, the words of a block
+     * of draws (bits()'s arithmetic) are kept as doubles, and their Box-Muller numbers made four
+     * at a time (log and cos are most of a normal number's cost).  Every number takes the same
+     * path whatever its position in the batch.
      */
-    static void boxMuller(const uint32_t* first, const uint32_t* second, int n, int stride, double* out);
+    static void normals(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j, int n,
+                        double* out);
 };
 
 } // namespace DPDPlugin
