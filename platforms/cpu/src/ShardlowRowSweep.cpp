@@ -94,11 +94,11 @@ __attribute__((target("avx2"))) void sweepRowsAVX2(const EqualMassShardlow& rule
 } // namespace
 
 void DPDPlugin::sweepCells(const EqualMassShardlow& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random,
-                           std::vector<Vec3>& v, const SweepCells& run) {
+                           std::vector<Vec3>& v, const SweepCells& run, RowVectorUnit unit) {
     if (!run.independent || rule.impulse.invMass == 0)
         sweepCells<EqualMassShardlow, double>(rule, list, random, v, run);
 #ifdef OPENMMDPD_X86_VECTORS
-    else if (haveAVX2())
+    else if (unit == RowVectorUnit::Best && haveAVX2())
         sweepRowsAVX2(rule, list, random, v, run);
 #endif
     else

@@ -94,7 +94,9 @@ struct DPDListForces {
     void drawChunk() {
         if (!Random || chunkStart >= end)
             return;
-        const int n = (int) std::min(CHUNK, end - chunkStart);
+        // (Not std::min, which takes CHUNK by reference: C++14 then needs a definition of it
+        // outside the class, and an unoptimised build fails to link.)
+        const int n = (int) (end - chunkStart < CHUNK ? end - chunkStart : CHUNK);
         int first[CHUNK], second[CHUNK];
         for (int c = 0; c < n; c++) {
             first[c] = pairs[chunkStart + c].i;

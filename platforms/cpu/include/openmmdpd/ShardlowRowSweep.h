@@ -6,6 +6,9 @@
 
 namespace DPDPlugin {
 
+/** The code a row sweep runs: the best the processor has, or the baseline target's (what runs where AVX2 is missing; for tests). */
+enum class RowVectorUnit { Best, Baseline };
+
 /**
  * sweepCells for Shardlow's update where all masses are equal (the common case): the pairs
  * of a row of independent cells (forEachPairRow) are updated as one, a vector lane each, with
@@ -13,7 +16,8 @@ namespace DPDPlugin {
  * Cells that are not independent, and massless particles, go pair by pair as before.
  */
 void sweepCells(const ShardlowPairUpdate<const EqualMassPairImpulse&>& rule, const std::vector<PairGeometry>& list,
-                const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells& run);
+                const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells& run,
+                RowVectorUnit unit = RowVectorUnit::Best);
 
 } // namespace DPDPlugin
 

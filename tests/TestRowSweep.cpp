@@ -1,0 +1,89 @@
+#if OPENMMDPD_HAVE_CPU
+#include "openmmdpd/ShardlowRowSweep.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <random>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+namespace {
+
+typedef ShardlowPairUpdate<const EqualMassPairImpulse&> EqualMassShardlow;
+
+/**
+ * Cells that share no particle, with 0 to 11 pairs each (more cells than a row's lanes, so
+ * lanes end and take new cells), pairs in random order with random geometry and numbers.
+ */
+struct IndependentCells {
+    std::vector<int> cells, start;
+    std::vector<PairGeometry> list;
+    std::vector<double> xi;
+    std::vector<Vec3> v;
+
+    explicit IndependentCells(unsigned seed) {
+        std::mt19937 engine(seed);
+        std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+        std::uniform_int_distribution<int> pairsInCell(0, 11);
+        const int numCells = 13, particlesPerCell = 6;
+        v.resize(numCells * particlesPerCell);
+        for (Vec3& vi : v)
+            vi = Vec3(uniform(engine), uniform(engine), uniform(engine));
+        start.push_back(0);
+        for (int c = 0; c < numCells; c++) {
+            cells.push_back(c);
+            const int count = pairsInCell(engine);
+            for (int k = 0; k < count; k++) {
+                PairGeometry g;
+                g.i = c * particlesPerCell + (k + c) % particlesPerCell;
+                g.j = c * particlesPerCell + (k + c + 1 + k % 3) % particlesPerCell;
+                const Vec3 d(uniform(engine), uniform(engine), uniform(engine));
+                g.e = d / std::sqrt(d.dot(d));
+                g.wR = 0.5 + 0.5 * uniform(engine);
+                g.gammaWD = 4.5 * g.wR * g.wR;
+                g.sigmaWR = 3.0 * g.wR;
+                g.imageVx = (k % 2 == 0 ? 0.25 * uniform(engine) : 0.0);
+                list.push_back(g);
+                xi.push_back(uniform(engine) * 2);
+            }
+            start.push_back((int) list.size());
+        }
+    }
+
+    /** The velocities after a sweep over every cell, through sweepCells with this unit, or (unit null) cell by cell and pair by pair. */
+    std::vector<Vec3> swept(bool reverse, const RowVectorUnit* unit) const {
+        const EqualMassPairImpulse impulse{0.8};
+        const EqualMassShardlow rule(0.05, impulse);
+        const SweepCells run{cells, start, 0, cells.size(), reverse, unit != nullptr};
+        std::vector<Vec3> out = v;
+        if (unit != nullptr)
+            sweepCells(rule, list, xi, out, run, *unit);
+        else
+            sweepCells<EqualMassShardlow, double>(rule, list, xi, out, run);
+        return out;
+    }
+};
+
+} // namespace
+
+TEST(RowSweep, EveryVectorUnitEqualsPairByPair) {
+    // The row sweep (four pairs of four cells as one vector) gives the pair-by-pair
+    // update's velocities bit for bit, whichever code the processor runs; here both.
+    for (unsigned seed : {1u, 2u, 3u})
+        for (bool reverse : {false, true}) {
+            const IndependentCells cells(seed);
+            const std::vector<Vec3> expected = cells.swept(reverse, nullptr);
+            for (RowVectorUnit unit : {RowVectorUnit::Best, RowVectorUnit::Baseline}) {
+                const std::vector<Vec3> v = cells.swept(reverse, &unit);
+                for (size_t i = 0; i < v.size(); i++)
+                    for (int k = 0; k < 3; k++)
+                        ASSERT_EQ(v[i][k], expected[i][k]) << "seed " << seed << (reverse ? " reverse" : "") << " unit "
+                                                           << (int) unit << " particle " << i;
+            }
+            size_t moved = 0;
+            for (size_t i = 0; i < expected.size(); i++)
+                moved += (expected[i][0] != cells.v[i][0]);
+            ASSERT_GT(moved, expected.size() / 2);
+        }
+}
+#endif
