@@ -125,7 +125,7 @@ void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const L
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
             sweep(v, LowePairUpdate<Impulse>{dt, kT, impulse}, bits(PairRandom::PairThermalisation, step), false);
         else
-            sweep(v, PairOrnsteinUhlenbeckUpdate<Impulse>{dt, kT, impulse}, normals(PairRandom::PairThermalisation, step), false);
+            sweep(v, PairOrnsteinUhlenbeckUpdate<Impulse, RowConsistentMath>{dt, kT, impulse}, normals(PairRandom::PairThermalisation, step), false);
     });
     constrainVelocities(context);
 }

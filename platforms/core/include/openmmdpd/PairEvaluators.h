@@ -121,9 +121,20 @@ struct Reciprocal {
     double common, inverse;
 };
 
-/** One pair's velocities as ShardlowPairUpdate::apply sees them: u along e, and an impulse along e. */
-template <class Impulse>
+/** The functions a pair rule takes of its numbers (exp, sqrt): the standard library's. */
+struct ScalarMath {
+    static double exp(double x) { return std::exp(x); }
+    static double sqrt(double x) { return std::sqrt(x); }
+};
+
+/**
+ * One pair's velocities as ShardlowPairUpdate::apply sees them: u along e, and an impulse
+ * along e; and the functions the rule takes (Math: ScalarMath, or a platform's own that agree
+ * with its vector ones).
+ */
+template <class Impulse, class Functions = ScalarMath>
 struct PairVelocities {
+    typedef Functions Math;
     const PairGeometry& p;
     std::vector<OpenMM::Vec3>& v;
     const Impulse& impulse;
@@ -189,8 +200,9 @@ struct LowePairUpdate {
 /**
  * The exact solution over h of the pair's Ornstein-Uhlenbeck equation for its relative
  * normal velocity, du = -(gamma wD/mu) u dt + noise: exact for the ideal gas at any h.
+ * Math: its exp and sqrt (see PairVelocities).
  */
-template <class Impulse = FreePairImpulse>
+template <class Impulse = FreePairImpulse, class Math = ScalarMath>
 struct PairOrnsteinUhlenbeckUpdate {
     PairOrnsteinUhlenbeckUpdate(double h, double kT, Impulse impulse) :
             h(h), kT(kT), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()),
@@ -206,11 +218,19 @@ struct PairOrnsteinUhlenbeckUpdate {
         if (inverseMu == 0)
             return;
         const double mu = reducedMass(inverseMu);
-        const double kTOverMu = (inverseMu == reducedMass.common ? commonKTOverMu : kT / mu);
-        const double decay = std::exp(-p.gammaWD * h / mu);
-        const double u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
-        const double target = u * decay + std::sqrt(kTOverMu * (1 - decay * decay)) * xi;
-        impulse.apply(p, mu * (target - u), v);
+        PairVelocities<Impulse, Math> pair{p, v, impulse, mu};
+        apply(pair, p.gammaWD, xi, inverseMu == reducedMass.common ? commonKTOverMu : kT / mu);
+    }
+    /**
+     * The update of a pair (PairVelocities) given gamma wD, xi and kT/mu, or of a row of pairs
+     * at once, as ShardlowPairUpdate::apply; Pair::Math has exp and sqrt of Real.
+     */
+    template <class Pair, class Real>
+    void apply(Pair& pair, const Real& gammaWD, const Real& xi, double kTOverMu) const {
+        const Real decay = Pair::Math::exp(-gammaWD * h / pair.mu);
+        const Real u = pair.normalVelocity();
+        const Real target = u * decay + Pair::Math::sqrt(kTOverMu * (1 - decay * decay)) * xi;
+        pair.kick(pair.mu * (target - u));
     }
 };
 

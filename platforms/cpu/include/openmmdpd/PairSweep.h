@@ -3,7 +3,7 @@
 
 #include "openmmdpd/DPDThermostatForces.h"
 #include "openmmdpd/ParallelExecutor.h"
-#include "openmmdpd/ShardlowRowSweep.h"
+#include "openmmdpd/VectorRowSweep.h"
 #include <algorithm>
 #include <vector>
 

@@ -1,0 +1,198 @@
+// A RowReal passed or returned by value is passed differently by code built for different
+// vector units (the compiler warns of it).  Here none crosses a call between such code: the
+// functions that take or return one are always inlined, and the rules' apply take them by
+// reference.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+#include "openmmdpd/VectorRowSweep.h"
+#include "openmmdpd/CpuFeatures.h"
+#include <cmath>
+
+#if defined(OPENMMDPD_X86_VECTORS) && defined(OPENMMDPD_HAVE_LIBMVEC)
+#include <immintrin.h>
+// glibc's vector math library (libmvec): exp of four doubles at once, AVX2 variant.
+extern "C" __m256d _ZGVdN4v_exp(__m256d);
+#define OPENMMDPD_ROW_EXP_AVX2
+#endif
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+namespace {
+
+typedef double RowReal __attribute__((vector_size(SWEEP_LANES * sizeof(double))));
+typedef ShardlowPairUpdate<const EqualMassPairImpulse&> EqualMassShardlow;
+typedef PairOrnsteinUhlenbeckUpdate<const EqualMassPairImpulse&, RowConsistentMath> EqualMassOU;
+
+/** A row's functions of its lanes' values: the scalar ones, lane by lane. */
+struct LaneByLaneMath {
+    __attribute__((always_inline)) static RowReal exp(const RowReal& x) {
+        RowReal y;
+        for (int l = 0; l < SWEEP_LANES; l++)
+            y[l] = std::exp(x[l]);
+        return y;
+    }
+    __attribute__((always_inline)) static RowReal sqrt(const RowReal& x) {
+        RowReal y;
+        for (int l = 0; l < SWEEP_LANES; l++)
+            y[l] = std::sqrt(x[l]);
+        return y;
+    }
+};
+
+#ifdef OPENMMDPD_ROW_EXP_AVX2
+// Called, not inlined: the rules' apply need not be inlined into code built for AVX2.
+__attribute__((target("avx2"))) void expAVX2(const RowReal& x, RowReal& y) {
+    y = (RowReal) _ZGVdN4v_exp((__m256d) x);
+}
+
+/** With AVX2 and libmvec: exp four at a time (the scalar one to rounding). */
+struct AVX2RowMath : LaneByLaneMath {
+    __attribute__((always_inline)) static RowReal exp(const RowReal& x) {
+        RowReal y;
+        expAVX2(x, y);
+        return y;
+    }
+};
+#else
+typedef LaneByLaneMath AVX2RowMath;
+#endif
+
+/** The velocities of a row of pairs with no particle in common, as PairVelocities (equal masses). */
+template <class Functions>
+struct PairRowVelocities {
+    typedef Functions Math;
+    RowReal ex, ey, ez, imageVx, vix, viy, viz, vjx, vjy, vjz;
+    double invMass, mu;
+
+    __attribute__((always_inline)) RowReal normalVelocity() const { return ex * (vix - vjx - imageVx) + ey * (viy - vjy) + ez * (viz - vjz); }
+    /** EqualMassPairImpulse::apply, lane by lane. */
+    __attribute__((always_inline)) void kick(RowReal impulseAlongE) {
+        const RowReal k = impulseAlongE * invMass;
+        vix += ex * k;
+        viy += ey * k;
+        viz += ez * k;
+        vjx -= ex * k;
+        vjy -= ey * k;
+        vjz -= ez * k;
+    }
+};
+
+/** A row's pairs: their geometry, random numbers and velocities, loaded lane by lane, and stored back. */
+template <class Math>
+struct PairRow {
+    const PairGeometry* p[SWEEP_LANES];
+    PairRowVelocities<Math> pair;
+    RowReal xi;
+
+    __attribute__((always_inline)) PairRow(const std::vector<PairGeometry>& list, const std::vector<double>& random, const int* row,
+                                           const std::vector<Vec3>& v, double invMass, double mu) {
+        for (int l = 0; l < SWEEP_LANES; l++)
+            p[l] = &list[row[l]];
+        pair.ex = lanes([](const PairGeometry& q) { return q.e[0]; });
+        pair.ey = lanes([](const PairGeometry& q) { return q.e[1]; });
+        pair.ez = lanes([](const PairGeometry& q) { return q.e[2]; });
+        pair.imageVx = lanes([](const PairGeometry& q) { return q.imageVx; });
+        pair.vix = lanes([&](const PairGeometry& q) { return v[q.i][0]; });
+        pair.viy = lanes([&](const PairGeometry& q) { return v[q.i][1]; });
+        pair.viz = lanes([&](const PairGeometry& q) { return v[q.i][2]; });
+        pair.vjx = lanes([&](const PairGeometry& q) { return v[q.j][0]; });
+        pair.vjy = lanes([&](const PairGeometry& q) { return v[q.j][1]; });
+        pair.vjz = lanes([&](const PairGeometry& q) { return v[q.j][2]; });
+        pair.invMass = invMass;
+        pair.mu = mu;
+        for (int l = 0; l < SWEEP_LANES; l++)
+            xi[l] = random[row[l]];
+    }
+    template <class Value>
+    __attribute__((always_inline)) RowReal lanes(Value value) const {
+        RowReal x;
+        for (int l = 0; l < SWEEP_LANES; l++)
+            x[l] = value(*p[l]);
+        return x;
+    }
+    __attribute__((always_inline)) void store(std::vector<Vec3>& v) const {
+        // The lanes' particles are distinct, except where a lane repeats lane 0's pair: it
+        // stores the same values again, after lane 0.
+        for (int l = 0; l < SWEEP_LANES; l++) {
+            v[p[l]->i] = Vec3(pair.vix[l], pair.viy[l], pair.viz[l]);
+            v[p[l]->j] = Vec3(pair.vjx[l], pair.vjy[l], pair.vjz[l]);
+        }
+    }
+};
+
+template <class Math>
+__attribute__((always_inline)) inline void updateRow(const EqualMassShardlow& rule, PairRow<Math>& row) {
+    rule.apply(row.pair, row.lanes([](const PairGeometry& q) { return q.sigmaWR; }),
+               row.lanes([](const PairGeometry& q) { return q.gammaWD; }), row.xi);
+}
+
+template <class Math>
+__attribute__((always_inline)) inline void updateRow(const EqualMassOU& rule, PairRow<Math>& row) {
+    rule.apply(row.pair, row.lanes([](const PairGeometry& q) { return q.gammaWD; }), row.xi, rule.commonKTOverMu);
+}
+
+template <class Math, class Rule>
+__attribute__((always_inline)) inline void sweepRows(const Rule& rule, const std::vector<PairGeometry>& list,
+                                                     const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells& run) {
+    // always inlined, as the row's other functions, so that it is compiled for the caller's vector unit
+    const double invMass = rule.impulse.invMass, mu = rule.reducedMass(invMass + invMass);
+    forEachPairRow(run, [&](const int* rowPairs, int n) __attribute__((always_inline)) {
+        prefetchAhead(list, random, rowPairs, n, run.reverse);
+        PairRow<Math> row(list, random, rowPairs, v, invMass, mu);
+        updateRow(rule, row);
+        row.store(v);
+    });
+}
+
+template <class Rule>
+void sweepRowsBase(const Rule& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random, std::vector<Vec3>& v,
+                   const SweepCells& run) {
+    sweepRows<LaneByLaneMath>(rule, list, random, v, run);
+}
+
+#ifdef OPENMMDPD_X86_VECTORS
+// The same code, compiled for 4-wide vectors where the processor has them.
+template <class Rule>
+__attribute__((target("avx2"))) void sweepRowsAVX2(const Rule& rule, const std::vector<PairGeometry>& list,
+                                                   const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells& run) {
+    sweepRows<AVX2RowMath>(rule, list, random, v, run);
+}
+#endif
+
+/** sweepCells of either rule: rows of pairs where the cells are independent and masses nonzero, else pair by pair. */
+template <class Rule>
+void sweepCellsInRows(const Rule& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random, std::vector<Vec3>& v,
+                      const SweepCells& run, RowVectorUnit unit) {
+    if (!run.independent || rule.impulse.invMass == 0)
+        sweepCells<Rule, double>(rule, list, random, v, run);
+#ifdef OPENMMDPD_X86_VECTORS
+    else if (unit == RowVectorUnit::Best && haveAVX2())
+        sweepRowsAVX2(rule, list, random, v, run);
+#endif
+    else
+        sweepRowsBase(rule, list, random, v, run);
+}
+
+} // namespace
+
+double RowConsistentMath::exp(double x) {
+#ifdef OPENMMDPD_ROW_EXP_AVX2
+    if (haveAVX2()) {
+        RowReal y;
+        expAVX2(RowReal{x, x, x, x}, y);
+        return y[0];
+    }
+#endif
+    return std::exp(x);
+}
+
+void DPDPlugin::sweepCells(const EqualMassShardlow& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random,
+                           std::vector<Vec3>& v, const SweepCells& run, RowVectorUnit unit) {
+    sweepCellsInRows(rule, list, random, v, run, unit);
+}
+
+void DPDPlugin::sweepCells(const EqualMassOU& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random,
+                           std::vector<Vec3>& v, const SweepCells& run, RowVectorUnit unit) {
+    sweepCellsInRows(rule, list, random, v, run, unit);
+}
