@@ -1,7 +1,6 @@
 #include "openmmdpd/PairRandomBatch.h"
 #include "openmmdpd/CpuFeatures.h"
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <cstring>
 

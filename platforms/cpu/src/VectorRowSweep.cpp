@@ -41,6 +41,8 @@ struct LaneByLaneMath {
 };
 
 #ifdef OPENMMDPD_ROW_EXP_AVX2
+static_assert(SWEEP_LANES == 4, "libmvec's AVX2 exp takes four doubles");
+
 // Called, not inlined: the rules' apply need not be inlined into code built for AVX2.
 __attribute__((target("avx2"))) void expAVX2(const RowReal& x, RowReal& y) {
     y = (RowReal) _ZGVdN4v_exp((__m256d) x);
