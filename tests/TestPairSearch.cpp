@@ -84,6 +84,20 @@ void checkBox(const Vec3* box, bool periodic, double cutoff, unsigned seed) {
     EXPECT_EQ(searchPairs(pos, box, periodic, cutoff, 3), expected);
 }
 
+/** Workers run one after another in this thread: a worker count without threads. */
+class SequentialWorkers : public ParallelExecutor {
+public:
+    explicit SequentialWorkers(int workers) : workers(workers) {}
+    int getNumWorkers() const override { return workers; }
+    void execute(const std::function<void(int worker)>& task) override {
+        for (int w = 0; w < workers; w++)
+            task(w);
+    }
+
+private:
+    int workers;
+};
+
 } // namespace
 
 TEST(PairSearch, RectangularBoxMatchesBruteForce) {
@@ -156,4 +170,29 @@ TEST(PairSearch, VectorScanFindsTheSamePairsInTheSameOrder) {
             ASSERT_EQ(scalar[k].second, vector[k].second);
         }
     }
+}
+
+TEST(PairSearch, CellOrderIndependentOfTheNumberOfWorkers) {
+    // Enough particles for the counting sort to be shared out (ParallelExecutor::SERIAL_LOOP_LIMIT),
+    // some of them inactive.
+    Vec3 box[3] = {Vec3(17, 0, 0), Vec3(0, 17, 0), Vec3(0, 0, 17)};
+    const int n = 20000;
+    ASSERT_GT(n, (int) ParallelExecutor::SERIAL_LOOP_LIMIT);
+    std::vector<Vec3> pos = randomPositions(box, n, 11);
+    std::vector<bool> active(n, true);
+    for (int i = 0; i < n; i += 7)
+        active[i] = false;
+    auto sorted = [&](ParallelExecutor* executor) {
+        PairSearch search(active, 1.0, true);
+        search.build(pos, box, executor);
+        std::vector<std::pair<int, int>> order;
+        search.forEachPair(0, search.getNumCells(), [&](int i, int j, const Vec3&) { order.push_back({i, j}); });
+        return std::make_pair(search.getSortedIndex(), order);
+    };
+    SequentialWorkers two(2), three(3);
+    const auto serial = sorted(nullptr);
+    ASSERT_EQ((int) serial.first.size(), n - (n + 6) / 7);
+    ASSERT_GT(serial.second.size(), 100000u);
+    EXPECT_EQ(sorted(&two), serial);
+    EXPECT_EQ(sorted(&three), serial);
 }

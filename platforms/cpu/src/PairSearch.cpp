@@ -98,7 +98,7 @@ void PairSearch::build(const std::vector<Vec3>& positions, const Vec3* newBox, P
     double reach[3];
     fractionalCoordinates(positions, reach, workers);
     chooseGrid(reach);
-    sortIntoCells();
+    sortIntoCells(workers);
     storeSortedPositions(positions, workers);
     updateNeighbourTable();
 }
@@ -154,27 +154,59 @@ void PairSearch::chooseGrid(const double* reach) {
     }
 }
 
-void PairSearch::sortIntoCells() {
-    // Counting sort of the active particles by cell; within a cell, by particle index.
+void PairSearch::sortIntoCells(ParallelExecutor& executor) {
+    // Counting sort of the active particles by cell; within a cell, by particle index.  Each
+    // worker counts, then places, a consecutive range of particles, and a cell's share of
+    // worker w follows those of the workers before it: the same order for any number of
+    // workers (done serially, it kept the other threads waiting at every step).
     const int n = (int) frac.size(), total = numCells[0] * numCells[1] * numCells[2];
-    cellOf.assign(n, -1);
-    cellStart.assign(total + 1, 0);
-    for (int i = 0; i < n; i++) {
-        if (!active[i])
-            continue;
-        int idx[3];
-        for (int k = 0; k < 3; k++)
-            idx[k] = std::min(numCells[k] - 1, std::max(0, (int) (frac[i][k] * numCells[k])));
-        cellOf[i] = (idx[2] * numCells[1] + idx[1]) * numCells[0] + idx[0];
-        cellStart[cellOf[i] + 1]++;
+    SerialExecutor serial;
+    ParallelExecutor& workers = (n < (int) ParallelExecutor::SERIAL_LOOP_LIMIT ? serial : executor);
+    cellOf.resize(n);
+    cellStart.resize(total + 1);
+    workerFill.resize(workers.getNumWorkers());
+    workers.executePhases(3, [&](int w, int phase) {
+        size_t begin, end;
+        workers.range(w, n, begin, end);
+        std::vector<int>& fill = workerFill[w];
+        if (phase == 0) {
+            fill.assign(total, 0);
+            for (size_t i = begin; i < end; i++) {
+                cellOf[i] = (active[i] ? cellIndex(frac[i]) : -1);
+                if (cellOf[i] >= 0)
+                    fill[cellOf[i]]++;
+            }
+        }
+        else if (phase == 1 && w == 0)
+            startCells();
+        else if (phase == 2)
+            for (size_t i = begin; i < end; i++)
+                if (cellOf[i] >= 0)
+                    sortedIndex[fill[cellOf[i]]++] = (int) i;
+    });
+}
+
+int PairSearch::cellIndex(const Vec3& s) const {
+    int idx[3];
+    for (int k = 0; k < 3; k++)
+        idx[k] = std::min(numCells[k] - 1, std::max(0, (int) (s[k] * numCells[k])));
+    return (idx[2] * numCells[1] + idx[1]) * numCells[0] + idx[0];
+}
+
+void PairSearch::startCells() {
+    // workerFill: each worker's count per cell in, where its first particle of the cell goes out.
+    const int total = numCells[0] * numCells[1] * numCells[2];
+    int slots = 0;
+    for (int c = 0; c < total; c++) {
+        cellStart[c] = slots;
+        for (std::vector<int>& fill : workerFill) {
+            const int count = fill[c];
+            fill[c] = slots;
+            slots += count;
+        }
     }
-    for (int c = 0; c < total; c++)
-        cellStart[c + 1] += cellStart[c];
-    sortedIndex.resize(cellStart[total]);
-    fill.assign(cellStart.begin(), cellStart.end() - 1);
-    for (int i = 0; i < n; i++)
-        if (cellOf[i] >= 0)
-            sortedIndex[fill[cellOf[i]]++] = i;
+    cellStart[total] = slots;
+    sortedIndex.resize(slots);
 }
 
 void PairSearch::storeSortedPositions(const std::vector<Vec3>& positions, ParallelExecutor& executor) {

@@ -147,7 +147,11 @@ private:
     /** build()'s steps: frac and the fractional reach of the cutoff per axis; the cells; the sort. */
     void fractionalCoordinates(const std::vector<OpenMM::Vec3>& positions, double* reach, ParallelExecutor& executor);
     void chooseGrid(const double* reach);
-    void sortIntoCells();
+    void sortIntoCells(ParallelExecutor& executor);
+    /** The cell of fractional coordinates s. */
+    int cellIndex(const OpenMM::Vec3& s) const;
+    /** sortIntoCells' serial step: cellStart from the workers' counts (workerFill), and where each worker's share of a cell starts. */
+    void startCells();
     void storeSortedPositions(const std::vector<OpenMM::Vec3>& positions, ParallelExecutor& executor);
     /**
      * The neighbour cells of every cell, for the current grid: rebuilt when the grid changes;
@@ -161,7 +165,8 @@ private:
     OpenMM::Vec3 box[3];
     std::vector<int> cellStart, sortedIndex;
     std::vector<OpenMM::Vec3> frac;   // build()'s work space, kept to save allocations
-    std::vector<int> cellOf, fill;
+    std::vector<int> cellOf;
+    std::vector<std::vector<int>> workerFill;  // sortIntoCells' counts, then fill positions, per worker and cell
     std::vector<OpenMM::Vec3> sortedPositions;
     std::vector<double> sortedX, sortedY, sortedZ;  // the same, by coordinate (read four at a time)
     /**
