@@ -147,6 +147,29 @@ TEST(InstabilitySentinel, HugeVelocityStopsAtTheFirstStep) {
     }
 }
 
+#if OPENMMDPD_HAVE_CPU
+TEST(InstabilitySentinel, TwoThreadsNameTheFirstParticleAsOneDoes) {
+    // Enough particles for the CPU platform to share the end-of-step check out over its
+    // threads (ParallelExecutor::SERIAL_LOOP_LIMIT): a fast particle in either thread's half
+    // stops the run, and with one in each the lower index is named, as with one thread.
+    const int n = 20000;
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(n, 0.0, positions));
+    for (const std::vector<int>& fast : {std::vector<int>{15000}, std::vector<int>{3000, 15000}})
+        for (int threads : {1, 2}) {
+            ShardlowIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01);
+            integrator.setInstabilityThreshold(40);
+            std::unique_ptr<Context> context = makeContext(*system, integrator, "CPU", positions, threads);
+            std::vector<Vec3> v = context->getState(State::Velocities).getVelocities();
+            for (int i : fast)
+                v[i] = Vec3(100, 50, -80);
+            context->setVelocities(v);
+            expectErrorNaming([&] { integrator.step(2); },
+                              "unstable at step 1: particle " + std::to_string(fast[0]) + " has kinetic energy");
+        }
+}
+#endif
+
 TEST(InstabilitySentinel, RejectsBadThresholds) {
     DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01);
     for (double bad : {-1.0, (double) NAN, (double) INFINITY})

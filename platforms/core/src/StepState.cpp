@@ -68,26 +68,48 @@ bool isFinite(const Vec3& x) {
     throw OpenMM::OpenMMException(message.str());
 }
 
-} // namespace
-
-void DPDPlugin::checkVelocities(const std::vector<Vec3>& v, const DPDPairParameters& parameters, long long step,
-                                const std::string& name) {
-    const std::vector<double>& mass = parameters.getMasses();
-    const double kT = parameters.getKT(), threshold = parameters.getInstabilityThreshold();
-    const bool sentinel = threshold > 0 && kT > 0;
+/** m v^2 above this fails checkVelocities. */
+double velocityBound(const DPDPairParameters& parameters) {
     // m v^2 <= bound fails for a non-finite velocity as well as for a particle over the
     // threshold, so the common case costs one comparison per particle.  With the sentinel
     // off, the bound is the largest double: only non-finite values (or |v| ~ 1e154) fail it.
-    const double bound = sentinel ? 2 * threshold * kT : std::numeric_limits<double>::max();
+    const double kT = parameters.getKT(), threshold = parameters.getInstabilityThreshold();
+    return threshold > 0 && kT > 0 ? 2 * threshold * kT : std::numeric_limits<double>::max();
+}
+
+} // namespace
+
+bool DPDPlugin::velocitiesPass(const std::vector<Vec3>& v, const DPDPairParameters& parameters, size_t begin, size_t end) {
+    const std::vector<double>& mass = parameters.getMasses();
+    const double bound = velocityBound(parameters);
+    bool pass = true;
+    for (size_t i = begin; i < end; i++)
+        pass &= (mass[i] * v[i].dot(v[i]) <= bound);
+    return pass;
+}
+
+void DPDPlugin::checkVelocities(const std::vector<Vec3>& v, const DPDPairParameters& parameters, long long step,
+                                const std::string& name) {
+    if (velocitiesPass(v, parameters, 0, v.size()))
+        return;
+    const std::vector<double>& mass = parameters.getMasses();
+    const double kT = parameters.getKT(), threshold = parameters.getInstabilityThreshold(), bound = velocityBound(parameters);
     for (size_t i = 0; i < v.size(); i++) {
         const double mv2 = mass[i] * v[i].dot(v[i]);
         if (mv2 <= bound)
             continue;
         if (!isFinite(v[i]))
             blewUp(name, step, "particle " + std::to_string(i) + " has a non-finite velocity");
-        if (sentinel && mv2 > bound)
+        if (threshold > 0 && kT > 0)
             unstable(name, step, (int) i, 0.5 * mv2 / kT, threshold);
     }
+}
+
+bool DPDPlugin::allFinite(const std::vector<Vec3>& values, size_t begin, size_t end) {
+    bool finite = true;
+    for (size_t i = begin; i < end; i++)
+        finite &= isFinite(values[i]);
+    return finite;
 }
 
 void DPDPlugin::checkFinite(const std::vector<Vec3>& values, const char* what, long long step, const std::string& name) {

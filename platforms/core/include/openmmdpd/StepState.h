@@ -45,6 +45,8 @@ private:
     std::vector<OpenMM::Vec3> restoredPositions, restoredVelocities;
 };
 
+/** Whether values[begin, end) are all finite (checkFinite's test, by range: for callers that test ranges in parallel). */
+bool allFinite(const std::vector<OpenMM::Vec3>& values, size_t begin, size_t end);
 /** Stops a run with "<name>: the simulation blew up at step N: ..." if a value is not finite. */
 void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long long step, const std::string& name);
 /** The same for values[k] of particle particles[k]. */
@@ -63,6 +65,8 @@ void checkOutsidePolymer(const std::vector<OpenMM::Vec3>& forces, const std::vec
  */
 void checkVelocities(const std::vector<OpenMM::Vec3>& velocities, const DPDPairParameters& parameters, long long step,
                      const std::string& name);
+/** Whether particles [begin, end) pass checkVelocities (its test, by range). */
+bool velocitiesPass(const std::vector<OpenMM::Vec3>& velocities, const DPDPairParameters& parameters, size_t begin, size_t end);
 /** Stops a run if the largest squared move of a step, maxMove2, exceeds MAX_MOVE_PER_STEP cutoffs. */
 void checkMove(double maxMove2, double cutoff, long long step, const std::string& name);
 

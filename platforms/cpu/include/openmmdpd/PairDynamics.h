@@ -123,8 +123,23 @@ protected:
      */
     template <class Displacement>
     void moveParticles(const std::vector<int>& particles, std::vector<OpenMM::Vec3>& r, long long step, Displacement displacement);
+    /** Whether pass(begin, end) holds for every worker's range of [0, n): in parallel when n is large enough to pay for it. */
+    template <class Pass>
+    bool passesEverywhere(size_t n, Pass pass) const {
+        if (n < ParallelExecutor::SERIAL_LOOP_LIMIT)
+            return pass(0, n);
+        std::vector<char> passed(executor.getNumWorkers());
+        executor.execute([&](int w) {
+            size_t begin, end;
+            executor.range(w, n, begin, end);
+            passed[w] = pass(begin, end);
+        });
+        return std::all_of(passed.begin(), passed.end(), [](char p) { return p != 0; });
+    }
+    /** DPDPlugin::checkFinite, tested in parallel (the serial check then names the first value that fails). */
     void checkFinite(const std::vector<OpenMM::Vec3>& values, const char* what, long long step) const {
-        DPDPlugin::checkFinite(values, what, step, name);
+        if (!passesEverywhere(values.size(), [&](size_t begin, size_t end) { return allFinite(values, begin, end); }))
+            DPDPlugin::checkFinite(values, what, step, name);
     }
     /** The same check on values[particles[k]] (or values[k] with indexedByParticle false), naming particles[k]. */
     void checkFinite(const std::vector<OpenMM::Vec3>& values, const std::vector<int>& particles, bool indexedByParticle,
