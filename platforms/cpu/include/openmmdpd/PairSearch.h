@@ -48,9 +48,9 @@ public:
      */
     PairSearch(const std::vector<bool>& active, double cutoff, bool periodic, int cellMultiple = 1);
     /**
-     * Bin the particles into cells, O(N): the per-particle passes over `executor`'s workers
-     * where one is given and N is large (the same values either way), the counting sort in
-     * one thread.
+     * Bin the particles into cells, O(N): the per-particle passes, the counting sort's
+     * included, over `executor`'s workers where one is given and N is large (the same
+     * values and slots either way).
      */
     void build(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, ParallelExecutor* executor = nullptr);
     int getNumCells() const { return (int) cellStart.size() - 1; }
