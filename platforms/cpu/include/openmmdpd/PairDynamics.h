@@ -126,14 +126,8 @@ protected:
     /** Whether pass(begin, end) holds for every worker's range of [0, n): in parallel when n is large enough to pay for it. */
     template <class Pass>
     bool passesEverywhere(size_t n, Pass pass) const {
-        if (n < ParallelExecutor::SERIAL_LOOP_LIMIT)
-            return pass(0, n);
-        std::vector<char> passed(executor.getNumWorkers());
-        executor.execute([&](int w) {
-            size_t begin, end;
-            executor.range(w, n, begin, end);
-            passed[w] = pass(begin, end);
-        });
+        std::vector<char> passed(executor.getNumWorkers(), 1);
+        executor.forEachRange(n, [&](int w, size_t begin, size_t end) { passed[w] = pass(begin, end); });
         return std::all_of(passed.begin(), passed.end(), [](char p) { return p != 0; });
     }
     /** DPDPlugin::checkFinite, tested in parallel (the serial check then names the first value that fails). */
@@ -201,16 +195,8 @@ void PairDynamics::movePositions(OpenMM::ContextImpl& context, long long step, d
         }
         return maxMove2;
     };
-    if (r.size() < ParallelExecutor::SERIAL_LOOP_LIMIT) {
-        std::fill(workerSums.begin(), workerSums.end(), 0.0);
-        workerSums[0] = move(0, r.size());
-    }
-    else
-        executor.execute([&](int w) {
-            size_t begin, end;
-            executor.range(w, r.size(), begin, end);
-            workerSums[w] = move(begin, end);
-        });
+    std::fill(workerSums.begin(), workerSums.end(), 0.0);
+    executor.forEachRange(r.size(), [&](int w, size_t begin, size_t end) { workerSums[w] = move(begin, end); });
     checkFinite(r, "position", step);
     checkMoves(step);
     motion.finishDrift(context, dt, alsoCorrect);

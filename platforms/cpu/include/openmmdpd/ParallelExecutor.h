@@ -31,17 +31,26 @@ public:
      * thread pool (tens of microseconds on a virtual machine) costs more than the loop.
      */
     static constexpr size_t SERIAL_LOOP_LIMIT = 16384;
-    /** body(i) for i in [0, n), over the workers when n is large enough to pay for it. */
+    /**
+     * body(w, begin, end) for each worker w's range of [0, n) when n is large enough to pay
+     * for it, else body(0, 0, n) alone in the calling thread.
+     */
     template <class Body>
-    void forEach(size_t n, Body body) {
+    void forEachRange(size_t n, Body body) {
         if (n < SERIAL_LOOP_LIMIT) {
-            for (size_t i = 0; i < n; i++)
-                body(i);
+            body(0, (size_t) 0, n);
             return;
         }
         execute([&](int w) {
             size_t begin, end;
             range(w, n, begin, end);
+            body(w, begin, end);
+        });
+    }
+    /** body(i) for i in [0, n), over the workers when n is large enough to pay for it. */
+    template <class Body>
+    void forEach(size_t n, Body body) {
+        forEachRange(n, [&](int, size_t begin, size_t end) {
             for (size_t i = begin; i < end; i++)
                 body(i);
         });
