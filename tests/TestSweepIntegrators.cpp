@@ -1,4 +1,6 @@
 #include "TestHelpers.h"
+#include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmm/State.h"
@@ -144,6 +146,40 @@ TEST(SweepIntegrators, CpuMatchesReferenceWithForces) {
     }
 }
 #endif
+
+// Where every pair shares its parameters (one type, one mass, no shear), the CPU pair passes
+// take them as constants, four hits at a time (UniformPairBlock); give a third of the
+// particles a second type with the same parameters and they go pair by pair.  Both ways must
+// give the same trajectory bit for bit: the sweeps' list pass (with the native soft force
+// summed in it) and GW's one-pass forces.
+TEST(SweepIntegrators, SharedParametersGiveThePerTypeTrajectoryBitForBit) {
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(3000, 0, positions));
+    DPDSoftRepulsionForce* soft = new DPDSoftRepulsionForce(25, 1.0);
+    soft->setNonbondedMethod(DPDSoftRepulsionForce::CutoffPeriodic);
+    for (int i = 0; i < system->getNumParticles(); i++)
+        soft->setParticleType(i, 0);
+    system->addForce(soft);
+    for (const std::string scheme : {"S1", "S2", "Lowe", "PairOU", "GW"}) {
+        std::unique_ptr<DPDThermostatIntegrator> shared, typed;
+        for (auto* integrator : {&shared, &typed}) {
+            if (scheme == "GW")
+                integrator->reset(new DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, 0.04));
+            else
+                *integrator = makeScheme(scheme, 0.04);
+            (*integrator)->setRandomNumberSeed(42);
+        }
+        for (int i = 0; i < system->getNumParticles(); i += 3)
+            typed->setParticleType(i, 1);
+        typed->addTypePair(0, 1, 4.5, 1.0);
+        typed->addTypePair(1, 1, 4.5, 1.0);
+        auto a = makeContext(*system, *shared, "CPU", positions, 1);
+        auto b = makeContext(*system, *typed, "CPU", positions, 1);
+        shared->step(10);
+        typed->step(10);
+        expectSameState(*a, *b, scheme);
+    }
+}
 
 TEST(SweepIntegrators, CheckpointContinuesBitForBit) {
     std::vector<Vec3> positions;

@@ -2,6 +2,7 @@
 #include "openmmdpd/PairRandomBatch.h"
 #include "openmmdpd/SlotAccumulation.h"
 #include "openmmdpd/SoftRepulsionKernel.h"
+#include "openmmdpd/UniformPairBlock.h"
 #include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
@@ -122,7 +123,11 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
         std::fill(softForce.begin(), softForce.begin() + sortedIndex.size(), Vec3());
     // Each cell's pairs start at a local offset, made global by shiftWorkerCells.
     const auto startCell = [&](int cell) { cellPairStart[cell] = (int) count; };
+    UniformPairRule rule;
+    const bool uniform = uniformRule(soft, rule);
     search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* qs, const Vec3* ds, int hits) {
+        if (uniform && appendUniformPairs(rule, p, qs, ds, hits, out, outParticles, count, softForce))
+            return;
         for (int k = 0; k < hits; k++) {
             const int q = qs[k];
             const Vec3& d = ds[k];
@@ -154,6 +159,36 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     workerListSize[w] = count;
     out.swap(list);
     outParticles.swap(listParticles);
+}
+
+bool DPDThermostatForces::appendUniformPairs(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits,
+                                             std::vector<PairGeometry>& out, std::vector<PairParticles>& outParticles, size_t& count,
+                                             std::vector<Vec3>& softForce) const {
+    if (count + hits > out.size()) {
+        out.resize(count + hits);
+        outParticles.resize(count + hits);
+    }
+    int acceptedQ[PairSearch::MAX_BLOCK];
+    const int n = uniformPairBlock(rule, p, qs, ds, hits, acceptedQ, &out[count], softForce.data());
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    for (int k = 0; k < n; k++, count++) {
+        const int q = acceptedQ[k], i = sortedIndex[p], j = sortedIndex[q];
+        out[count].i = (pairsBySlot ? p : i);
+        out[count].j = (pairsBySlot ? q : j);
+        outParticles[count] = {i, j};
+    }
+    return n >= 0;
+}
+
+bool DPDThermostatForces::uniformRule(const SoftRepulsionKernel* soft, UniformPairRule& rule) const {
+    const TypePairTable& table = parameters.getTable();
+    if (table.getNumTypes() != 1 || !parameters.hasUniformMass() || parameters.getShearRate() != 0)
+        return false;
+    if (soft != nullptr && (soft->getTable().getNumTypes() != 1 || soft->hasExcludedPairs()))
+        return false;
+    rule = {table.cutoff(0), table.cutoff2(0), parameters.uniformGamma(0), parameters.uniformSigma(0), table.value(0), soft != nullptr,
+            soft ? soft->getTable().value(0) : 0.0, soft ? soft->getTable().inverseCutoff(0) : 0.0, soft ? soft->getTable().cutoff(0) : 0.0};
+    return true;
 }
 
 template <class Entry>
@@ -382,9 +417,22 @@ struct DPDSlotForces {
     int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
 
+    const UniformPairRule* uniform = nullptr;  // every pair's parameters where they are shared (the soft force's left out), else null
+
     int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3*) {
         const int i = sortedIndex[p], start = batchSize;
         const TypePairTable& table = parameters.getTable();
+        const int n = (uniform ? uniformPairBlock(*uniform, p, q, d, count, slots, &g[batchSize], nullptr) : -1);
+        if (n >= 0) {
+            for (int k = 0; k < n; k++, batchSize++) {
+                g[batchSize].i = i;
+                g[batchSize].j = second[batchSize] = sortedIndex[slots[k]];
+                cutoff[batchSize] = uniform->cutoff;
+                slotP[batchSize] = p;
+                first[batchSize] = i;
+            }
+            return n;
+        }
         for (int k = 0; k < count; k++) {
             const int j = sortedIndex[q[k]];
             const double imageVx =
@@ -435,6 +483,9 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
             new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, sortedTypes, sortedSoftTypes,
                               sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft,
                               keep ? &kept : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
+    UniformPairRule rule;
+    if (uniformRule(nullptr, rule))
+        evaluate->uniform = &rule;
     std::vector<Vec3>* out[2] = {&workerDissipative[w], separate ? &workerRandom[w] : nullptr};
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);
     kept.swap(keptPairs[w]);

@@ -136,6 +136,9 @@ public:
         out.imageVx = imageVx;
         return true;
     }
+    /** gamma and sigma of every pair of table index t where masses are uniform (hasUniformMass), as pairGeometry takes them. */
+    double uniformGamma(int t) const { return typeGamma[t]; }
+    double uniformSigma(int t) const { return typeSigma[t]; }
     /** sigma = sqrt(2 gamma kT), the fluctuation-dissipation partner of a friction gamma. */
     double noiseAmplitude(double gamma) const { return std::sqrt(2 * gamma * kT); }
 

@@ -16,6 +16,7 @@ namespace DPDPlugin {
  * staggered scheme) call this; pairwise-sequential rules use the same pair list.
  */
 class SoftRepulsionKernel;
+struct UniformPairRule;
 
 class DPDThermostatForces {
 public:
@@ -110,6 +111,9 @@ public:
 
 
 private:
+    struct PairParticles {
+        int i, j;
+    };
     /** use(start, n, i, j): the particles of the pairs [start, start + n) of the list, a chunk at a time, in parallel. */
     template <class Use>
     void forEachChunkOfPairs(Use use) const {
@@ -143,6 +147,12 @@ private:
      * itself; the list sized for all workers'; w's share of the other workers' parts copied in.
      */
     void findWorkerPairs(int w, const SoftRepulsionKernel* soft);
+    /** Whether every pair shares its parameters (UniformPairRule), and if so, those. */
+    bool uniformRule(const SoftRepulsionKernel* soft, UniformPairRule& rule) const;
+    /** findWorkerPairs for one block of p's hits through uniformPairBlock, appended at count; false where that cannot run. */
+    bool appendUniformPairs(const UniformPairRule& rule, int p, const int* qs, const OpenMM::Vec3* ds, int hits,
+                            std::vector<PairGeometry>& out, std::vector<PairParticles>& outParticles, size_t& count,
+                            std::vector<OpenMM::Vec3>& softForce) const;
     size_t workerPairsBefore(int w) const;
     /** Worker w's cells' offsets into its own list made offsets into the whole list. */
     void shiftWorkerCells(int w);
@@ -171,9 +181,6 @@ private:
     std::vector<size_t> workerListSize;                 // each worker's number of pairs
     // Each pair's particles, by list index: what drawing its numbers reads (8 bytes, where
     // reading them from the list would bring its 72 bytes in from memory once more).
-    struct PairParticles {
-        int i, j;
-    };
     std::vector<PairParticles> pairParticles;
     std::vector<std::vector<PairParticles>> workerPairParticles;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;

@@ -34,6 +34,7 @@ public:
     /** Changes whenever the parameters do (for callers that cache checks on them). */
     int getParametersVersion() const { return version; }
     const TypePairTable& getTable() const { return *table; }
+    bool hasExcludedPairs() const { return hasExclusions; }
     bool isPeriodic() const { return periodic; }
     /** The force on i along e = (r_i - r_j)/r of a pair at distance r (kJ/mol/nm). */
     double pairForce(int i, int j, double r) const { return pairForce(i, j, table->index(i, j), r); }

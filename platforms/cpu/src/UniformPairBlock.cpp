@@ -1,0 +1,97 @@
+// A Lane4 passed or returned by value is passed differently by code built for different
+// vector units (the compiler warns of it); none crosses a call between such code here.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+#include "openmmdpd/UniformPairBlock.h"
+#include "openmmdpd/CpuFeatures.h"
+
+#ifdef OPENMMDPD_X86_VECTORS
+#include <immintrin.h>
+#endif
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+#ifdef OPENMMDPD_X86_VECTORS
+namespace {
+
+typedef double Lane4 __attribute__((vector_size(4 * sizeof(double))));
+
+/** Four hits' geometry, lane by lane as pairGeometry computes it (no FMA: the target has none). */
+struct HitRow {
+    Lane4 dx, dy, dz, r2, wR, ex, ey, ez, softForce;
+
+    __attribute__((target("avx2"))) HitRow(const Vec3* ds, int first, int hits) {
+        // lanes past the last hit repeat the first (and are not accepted)
+        const Vec3 &a = ds[first], &b = ds[first + 1 < hits ? first + 1 : first], &c = ds[first + 2 < hits ? first + 2 : first],
+                   &d = ds[first + 3 < hits ? first + 3 : first];
+        dx = Lane4{a[0], b[0], c[0], d[0]};
+        dy = Lane4{a[1], b[1], c[1], d[1]};
+        dz = Lane4{a[2], b[2], c[2], d[2]};
+        r2 = dx * dx + dy * dy + dz * dz;
+    }
+    __attribute__((target("avx2"))) void finish(const UniformPairRule& rule) {
+        const Lane4 r = (Lane4) _mm256_sqrt_pd((__m256d) r2);
+        wR = 1 - r / rule.cutoff;
+        const Lane4 scale = 1.0 / r;
+        ex = dx * scale;
+        ey = dy * scale;
+        ez = dz * scale;
+        if (rule.soft) {
+            const Lane4 softR = rule.cutoff * (1 - wR);
+            const Lane4 force = rule.softA * (1 - softR * rule.softInverseCutoff);
+            // pairForce's test, NaN included: 0 where r >= the soft cutoff
+            softForce = (Lane4) _mm256_andnot_pd((__m256d) (softR >= rule.softCutoff), (__m256d) force);
+        }
+    }
+};
+
+__attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits,
+                                                         int* acceptedQ, PairGeometry* out, Vec3* softForce) {
+    int n = 0;
+    Vec3 forceOnP = (rule.soft ? softForce[p] : Vec3());
+    for (int first = 0; first < hits; first += 4) {
+        HitRow row(ds, first, hits);
+        // pairGeometry's test, NaN included: a pair is out where r2 >= cutoff2 or r2 == 0
+        int accept = 0;
+        for (int l = 0; l < 4 && first + l < hits; l++)
+            accept |= (!(row.r2[l] >= rule.cutoff2) && row.r2[l] != 0) << l;
+        if (accept == 0)
+            continue;
+        row.finish(rule);
+        const Lane4 gammaWD = rule.gamma * row.wR * row.wR, sigmaWR = rule.sigma * row.wR;
+        for (int l = 0; l < 4; l++) {
+            if (!(accept & (1 << l)))
+                continue;
+            PairGeometry& g = out[n];
+            g.e = Vec3(row.ex[l], row.ey[l], row.ez[l]);
+            g.wR = row.wR[l];
+            g.gammaWD = gammaWD[l];
+            g.sigmaWR = sigmaWR[l];
+            g.rate = rule.rate;
+            g.imageVx = 0;
+            const int q = acceptedQ[n++] = qs[first + l];
+            if (rule.soft) {
+                // g.e * force, as SoftRepulsionKernel::pairForce's caller makes it (0 beyond the soft cutoff)
+                const Vec3 f = g.e * row.softForce[l];
+                forceOnP += f;
+                softForce[q] -= f;
+            }
+        }
+    }
+    if (rule.soft)
+        softForce[p] = forceOnP;
+    return n;
+}
+
+} // namespace
+#endif
+
+int DPDPlugin::uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits, int* acceptedQ,
+                                PairGeometry* out, Vec3* softForce) {
+#ifdef OPENMMDPD_X86_VECTORS
+    if (haveAVX2())
+        return uniformPairBlockAVX2(rule, p, qs, ds, hits, acceptedQ, out, softForce);
+#endif
+    return -1;
+}
