@@ -27,6 +27,12 @@ integrator adds to the resident memory (each in a fresh process):
 
     /usr/bin/python3 -m openmmdpd.bench --scale --memory [--sizes 4000 32000 256000 1000000]
 
+--thread-scaling instead measures each integrator's speed-up with threads on model B (default:
+GW, S1 and Langevin at N = 256000, 1 and 2 threads), its Contexts at each thread count timed
+interleaved in a process of their own:
+
+    /usr/bin/python3 -m openmmdpd.bench --thread-scaling [--sizes 256000] [--threads 1 2]
+
 --platform OpenCL or CUDA measures on that platform instead of the CPU's (its default
 precision; --threads does not apply); with --scale the sizes are then 32000, 256000 and a
 million, the integrators GW, S1, Lowe, Langevin and, on OpenMM >= 8.3, OpenMM's DPDIntegrator:
@@ -56,6 +62,8 @@ DEFAULT_INTEGRATORS = ["Langevin", "GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", 
 SCALE_INTEGRATORS = ["GW", "DPD-VV", "S1", "Lowe", "Langevin"]
 MEMORY_INTEGRATORS = SCALE_INTEGRATORS + ["EDPD"]
 SCALE_SIZES = [4000, 32000, 256000, 1000000]
+THREAD_SCALING_INTEGRATORS = ["GW", "S1", "Langevin"]
+THREAD_SCALING_SIZES = [256000]
 SCALE_DT = 0.05  # model B's step (issue 16)
 # A step at a million particles takes most of a second: blocks of 1 s (2 steps) read GW's
 # rate there anywhere from 1.2 to 2.5 steps/s.
@@ -114,13 +122,14 @@ def make_context(system, integrator, threads, args):
 def measure(scene, factories, threads, args):
     """{label: best steps/s, or the error that stopped it} for one system and thread count."""
     return {label: max(rates) if isinstance(rates, list) else rates
-            for label, rates in measure_repeats(scene, factories, threads, args).items()}
+            for label, rates in measure_repeats(scene, [(label, make, threads) for label, make in factories], args).items()}
 
 
-def measure_repeats(scene, factories, threads, args):
-    """{label: steps/s of each of --repeats interleaved rounds, or the error that stopped it}."""
+def measure_repeats(scene, factories, args):
+    """{label: steps/s of each of --repeats interleaved rounds, or the error that stopped it};
+    factories: (label, make(dt) -> integrator, threads)."""
     runs, results = {}, {}
-    for label, make in factories:
+    for label, make, threads in factories:
         try:
             context = make_context(scene.system, make(args.dt), threads, args)
             context.setPositions(scene.positions)
@@ -271,8 +280,48 @@ def measure_group(n, names, threads, args):
 
 
 def group_rates(n, names, threads, args):
-    return measure_repeats(soft_scene(num_particles=n), [(name, factory(name, args.edpd_alpha)) for name in names],
-                           threads, args)
+    return measure_repeats(soft_scene(num_particles=n), [(name, factory(name, args.edpd_alpha), threads) for name in names],
+                           args)
+
+
+def measure_thread_scaling(names, args):
+    """Rows (N, integrator, {threads: best steps/s}, {threads: speed-up}) for --thread-scaling:
+    each integrator's Contexts at every thread count interleaved, round by round, in a process
+    of its own; a speed-up is the median over the rounds of the round's rate / the first thread
+    count's (a busy spell of the shared host slows a whole round, not one Context)."""
+    rows = []
+    for n in args.sizes:
+        for name in names:
+            print(f"measuring N={n} {name} threads {' '.join(map(str, args.threads))} ...", file=sys.stderr, flush=True)
+            try:
+                rates = in_fresh_process(thread_rates, n, name, args)
+            except BrokenProcessPool as error:  # killed (memory?)
+                rates = {threads: f"failed: {error}" for threads in args.threads}
+            first = rates[args.threads[0]]
+            rows.append((n, name, {threads: max(own) if isinstance(own, list) else own for threads, own in rates.items()},
+                         {threads: median_ratio(own, first) for threads, own in rates.items()}))
+    return rows
+
+
+def thread_rates(n, name, args):
+    """{threads: steps/s of each round} of integrator `name` on model B with n particles."""
+    make = factory(name, args.edpd_alpha)
+    return measure_repeats(soft_scene(num_particles=n), [(threads, make, threads) for threads in args.threads], args)
+
+
+def print_thread_scaling_table(rows, args):
+    print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, gamma=4.5; "
+          f"each integrator at {', '.join(map(str, args.threads))} threads interleaved, {args.repeats} rounds of "
+          f"{args.seconds:g} s blocks; steps/s: best round; speed-up: median over the rounds of the round's "
+          f"rate / its rate at {args.threads[0]} thread(s)")
+    print(f"{'N':>8}  {'integrator':<10} {'threads':>7} {'steps/s':>9} {'speed-up':>8}")
+    for n, name, best, speedup in rows:
+        for threads in args.threads:
+            rate = best[threads]
+            if isinstance(rate, str):
+                print(f"{n:>8}  {name:<10} {threads:>7} {rate}")
+                continue
+            print(f"{n:>8}  {name:<10} {threads:>7} {rate:>9.2f} {two_places(speedup[threads]):>8}")
 
 
 def in_fresh_process(function, *arguments):
@@ -516,6 +565,8 @@ def main(argv=None):
                         help="the platform measured (--scale and the default table)")
     parser.add_argument("--scale", action="store_true",
                         help="particle-steps/s and ratios from 4000 to a million particles instead")
+    parser.add_argument("--thread-scaling", action="store_true",
+                        help="each integrator's speed-up with --threads, paired round by round, instead")
     parser.add_argument("--memory", action="store_true",
                         help="bytes per particle of each integrator's Context instead (with --scale: as well)")
     parser.add_argument("--edpd-alpha", type=float, default=20.0,
@@ -539,6 +590,13 @@ def main(argv=None):
     parser.add_argument("--sample-time", type=float, default=4.0,
                         help="--staggered: simulated time over which <kT> is sampled")
     args = parser.parse_args(argv)
+    if args.thread_scaling:
+        args.sizes = args.sizes or THREAD_SCALING_SIZES
+        args.threads = args.threads or [1, 2]
+        args.dt = args.dt or SCALE_DT
+        args.seconds = args.seconds or SCALE_SECONDS
+        print_thread_scaling_table(measure_thread_scaling(args.integrators or THREAD_SCALING_INTEGRATORS, args), args)
+        return
     at_scale = args.scale or args.memory
     gpu = args.platform != "CPU"
     args.sizes = args.sizes or ((GPU_SCALE_SIZES if gpu else SCALE_SIZES) if at_scale else [4000, 32000])

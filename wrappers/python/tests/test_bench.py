@@ -66,6 +66,26 @@ def test_scale_ratios_are_medians_of_the_rounds_interleaved_with_each_integrator
     assert rows["Langevin"][0] == "200.00" and rows["Langevin"][2:4] == ["1.52", "1.00"]
 
 
+def test_thread_scaling_prints_each_thread_count(capsys):
+    bench.main(["--thread-scaling", "--integrators", "GW", "S1", "--sizes", "500", "--threads", "1", "2",
+                "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1].split() == ["N", "integrator", "threads", "steps/s", "speed-up"]
+    rows = [line.split() for line in lines[2:]]
+    assert [row[:3] for row in rows] == [["500", name, threads] for name in ("GW", "S1") for threads in ("1", "2")]
+    assert all(float(row[3]) > 0 for row in rows) and {row[4] for row in rows if row[2] == "1"} == {"1.00"}
+
+
+def test_thread_speedup_is_the_median_of_each_rounds_ratio(capsys, monkeypatch):
+    """Round by round, not best against best: one thread's best round (100) and two threads'
+    (170) would give 1.70; the rounds' ratios are 1.5, 1.9 and 1.89."""
+    monkeypatch.setattr(bench, "in_fresh_process", lambda function, *arguments: function(*arguments))
+    monkeypatch.setattr(bench, "thread_rates", lambda n, name, args: {1: [100.0, 50.0, 90.0], 2: [150.0, 95.0, 170.0]})
+    bench.main(["--thread-scaling", "--integrators", "S1"])
+    rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:]]
+    assert rows == [["256000", "S1", "1", "100.00", "1.00"], ["256000", "S1", "2", "170.00", "1.89"]]
+
+
 def test_resident_bytes_sees_an_allocation():
     before = bench.resident_bytes()
     block = np.ones(64 << 20, dtype=np.uint8)  # 64 MiB, every page touched
