@@ -90,8 +90,10 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
                 copyWorkerLists(w, workerPairParticles, pairParticles);
                 shiftWorkerCells(w);
             }
-            for (size_t k = begin; soft != nullptr && k < end; k++)
+            for (size_t k = begin; soft != nullptr && k < end; k++) {
+                prefetchSlotParticle(softOut->data(), sortedIndex, k);
                 (*softOut)[sortedIndex[k]] = sumOverWorkers(workerDissipative, k);
+            }
         }
     });
     cellPairStart[search.getNumCells()] = (int) pairs.size();
@@ -345,8 +347,10 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
         size_t begin, end;
         executor.range(w, sortedIndex.size(), begin, end);
         if (phase == 0) {
-            for (size_t k = begin; k < end; k++)
+            for (size_t k = begin; k < end; k++) {
+                prefetchSlotParticle(velocities.data(), sortedIndex, k);
                 sortedVelocities[k] = velocities[sortedIndex[k]];
+            }
             if (sortTypesNow)
                 sortTypes(begin, end, sheared);
             if (sortSoft != nullptr)
@@ -358,6 +362,7 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
             sumPairForcesBySlot(w, terms, dissipativeOut != nullptr, soft, step, dt, source == FindAndKeepPairs);
         else
             for (size_t k = begin; k < end; k++) {
+                prefetchSlotParticle(out.data(), sortedIndex, k);
                 const int i = sortedIndex[k];
                 out[i] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[i] : Vec3());
                 if (dissipativeOut != nullptr)

@@ -216,6 +216,7 @@ void PairSearch::storeSortedPositions(const std::vector<Vec3>& positions, Parall
     for (auto* coordinate : {&sortedX, &sortedY, &sortedZ})
         coordinate->resize(slots + 3, 0.0);  // padded for gatherWithinCutoff
     executor.forEach(slots, [&](size_t slot) {
+        prefetchSlotParticle(periodic ? frac.data() : positions.data(), sortedIndex, slot);
         const int i = sortedIndex[slot];
         // Periodic: the image inside the box, so a neighbour cell's particles need only
         // that cell's fixed shift (see neighbourCells), not a rounding per pair.

@@ -93,6 +93,7 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
                 Vec3 f;
                 for (int v = 0; v < workers; v++)
                     f += workerForces[v][k];
+                prefetchSlotParticle(forces.data(), sortedIndex, k);
                 forces[sortedIndex[k]] += f;
             }
         });

@@ -21,6 +21,22 @@ inline OpenMM::Vec3 minimumImage(OpenMM::Vec3 d, const OpenMM::Vec3* box, bool p
 }
 
 /**
+ * Asks the processor for `data`'s entry of the particle that a loop over slots in order
+ * reaches a few dozen slots on.  Such loops read or write by particle index, and where the
+ * particles' order is not the cells' (a million particles placed at random) that is all over
+ * memory, at addresses the hardware cannot see coming.
+ */
+template <class T>
+inline void prefetchSlotParticle(const T* data, const std::vector<int>& sortedIndex, size_t slot) {
+    constexpr size_t AHEAD = 32;
+    if (slot + AHEAD < sortedIndex.size()) {
+        const char* entry = (const char*) (data + sortedIndex[slot + AHEAD]);
+        __builtin_prefetch(entry);
+        __builtin_prefetch(entry + sizeof(T) - 1);
+    }
+}
+
+/**
  * Finds every pair of particles closer than a cutoff: a cell list over the box in its own
  * (fractional) coordinates, so rectangular and triclinic periodic boxes and non-periodic
  * systems are handled alike, in O(N).  Rebuilt at every evaluation, so pairs are found at

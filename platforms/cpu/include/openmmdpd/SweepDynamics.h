@@ -41,9 +41,15 @@ protected:
         }
         const std::vector<int>& particle = thermostat.getSearch().getSortedIndex();
         slotVelocities.resize(particle.size());
-        forEachParticle(particle.size(), [&](size_t k) { slotVelocities[k] = v[particle[k]]; });
+        forEachParticle(particle.size(), [&](size_t k) {
+            prefetchSlotParticle(v.data(), particle, k);
+            slotVelocities[k] = v[particle[k]];
+        });
         pairSweep.run(thermostat, slotVelocities, rule, random, reverse);
-        forEachParticle(particle.size(), [&](size_t k) { v[particle[k]] = slotVelocities[k]; });
+        forEachParticle(particle.size(), [&](size_t k) {
+            prefetchSlotParticle(v.data(), particle, k);
+            v[particle[k]] = slotVelocities[k];
+        });
     }
     /**
      * body(impulse) with the pair impulse of a sweep over the current pair list at the current
