@@ -386,13 +386,6 @@ void DPDThermostatForces::sortTypes(size_t begin, size_t end, bool heights) {
             sortedHeights[k] = (*searched)[sortedIndex[k]][1];
 }
 
-Vec3 DPDThermostatForces::sumOverWorkers(const std::vector<std::vector<Vec3>>& buffers, size_t k) const {
-    Vec3 f;
-    for (const std::vector<Vec3>& buffer : buffers)
-        f += buffer[k];
-    return f;
-}
-
 namespace {
 
 /**

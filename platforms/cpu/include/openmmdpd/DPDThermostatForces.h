@@ -140,8 +140,13 @@ private:
     /** The pair-list accumulate loop (accumulateAlongPairs) on every worker, buffers reduced in worker order. */
     template <class Evaluator>
     void sumOverPairs(const Evaluator& evaluator, std::array<std::vector<OpenMM::Vec3>*, Evaluator::OUTPUTS> out);
-    /** The sum of the buffers at index k, in worker order. */
-    OpenMM::Vec3 sumOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const;
+    /** The sum of the buffers at index k, in worker order (inline: it runs once per particle, in loops over them). */
+    static OpenMM::Vec3 sumOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) {
+        OpenMM::Vec3 f;
+        for (const std::vector<OpenMM::Vec3>& buffer : buffers)
+            f += buffer[k];
+        return f;
+    }
     /**
      * updatePairs' steps: worker w's pairs (and their particles), worker 0's into the list
      * itself; the list sized for all workers'; w's share of the other workers' parts copied in.
