@@ -121,8 +121,13 @@ def make_context(system, integrator, threads, args):
 
 def measure(scene, factories, threads, args):
     """{label: best steps/s, or the error that stopped it} for one system and thread count."""
-    return {label: max(rates) if isinstance(rates, list) else rates
+    return {label: best_round(rates)
             for label, rates in measure_repeats(scene, [(label, make, threads) for label, make in factories], args).items()}
+
+
+def best_round(rates):
+    """The best of measure_repeats's rounds, or the error that stopped them."""
+    return max(rates) if isinstance(rates, list) else rates
 
 
 def measure_repeats(scene, factories, args):
@@ -260,7 +265,7 @@ def measure_in_groups(n, names, threads, args):
             for name in references:
                 reference_rounds[name] += rates[name]
         for label, own in rates.items():
-            best = max(own) if isinstance(own, list) else own
+            best = best_round(own)
             results.setdefault(label, (best, median_ratio(own, rates.get("GW")), median_ratio(rates.get("Langevin"), own)))
     for name, own in reference_rounds.items():
         if own:
@@ -298,7 +303,7 @@ def measure_thread_scaling(names, args):
             except BrokenProcessPool as error:  # killed (memory?)
                 rates = {threads: f"failed: {error}" for threads in args.threads}
             first = rates[args.threads[0]]
-            rows.append((n, name, {threads: max(own) if isinstance(own, list) else own for threads, own in rates.items()},
+            rows.append((n, name, {threads: best_round(own) for threads, own in rates.items()},
                          {threads: median_ratio(own, first) for threads, own in rates.items()}))
     return rows
 
@@ -591,6 +596,8 @@ def main(argv=None):
                         help="--staggered: simulated time over which <kT> is sampled")
     args = parser.parse_args(argv)
     if args.thread_scaling:
+        if args.platform != "CPU":
+            parser.error("--thread-scaling measures the CPU platform's threads: leave out --platform")
         args.sizes = args.sizes or THREAD_SCALING_SIZES
         args.threads = args.threads or [1, 2]
         args.dt = args.dt or SCALE_DT
