@@ -317,11 +317,14 @@ void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const 
 
 void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
                                     const SoftRepulsionKernel* soft, const std::vector<Vec3>* base, std::vector<Vec3>& out,
-                                    std::vector<Vec3>* dissipativeOut, PairSource source) {
+                                    std::vector<Vec3>* dissipativeOut, PairSource source, Indexing velocityIndexing, Indexing outputIndexing) {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const bool velocitiesBySlot = (velocityIndexing == BySlot), bySlot = (outputIndexing == BySlot);
     const bool sheared = (parameters.getShearRate() != 0), sortTypesNow = !slotsSorted;
     const SoftRepulsionKernel* sortSoft = (soft != nullptr && (!softSorted || soft != sortedSoft) ? soft : nullptr);
-    sortedVelocities.resize(sortedIndex.size());
+    if (!velocitiesBySlot)
+        sortedVelocities.resize(sortedIndex.size());
+    slotVelocities = (velocitiesBySlot ? &velocities : &sortedVelocities);
     sortedHeights.resize(sheared ? sortedIndex.size() : 0);
     sortedTypes.resize(sortedIndex.size());
     sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : sortedSoftTypes.size());
@@ -333,7 +336,7 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
         for (std::vector<Vec3>& buffer : workerRandom)
             buffer.resize(out.size());
     }
-    if (sortedIndex.size() < out.size())  // particles outside the thermostat get no pair force
+    if (!bySlot && sortedIndex.size() < out.size())  // particles outside the thermostat get no pair force
         for (size_t i = 0; i < out.size(); i++) {
             out[i] = (base != nullptr ? (*base)[i] : Vec3());
             if (dissipativeOut != nullptr)
@@ -347,10 +350,11 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
         size_t begin, end;
         executor.range(w, sortedIndex.size(), begin, end);
         if (phase == 0) {
-            for (size_t k = begin; k < end; k++) {
-                prefetchSlotParticle(velocities.data(), sortedIndex, k);
-                sortedVelocities[k] = velocities[sortedIndex[k]];
-            }
+            if (!velocitiesBySlot)
+                for (size_t k = begin; k < end; k++) {
+                    prefetchSlotParticle(velocities.data(), sortedIndex, k);
+                    sortedVelocities[k] = velocities[sortedIndex[k]];
+                }
             if (sortTypesNow)
                 sortTypes(begin, end, sheared);
             if (sortSoft != nullptr)
@@ -362,11 +366,15 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
             sumPairForcesBySlot(w, terms, dissipativeOut != nullptr, soft, step, dt, source == FindAndKeepPairs);
         else
             for (size_t k = begin; k < end; k++) {
-                prefetchSlotParticle(out.data(), sortedIndex, k);
+                if (!bySlot)
+                    prefetchSlotParticle(out.data(), sortedIndex, k);
+                if (base != nullptr)
+                    prefetchSlotParticle(base->data(), sortedIndex, k);
                 const int i = sortedIndex[k];
-                out[i] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[i] : Vec3());
+                const size_t to = (bySlot ? k : i);
+                out[to] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[i] : Vec3());
                 if (dissipativeOut != nullptr)
-                    (*dissipativeOut)[i] = sumOverWorkers(workerRandom, k);
+                    (*dissipativeOut)[to] = sumOverWorkers(workerRandom, k);
             }
     });
 }
@@ -478,7 +486,7 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
     kept.swap(keptPairs[w]);
     kept.clear();
     std::unique_ptr<DPDSlotForces> evaluate(
-            new DPDSlotForces{parameters, random, search.getSortedIndex(), sortedVelocities, sortedTypes, sortedSoftTypes,
+            new DPDSlotForces{parameters, random, search.getSortedIndex(), *slotVelocities, sortedTypes, sortedSoftTypes,
                               sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft,
                               keep ? &kept : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
     UniformPairRule rule;
@@ -497,7 +505,7 @@ void DPDThermostatForces::sumKeptDissipative(int w) {
         g.e = pair.e;
         g.gammaWD = pair.gammaWD;
         g.imageVx = pair.imageVx;
-        const Vec3 f = DPDPairForce::dissipative(g, g.relativeVelocity(sortedVelocities[pair.p], sortedVelocities[pair.q]));
+        const Vec3 f = DPDPairForce::dissipative(g, g.relativeVelocity((*slotVelocities)[pair.p], (*slotVelocities)[pair.q]));
         out[pair.p] += f;
         out[pair.q] -= f;
     }

@@ -63,7 +63,6 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     std::vector<Vec3>& v = *data.velocities;
     const std::vector<double>& invMass = thermostat.getParameters().getInverseMasses();
-    const size_t n = v.size();
     const double dt = integrator.getStepSize();
     const long long next = data.stepCount + 1;
     // (1) v += dt/(2m) (FC + FD + FR) ; (2) r += dt v
@@ -75,33 +74,22 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
     // the pairs, which keeps them for (5), each FD at new velocities.
     const SoftRepulsionKernel* soft;
     const std::vector<Vec3>* base = prepareSlotPasses(context, integrator.getIntegrationForceGroups(), next, soft);
+    const bool bySlot = canStayInSlotOrder();
     thermostat.sumBySlot(DissipativeTerm | RandomTerm, v, next, dt, soft, base, conservativeAndRandom, &dissipative,
-                         DPDThermostatForces::FindAndKeepPairs);
-    // (4a) v° = v + dt/(2m) (FC + FR)
-    forEachParticle(n, [&](size_t i) {
-        velocityNoFD[i] = v[i] + conservativeAndRandom[i] * (0.5 * dt * invMass[i]);
-    });
-    // (4b) v = v° + dt/(2m) FD ; (5) FD <- FD(r, v).  SC-VV repeats both until the
-    // kinetic energy settles; DPD-VV does them once.
-    const int iterations = (integrator.getVariant() == DPDVVIntegrator::SelfConsistent ? integrator.getMaxIterations() : 1);
-    double previous = 0;
-    for (int it = 0; it < iterations; it++) {
-        forEachParticle(n, [&](size_t i) {
-            v[i] = velocityNoFD[i] + dissipative[i] * (0.5 * dt * invMass[i]);
-        });
-        constrainVelocities(context);
-        thermostat.sumBySlot(DissipativeTerm, v, next, dt, nullptr, nullptr, dissipative, nullptr, DPDThermostatForces::KeptPairs);
-        if (iterations > 1) {
-            const double kinetic = sumMV2(v);
-            if (it > 0 && std::fabs(kinetic - previous) <= integrator.getTolerance() * kinetic)
-                break;
-            previous = kinetic;
+                         DPDThermostatForces::FindAndKeepPairs, DPDThermostatForces::ByParticle,
+                         bySlot ? DPDThermostatForces::BySlot : DPDThermostatForces::ByParticle);
+    const std::vector<Vec3>& u = updateVelocities(context, integrator, bySlot);
+    // F = FC + FR + FD, the FD at the final velocities: carried into the next step.
+    const std::vector<int>& particle = thermostat.getSearch().getSortedIndex();
+    forEachParticle(u.size(), [&](size_t k) {
+        const size_t i = (bySlot ? particle[k] : k);
+        if (bySlot) {
+            prefetchSlotParticle(v.data(), particle, k);
+            prefetchSlotParticle(force.data(), particle, k);
+            v[i] = u[k];
         }
-    }
-    forEachParticle(n, [&](size_t i) {
-        force[i] = conservativeAndRandom[i] + dissipative[i];
+        force[i] = conservativeAndRandom[k] + dissipative[k];
     });
-    // the FD carried into the next step, at the final velocities
     if (thermostatVirial != nullptr) {
         // The slot passes left the pair list stale: find the same pairs again for the virial.
         Vec3 box[3];
@@ -109,4 +97,63 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
         thermostat.updatePairs(*data.positions, box);
         thermostat.addVirial(DissipativeTerm | RandomTerm, v, next, dt, *thermostatVirial);
     }
+}
+
+bool DPDVVDynamics::canStayInSlotOrder() const {
+    // The constraints act in particle order; particles outside the thermostat have no slot.
+    return !motion.hasConstraints() && thermostat.getSearch().getSortedIndex().size() == force.size();
+}
+
+void DPDVVDynamics::sortMasses(bool withMasses) {
+    const std::vector<int>& particle = thermostat.getSearch().getSortedIndex();
+    const DPDPairParameters& parameters = thermostat.getParameters();
+    const size_t n = particle.size();
+    slotMasses.resize(withMasses ? n : 0);
+    if (parameters.hasUniformMass() && n > 0) {
+        // the same in every order: filled once
+        if (slotInverseMasses.size() != n || slotInverseMasses[0] != parameters.getInverseMasses()[0])
+            slotInverseMasses.assign(n, parameters.getInverseMasses()[0]);
+        std::fill(slotMasses.begin(), slotMasses.end(), parameters.getMasses()[0]);
+        return;
+    }
+    slotInverseMasses.resize(n);
+    forEachParticle(n, [&](size_t k) {
+        slotInverseMasses[k] = parameters.getInverseMasses()[particle[k]];
+        if (withMasses)
+            slotMasses[k] = parameters.getMasses()[particle[k]];
+    });
+}
+
+const std::vector<Vec3>& DPDVVDynamics::updateVelocities(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator, bool bySlot) {
+    std::vector<Vec3>& v = *platformData(context).velocities;
+    const double dt = integrator.getStepSize();
+    const long long next = platformData(context).stepCount + 1;
+    const int iterations = (integrator.getVariant() == DPDVVIntegrator::SelfConsistent ? integrator.getMaxIterations() : 1);
+    const DPDThermostatForces::Indexing indexing = (bySlot ? DPDThermostatForces::BySlot : DPDThermostatForces::ByParticle);
+    if (bySlot)
+        sortMasses(iterations > 1);
+    const std::vector<double>& w = (bySlot ? slotInverseMasses : thermostat.getParameters().getInverseMasses());
+    const std::vector<Vec3>& halfStep = (bySlot ? thermostat.getSlotVelocities() : v);
+    std::vector<Vec3>& u = (bySlot ? slotVelocities : v);
+    const size_t n = halfStep.size();
+    slotVelocities.resize(bySlot ? n : 0);
+    // (4a) v° = v + dt/(2m) (FC + FR)
+    forEachParticle(n, [&](size_t k) { velocityNoFD[k] = halfStep[k] + conservativeAndRandom[k] * (0.5 * dt * w[k]); });
+    // (4b) v = v° + dt/(2m) FD ; (5) FD <- FD(r, v).  SC-VV repeats both until the
+    // kinetic energy settles; DPD-VV does them once.
+    double previous = 0;
+    for (int it = 0; it < iterations; it++) {
+        forEachParticle(n, [&](size_t k) { u[k] = velocityNoFD[k] + dissipative[k] * (0.5 * dt * w[k]); });
+        if (!bySlot)
+            constrainVelocities(context);
+        thermostat.sumBySlot(DissipativeTerm, u, next, dt, nullptr, nullptr, dissipative, nullptr, DPDThermostatForces::KeptPairs,
+                             indexing, indexing);
+        if (iterations > 1) {
+            const double kinetic = sumMV2(u, bySlot ? slotMasses : thermostat.getParameters().getMasses());
+            if (it > 0 && std::fabs(kinetic - previous) <= integrator.getTolerance() * kinetic)
+                break;
+            previous = kinetic;
+        }
+    }
+    return u;
 }

@@ -53,8 +53,7 @@ void PairDynamics::updateParameters(const OpenMM::System& system, const DPDTherm
     parametersChanged();
 }
 
-double PairDynamics::sumMV2(const std::vector<Vec3>& velocities) const {
-    const std::vector<double>& mass = thermostat.getParameters().getMasses();
+double PairDynamics::sumMV2(const std::vector<Vec3>& velocities, const std::vector<double>& mass) const {
     executor.execute([&](int w) {
         size_t begin, end;
         executor.range(w, velocities.size(), begin, end);
@@ -70,7 +69,7 @@ double PairDynamics::sumMV2(const std::vector<Vec3>& velocities) const {
 }
 
 double PairDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) const {
-    return 0.5 * sumMV2(*platformData(context).velocities);
+    return 0.5 * sumMV2(*platformData(context).velocities, thermostat.getParameters().getMasses());
 }
 
 SoftRepulsionKernel* PairDynamics::softForceToFuse(OpenMM::ContextImpl& context, int forceGroups) {

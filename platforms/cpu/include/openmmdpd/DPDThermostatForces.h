@@ -88,14 +88,24 @@ public:
      */
     void searchSlots(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box);
     /**
+     * How sumBySlot's velocities or outputs are indexed: by particle, or by slot of the last
+     * searchSlots() (particle getSearch().getSortedIndex()[k] at k; only as many entries),
+     * for an update rule that keeps its particles in slot order between passes instead of
+     * going through memory at random to particle order and back.
+     */
+    enum Indexing { ByParticle, BySlot };
+    /**
      * out = base + the forces of `terms` at these velocities + soft's pair forces (if soft is
-     * given; see computeInOnePass), or with dissipativeOut FD there and the rest in out (base
-     * may be null): the pairs of the last searchSlots() found and used in one pass over the
-     * cell-sorted slots, so no pair list is written and read back.
+     * given; see computeInOnePass), or with dissipativeOut FD there and the rest in out (base,
+     * by particle, may be null): the pairs of the last searchSlots() found and used in one
+     * pass over the cell-sorted slots, so no pair list is written and read back.
      */
     void sumBySlot(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
                    const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base, std::vector<OpenMM::Vec3>& out,
-                   std::vector<OpenMM::Vec3>* dissipativeOut = nullptr, PairSource source = FindPairs);
+                   std::vector<OpenMM::Vec3>* dissipativeOut = nullptr, PairSource source = FindPairs,
+                   Indexing velocityIndexing = ByParticle, Indexing outputIndexing = ByParticle);
+    /** The velocities the last sumBySlot() used, by slot. */
+    const std::vector<OpenMM::Vec3>& getSlotVelocities() const { return *slotVelocities; }
     /** A pair that a FindAndKeepPairs pass accepted: what FD needs of it, by slot (48 bytes). */
     struct KeptPair {
         int p, q;
@@ -189,7 +199,8 @@ private:
     std::vector<PairParticles> pairParticles;
     std::vector<std::vector<PairParticles>> workerPairParticles;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
-    std::vector<OpenMM::Vec3> sortedVelocities;
+    std::vector<OpenMM::Vec3> sortedVelocities;             // the velocities by particle, copied into slot order
+    const std::vector<OpenMM::Vec3>* slotVelocities = nullptr;  // sortedVelocities, or those given by slot
     std::vector<double> sortedHeights;  // y of each slot's particle as stored (under shear only)
     // Each slot's particle's type in the thermostat's table and in the soft force's: read
     // per pair, where a lookup by particle index would hit memory at random.

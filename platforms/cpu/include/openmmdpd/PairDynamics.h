@@ -143,7 +143,8 @@ protected:
      * checkVelocities); the Context's step count and time advance.
      */
     void finishStep(OpenMM::ReferencePlatform::PlatformData& data, double dt) const;
-    double sumMV2(const std::vector<OpenMM::Vec3>& velocities) const;
+    /** sum m v^2 over these velocities, with these masses (in the same order). */
+    double sumMV2(const std::vector<OpenMM::Vec3>& velocities, const std::vector<double>& mass) const;
     static OpenMM::ReferencePlatform::PlatformData& platformData(OpenMM::ContextImpl& context) {
         return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
     }
