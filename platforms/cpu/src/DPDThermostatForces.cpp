@@ -31,6 +31,7 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
     workerPairParticles.resize(workers);
     workerListSize.resize(workers);
     keptPairs.resize(workers);
+    keptImageVx.resize(workers);
     workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
     if (workers > 1)
         workerRandom.assign(workers, std::vector<Vec3>(system.getNumParticles()));
@@ -414,6 +415,7 @@ struct DPDSlotForces {
     double boxHeight;
     const SoftRepulsionKernel* soft;
     std::vector<DPDThermostatForces::KeptPair>* keep;  // where the accepted pairs go (null: nowhere)
+    std::vector<double>* keepImageVx;                  // and their image velocities (null: nowhere)
     int terms;
     bool separate;
     long long step;
@@ -467,7 +469,9 @@ struct DPDSlotForces {
                                      : Vec3());
             dissipative[k] = (separate ? fd : fd + forces[k]);
             if (keep != nullptr)
-                keep->push_back({p, q, g[k].e, g[k].gammaWD, g[k].imageVx});
+                keep->push_back({p, q, g[k].e, g[k].gammaWD});
+            if (keepImageVx != nullptr)
+                keepImageVx->push_back(g[k].imageVx);
             if (soft != nullptr) {
                 const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
                 forces[k] += g[k].e * soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
@@ -483,28 +487,36 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
                                               double dt, bool keep) {
     // Kept in a vector of this worker's own, as in findWorkerPairs.
     std::vector<KeptPair> kept;
+    std::vector<double> keptVx;
     kept.swap(keptPairs[w]);
+    keptVx.swap(keptImageVx[w]);
     kept.clear();
+    keptVx.clear();
+    const bool sheared = !sortedHeights.empty();
     std::unique_ptr<DPDSlotForces> evaluate(
             new DPDSlotForces{parameters, random, search.getSortedIndex(), *slotVelocities, sortedTypes, sortedSoftTypes,
-                              sortedHeights.empty() ? nullptr : sortedHeights.data(), searchedHeight, soft,
-                              keep ? &kept : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
+                              sheared ? sortedHeights.data() : nullptr, searchedHeight, soft, keep ? &kept : nullptr,
+                              keep && sheared ? &keptVx : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
     UniformPairRule rule;
     if (uniformRule(nullptr, rule))
         evaluate->uniform = &rule;
     std::vector<Vec3>* out[2] = {&workerDissipative[w], separate ? &workerRandom[w] : nullptr};
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);
     kept.swap(keptPairs[w]);
+    keptVx.swap(keptImageVx[w]);
 }
 
 void DPDThermostatForces::sumKeptDissipative(int w) {
     std::vector<Vec3>& out = workerDissipative[w];
     std::fill(out.begin(), out.begin() + search.getSortedIndex().size(), Vec3());
+    const std::vector<KeptPair>& kept = keptPairs[w];
+    const std::vector<double>& imageVx = keptImageVx[w];
     PairGeometry g;
-    for (const KeptPair& pair : keptPairs[w]) {
+    for (size_t k = 0; k < kept.size(); k++) {
+        const KeptPair& pair = kept[k];
         g.e = pair.e;
         g.gammaWD = pair.gammaWD;
-        g.imageVx = pair.imageVx;
+        g.imageVx = (imageVx.empty() ? 0.0 : imageVx[k]);
         const Vec3 f = DPDPairForce::dissipative(g, g.relativeVelocity((*slotVelocities)[pair.p], (*slotVelocities)[pair.q]));
         out[pair.p] += f;
         out[pair.q] -= f;

@@ -106,11 +106,15 @@ public:
                    Indexing velocityIndexing = ByParticle, Indexing outputIndexing = ByParticle);
     /** The velocities the last sumBySlot() used, by slot. */
     const std::vector<OpenMM::Vec3>& getSlotVelocities() const { return *slotVelocities; }
-    /** A pair that a FindAndKeepPairs pass accepted: what FD needs of it, by slot (48 bytes). */
+    /**
+     * A pair that a FindAndKeepPairs pass accepted: what FD needs of it, by slot (40 bytes,
+     * written and read back once a step for every pair; its image velocity, under shear only,
+     * beside it in a list of its own).
+     */
     struct KeptPair {
         int p, q;
         OpenMM::Vec3 e;
-        double gammaWD, imageVx;
+        double gammaWD;
     };
     /** xi[k] = getRandom().gaussian(stream, step, pair k), for every pair of the list, in batches. */
     void drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi);
@@ -206,6 +210,7 @@ private:
     // per pair, where a lookup by particle index would hit memory at random.
     std::vector<int> sortedTypes, sortedSoftTypes;
     std::vector<std::vector<KeptPair>> keptPairs;  // each worker's, by its FindAndKeepPairs pass
+    std::vector<std::vector<double>> keptImageVx;  // and their image velocities (under shear)
     // Whether the sorted types (and heights) are those of the last search, and the soft
     // force's too (of sortedSoft).
     bool slotsSorted = false, softSorted = false;
