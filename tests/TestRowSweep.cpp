@@ -55,12 +55,15 @@ struct IndependentCells {
     /** The velocities after a sweep over every cell, through sweepCells with this unit, or (unit null) cell by cell and pair by pair. */
     template <class Rule>
     std::vector<Vec3> swept(const Rule& rule, bool reverse, const RowVectorUnit* unit) const {
-        const SweepCells run{cells, start, 0, cells.size(), reverse, unit != nullptr};
+        std::vector<const PairGeometry*> cellPairs;
+        for (size_t c = 0; c + 1 < start.size(); c++)
+            cellPairs.push_back(list.data() + start[c]);
+        const SweepCells run{cells, start, cellPairs, 0, cells.size(), reverse, unit != nullptr};
         std::vector<Vec3> out = v;
         if (unit != nullptr)
-            sweepCells(rule, list, xi, out, run, *unit);
+            sweepCells(rule, xi, out, run, *unit);
         else
-            sweepCells<Rule, double>(rule, list, xi, out, run);
+            sweepCells<Rule, double>(rule, xi, out, run);
         return out;
     }
 };

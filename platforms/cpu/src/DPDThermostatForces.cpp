@@ -55,6 +55,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     searched = &positions;
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
+    cellPairs.resize(search.getNumCells());
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const bool sheared = (parameters.getShearRate() != 0);
     sortedTypes.resize(sortedIndex.size());
@@ -66,11 +67,13 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     if (soft != nullptr && sortedIndex.size() < softOut->size())
         std::fill(softOut->begin(), softOut->end(), Vec3());
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
-    // number of workers.  Worker 0 writes the start of the list itself; the other workers'
-    // parts are copied in after it, every worker copying an equal share (the list is ~15 MB
-    // at N = 32000: copied by one thread it would be a serial part of every step).  The soft
-    // force is summed by slot, as in sumBySlot.  One dispatch.
+    // number of workers.  Worker 0 writes the start of the list itself; by particle, the
+    // other workers' parts are copied in after it, every worker copying an equal share (the
+    // list is ~15 MB at N = 32000: copied by one thread it would be a serial part of every
+    // step); by slot they stay apart, for the sweeps, which take each cell's pairs from
+    // where they lie.  The soft force is summed by slot, as in sumBySlot.  One dispatch.
     const int workers = executor.getNumWorkers();
+    pairsInParts = (bySlot && workers > 1);
     executor.executePhases(4, [&](int w, int phase) {
         size_t begin, end;
         executor.range(w, sortedIndex.size(), begin, end);
@@ -81,23 +84,29 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         }
         else if (phase == 1)
             findWorkerPairs(w, soft);
-        else if (phase == 2 && w == 0) {
+        else if (phase == 2 && w == 0 && !pairsInParts) {
             sizeForWorkerLists(pairs);
             sizeForWorkerLists(pairParticles);
         }
         else if (phase == 3) {
-            if (workers > 1) {
+            if (workers > 1 && !pairsInParts) {
                 copyWorkerLists(w, workerPairs, pairs);
                 copyWorkerLists(w, workerPairParticles, pairParticles);
-                shiftWorkerCells(w);
             }
+            placeWorkerCells(w);
             for (size_t k = begin; soft != nullptr && k < end; k++) {
                 prefetchSlotParticle(softOut->data(), sortedIndex, k);
                 (*softOut)[sortedIndex[k]] = sumOverWorkers(workerDissipative, k);
             }
         }
     });
-    cellPairStart[search.getNumCells()] = (int) pairs.size();
+    cellPairStart[search.getNumCells()] = (int) workerPairsBefore(workers);
+}
+
+const std::vector<PairGeometry>& DPDThermostatForces::getPairs() const {
+    if (pairsInParts)
+        throw OpenMM::OpenMMException(name + ": internal error: the pair list found by slot is in the workers' parts; walk it by cell");
+    return pairs;
 }
 
 void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft) {
@@ -220,43 +229,48 @@ size_t DPDThermostatForces::workerPairsBefore(int w) const {
     return total;
 }
 
-void DPDThermostatForces::shiftWorkerCells(int w) {
+void DPDThermostatForces::placeWorkerCells(int w) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
     const size_t offset = workerPairsBefore(w);
-    for (size_t cell = begin; cell < end; cell++)
+    const PairGeometry* part = (pairsInParts ? (w == 0 ? pairs : workerPairs[w]).data() : pairs.data() + offset);
+    for (size_t cell = begin; cell < end; cell++) {
+        cellPairs[cell] = part + cellPairStart[cell];
         cellPairStart[cell] += (int) offset;
+    }
 }
 
 void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
                                   std::vector<Vec3>& dissipative, std::vector<Vec3>& randomForce) {
+    const std::vector<PairGeometry>& list = getPairs();
     const double invSqrtDt = 1 / std::sqrt(dt);
     const bool both = (terms & DissipativeTerm) && (terms & RandomTerm);
     if (both && &dissipative == &randomForce)
-        sumOverPairs(DPDListForces<true, true, false>{pairs, velocities, random, step, invSqrtDt}, {&dissipative});
+        sumOverPairs(DPDListForces<true, true, false>{list, velocities, random, step, invSqrtDt}, {&dissipative});
     else if (both)
-        sumOverPairs(DPDListForces<true, true, true>{pairs, velocities, random, step, invSqrtDt}, {&dissipative, &randomForce});
+        sumOverPairs(DPDListForces<true, true, true>{list, velocities, random, step, invSqrtDt}, {&dissipative, &randomForce});
     else if (terms & DissipativeTerm)
-        sumOverPairs(DPDListForces<true, false, false>{pairs, velocities, random, step, invSqrtDt}, {&dissipative});
+        sumOverPairs(DPDListForces<true, false, false>{list, velocities, random, step, invSqrtDt}, {&dissipative});
     else if (terms & RandomTerm)
-        sumOverPairs(DPDListForces<false, true, false>{pairs, velocities, random, step, invSqrtDt}, {&randomForce});
+        sumOverPairs(DPDListForces<false, true, false>{list, velocities, random, step, invSqrtDt}, {&randomForce});
 }
 
 void DPDThermostatForces::addVirial(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
                                     SymmetricTensor& virial) {
+    const std::vector<PairGeometry>& list = getPairs();
     const double invSqrtDt = 1 / std::sqrt(dt);
     std::vector<SymmetricTensor> workerVirial(executor.getNumWorkers(), SymmetricTensor{});
     executor.execute([&](int w) {
         size_t begin, end;
-        executor.range(w, pairs.size(), begin, end);
+        executor.range(w, list.size(), begin, end);
         if (terms == (DissipativeTerm | RandomTerm))
-            addVirialAlongPairs(pairs, begin, end, DPDListForces<true, true, false>{pairs, velocities, random, step, invSqrtDt},
+            addVirialAlongPairs(list, begin, end, DPDListForces<true, true, false>{list, velocities, random, step, invSqrtDt},
                                 parameters, workerVirial[w]);
         else if (terms == DissipativeTerm)
-            addVirialAlongPairs(pairs, begin, end, DPDListForces<true, false, false>{pairs, velocities, random, step, invSqrtDt},
+            addVirialAlongPairs(list, begin, end, DPDListForces<true, false, false>{list, velocities, random, step, invSqrtDt},
                                 parameters, workerVirial[w]);
         else
-            addVirialAlongPairs(pairs, begin, end, DPDListForces<false, true, false>{pairs, velocities, random, step, invSqrtDt},
+            addVirialAlongPairs(list, begin, end, DPDListForces<false, true, false>{list, velocities, random, step, invSqrtDt},
                                 parameters, workerVirial[w]);
     });
     for (const SymmetricTensor& t : workerVirial)
@@ -265,11 +279,12 @@ void DPDThermostatForces::addVirial(int terms, const std::vector<Vec3>& velociti
 
 template <class Evaluator>
 void DPDThermostatForces::sumOverPairs(const Evaluator& evaluator, std::array<std::vector<Vec3>*, Evaluator::OUTPUTS> out) {
+    const std::vector<PairGeometry>& list = getPairs();
     const int workers = executor.getNumWorkers();
     if (workers == 1) {
         for (std::vector<Vec3>* o : out)
             zero(*o, 0, o->size());
-        accumulateAlongPairs(pairs, 0, pairs.size(), evaluator, out.data());
+        accumulateAlongPairs(list, 0, list.size(), evaluator, out.data());
         return;
     }
     // Each worker sums its pair range into its own buffers; then each worker reduces a
@@ -285,8 +300,8 @@ void DPDThermostatForces::sumOverPairs(const Evaluator& evaluator, std::array<st
         for (int t = 0; t < Evaluator::OUTPUTS; t++)
             zero(*own[t], 0, out[t]->size());
         size_t begin, end;
-        executor.range(w, pairs.size(), begin, end);
-        accumulateAlongPairs(pairs, begin, end, evaluator, own);
+        executor.range(w, list.size(), begin, end);
+        accumulateAlongPairs(list, begin, end, evaluator, own);
     });
 }
 
@@ -524,14 +539,14 @@ void DPDThermostatForces::sumKeptDissipative(int w) {
 }
 
 void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {
-    xi.resize(pairs.size());
+    xi.resize(getNumPairs());
     forEachChunkOfPairs([&](size_t start, int n, const int* first, const int* second) {
         PairRandomBatch::normals(random, stream, step, first, second, n, &xi[start]);
     });
 }
 
 void DPDThermostatForces::drawBits(PairRandom::Stream stream, long long step, std::vector<r123::Philox4x32::ctr_type>& words) {
-    words.resize(pairs.size());
+    words.resize(getNumPairs());
     forEachChunkOfPairs([&](size_t start, int n, const int* first, const int* second) {
         PairRandomBatch::bits(random, stream, step, first, second, n, &words[start]);
     });

@@ -87,10 +87,10 @@ struct PairRow {
     PairRowVelocities<Math> pair;
     RowReal xi;
 
-    __attribute__((always_inline)) PairRow(const std::vector<PairGeometry>& list, const std::vector<double>& random, const int* row,
+    __attribute__((always_inline)) PairRow(const PairGeometry* const* rowPairs, const std::vector<double>& random, const int* row,
                                            const std::vector<Vec3>& v, double invMass, double mu) {
         for (int l = 0; l < SWEEP_LANES; l++)
-            p[l] = &list[row[l]];
+            p[l] = rowPairs[l];
         pair.ex = lanes([](const PairGeometry& q) { return q.e[0]; });
         pair.ey = lanes([](const PairGeometry& q) { return q.e[1]; });
         pair.ez = lanes([](const PairGeometry& q) { return q.e[2]; });
@@ -135,45 +135,44 @@ __attribute__((always_inline)) inline void updateRow(const EqualMassOU& rule, Pa
 }
 
 template <class Math, class Rule>
-__attribute__((always_inline)) inline void sweepRows(const Rule& rule, const std::vector<PairGeometry>& list,
-                                                     const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells& run) {
+__attribute__((always_inline)) inline void sweepRows(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v,
+                                                     const SweepCells& run) {
     // always inlined, as the row's other functions, so that it is compiled for the caller's vector unit
     const double invMass = rule.impulse.invMass, mu = rule.reducedMass(invMass + invMass);
-    forEachPairRow(run, [&](const int* rowPairs, int n) __attribute__((always_inline)) {
-        prefetchAhead(list, random, rowPairs, n, run.reverse);
-        PairRow<Math> row(list, random, rowPairs, v, invMass, mu);
+    forEachPairRow(run, [&](const int* rowIndex, const PairGeometry* const* rowPairs, int n) __attribute__((always_inline)) {
+        prefetchAhead(rowPairs, random, rowIndex, n, run.reverse);
+        PairRow<Math> row(rowPairs, random, rowIndex, v, invMass, mu);
         updateRow(rule, row);
         row.store(v);
     });
 }
 
 template <class Rule>
-void sweepRowsBase(const Rule& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random, std::vector<Vec3>& v,
+void sweepRowsBase(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v,
                    const SweepCells& run) {
-    sweepRows<LaneByLaneMath>(rule, list, random, v, run);
+    sweepRows<LaneByLaneMath>(rule, random, v, run);
 }
 
 #ifdef OPENMMDPD_X86_VECTORS
 // The same code, compiled for 4-wide vectors where the processor has them.
 template <class Rule>
-__attribute__((target("avx2"))) void sweepRowsAVX2(const Rule& rule, const std::vector<PairGeometry>& list,
-                                                   const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells& run) {
-    sweepRows<AVX2RowMath>(rule, list, random, v, run);
+__attribute__((target("avx2"))) void sweepRowsAVX2(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells& run) {
+    sweepRows<AVX2RowMath>(rule, random, v, run);
 }
 #endif
 
 /** sweepCells of either rule: rows of pairs where the cells are independent and masses nonzero, else pair by pair. */
 template <class Rule>
-void sweepCellsInRows(const Rule& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random, std::vector<Vec3>& v,
+void sweepCellsInRows(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v,
                       const SweepCells& run, RowVectorUnit unit) {
     if (!run.independent || rule.impulse.invMass == 0)
-        sweepCells<Rule, double>(rule, list, random, v, run);
+        sweepCells<Rule, double>(rule, random, v, run);
 #ifdef OPENMMDPD_X86_VECTORS
     else if (unit == RowVectorUnit::Best && haveAVX2())
-        sweepRowsAVX2(rule, list, random, v, run);
+        sweepRowsAVX2(rule, random, v, run);
 #endif
     else
-        sweepRowsBase(rule, list, random, v, run);
+        sweepRowsBase(rule, random, v, run);
 }
 
 } // namespace
@@ -189,12 +188,12 @@ double RowConsistentMath::exp(double x) {
     return std::exp(x);
 }
 
-void DPDPlugin::sweepCells(const EqualMassShardlow& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random,
+void DPDPlugin::sweepCells(const EqualMassShardlow& rule, const std::vector<double>& random,
                            std::vector<Vec3>& v, const SweepCells& run, RowVectorUnit unit) {
-    sweepCellsInRows(rule, list, random, v, run, unit);
+    sweepCellsInRows(rule, random, v, run, unit);
 }
 
-void DPDPlugin::sweepCells(const EqualMassOU& rule, const std::vector<PairGeometry>& list, const std::vector<double>& random,
+void DPDPlugin::sweepCells(const EqualMassOU& rule, const std::vector<double>& random,
                            std::vector<Vec3>& v, const SweepCells& run, RowVectorUnit unit) {
-    sweepCellsInRows(rule, list, random, v, run, unit);
+    sweepCellsInRows(rule, random, v, run, unit);
 }

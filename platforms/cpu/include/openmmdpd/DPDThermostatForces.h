@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DPDPairCore.h"
 #include "openmmdpd/ParallelExecutor.h"
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -31,12 +32,16 @@ public:
     /**
      * Find the pairs within their cutoffs at these positions; given soft (whose pairs must
      * all lie within the thermostat's), softOut = its forces, summed in the same pass.
-     * bySlot: the pairs' i and j are their cell-sorted slots (see arePairsBySlot).
+     * bySlot: the pairs' i and j are their cell-sorted slots (see arePairsBySlot), and
+     * each worker's part of the list stays where the worker wrote it (see getCellPairs).
      */
     void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
                      const SoftRepulsionKernel* soft = nullptr, std::vector<OpenMM::Vec3>* softOut = nullptr,
                      bool bySlot = false);
-    const std::vector<PairGeometry>& getPairs() const { return pairs; }
+    /** The pair list, in one piece: after updatePairs by particle (by slot it is in parts: see getCellPairs). */
+    const std::vector<PairGeometry>& getPairs() const;
+    /** The number of pairs in the list: the pairs (and their random numbers) are numbered [0, getNumPairs()). */
+    size_t getNumPairs() const { return cellPairStart.empty() ? 0 : (size_t) cellPairStart.back(); }
     /**
      * Whether the pairs' i and j name cell-sorted slots (particle getSearch().getSortedIndex()[i])
      * instead of particles: a sweep over velocities in slot order touches neighbouring
@@ -44,8 +49,14 @@ public:
      * Only drawNormals() and the sweeps take such a list.
      */
     bool arePairsBySlot() const { return pairsBySlot; }
-    /** The pairs found from cell c are [getCellPairStart()[c], getCellPairStart()[c + 1]). */
+    /** The pairs found from cell c are numbered [getCellPairStart()[c], getCellPairStart()[c + 1]). */
     const std::vector<int>& getCellPairStart() const { return cellPairStart; }
+    /**
+     * Where the geometry of cell c's first pair lies, the others following it: by slot, the
+     * workers' parts of the list are not copied into one (that copy was a tenth of a sweep
+     * integrator's step on two threads).
+     */
+    const std::vector<const PairGeometry*>& getCellPairs() const { return cellPairs; }
     const PairSearch& getSearch() const { return search; }
     const PairRandom& getRandom() const { return random; }
     /**
@@ -128,25 +139,32 @@ private:
     struct PairParticles {
         int i, j;
     };
-    /** use(start, n, i, j): the particles of the pairs [start, start + n) of the list, a chunk at a time, in parallel. */
+    /** use(start, n, i, j): the particles of the pairs [start, start + n), a chunk of a worker's part at a time, in parallel. */
     template <class Use>
     void forEachChunkOfPairs(Use use) const {
         constexpr size_t CHUNK = 64;
-        const size_t chunks = (pairs.size() + CHUNK - 1) / CHUNK;
+        const int parts = (pairsInParts ? executor.getNumWorkers() : 1);
+        std::vector<size_t> chunksBefore(parts + 1, 0);
+        for (int v = 0; v < parts; v++)
+            chunksBefore[v + 1] = chunksBefore[v] + (partSize(v) + CHUNK - 1) / CHUNK;
         executor.execute([&](int w) {
             size_t begin, end;
-            executor.range(w, chunks, begin, end);
+            executor.range(w, chunksBefore.back(), begin, end);
             int first[CHUNK], second[CHUNK];
             for (size_t c = begin; c < end; c++) {
-                const size_t start = c * CHUNK, n = std::min(CHUNK, pairs.size() - start);
+                const int v = (int) (std::upper_bound(chunksBefore.begin(), chunksBefore.end(), c) - chunksBefore.begin()) - 1;
+                const size_t local = (c - chunksBefore[v]) * CHUNK, n = std::min(CHUNK, partSize(v) - local);
+                const PairParticles* particles = (v == 0 ? pairParticles : workerPairParticles[v]).data() + local;
                 for (size_t k = 0; k < n; k++) {
-                    first[k] = pairParticles[start + k].i;
-                    second[k] = pairParticles[start + k].j;
+                    first[k] = particles[k].i;
+                    second[k] = particles[k].j;
                 }
-                use(start, (int) n, first, second);
+                use(workerPairsBefore(v) + local, (int) n, first, second);
             }
         });
     }
+    /** The number of pairs in part v of the list (pairsInParts), or in the whole list (v = 0). */
+    size_t partSize(int v) const { return pairsInParts ? workerListSize[v] : getNumPairs(); }
     /** The pair search needs the cutoff to fit in half the periodic box. */
     void checkCutoffFitsBox(const OpenMM::Vec3* box) const;
     /** out[i] = the sum of the workers' buffers at i, in worker order, for worker w's range of i. */
@@ -163,7 +181,8 @@ private:
     }
     /**
      * updatePairs' steps: worker w's pairs (and their particles), worker 0's into the list
-     * itself; the list sized for all workers'; w's share of the other workers' parts copied in.
+     * itself; by particle, the list sized for all workers', and w's share of the other
+     * workers' parts copied in.
      */
     void findWorkerPairs(int w, const SoftRepulsionKernel* soft);
     /** Whether every pair shares its parameters (UniformPairRule), and if so, those. */
@@ -173,8 +192,8 @@ private:
                             std::vector<PairGeometry>& out, std::vector<PairParticles>& outParticles, size_t& count,
                             std::vector<OpenMM::Vec3>& softForce) const;
     size_t workerPairsBefore(int w) const;
-    /** Worker w's cells' offsets into its own list made offsets into the whole list. */
-    void shiftWorkerCells(int w);
+    /** Worker w's cells: where their pairs lie (cellPairs), and their offsets into its own list made numbers in the whole list. */
+    void placeWorkerCells(int w);
     template <class Entry>
     void sizeForWorkerLists(std::vector<Entry>& list) const;
     template <class Entry>
@@ -195,7 +214,9 @@ private:
     PairRandom random;
     std::vector<PairGeometry> pairs;
     bool pairsBySlot = false;
+    bool pairsInParts = false;  // by slot with several workers: worker w's part of the list in its own vectors
     std::vector<int> cellPairStart;
+    std::vector<const PairGeometry*> cellPairs;
     std::vector<std::vector<PairGeometry>> workerPairs;  // workers 1, 2, ...: their parts of the list
     std::vector<size_t> workerListSize;                 // each worker's number of pairs
     // Each pair's particles, by list index: what drawing its numbers reads (8 bytes, where

@@ -3,18 +3,22 @@
 
 #include "openmmdpd/PairParameters.h"
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 namespace DPDPlugin {
 
 /**
  * A run of cells a sweep visits in turn (PairSweep): cells[begin, end) in that order or its
- * reverse, cell c's pairs the list's [start[c], start[c + 1]).  `independent`: the cells
- * share no particle (one colour), so their pairs may be interleaved.
+ * reverse, cell c's pairs numbered [start[c], start[c + 1]) (their index into the random
+ * numbers), their geometry the start[c + 1] - start[c] entries from pairs[c] on (the workers
+ * that found them may keep their parts of the list apart).  `independent`: the cells share
+ * no particle (one colour), so their pairs may be interleaved.
  */
 struct SweepCells {
     const std::vector<int>& cells;
     const std::vector<int>& start;
+    const std::vector<const PairGeometry*>& pairs;
     size_t begin, end;
     bool reverse, independent;
 };
@@ -23,17 +27,19 @@ struct SweepCells {
 constexpr int SWEEP_LANES = 4;
 
 /**
- * visitRow(row, n) for the pairs of a run of independent cells, SWEEP_LANES cells at a time,
- * pair by pair: row[l] is the next pair of the l-th of n cells in progress (the lanes past n
- * repeat row[0]), and a cell that ends is followed in its lane by the run's next one.  Each
- * cell's pairs keep their order (or its reverse), which is all that decides the result; the
- * lanes are independent chains of velocity updates for the processor to overlap.
+ * visitRow(row, rowPairs, n) for the pairs of a run of independent cells, SWEEP_LANES cells
+ * at a time, pair by pair: row[l] is the number of the next pair of the l-th of n cells in
+ * progress and rowPairs[l] its geometry (the lanes past n repeat lane 0), and a cell that
+ * ends is followed in its lane by the run's next one.  Each cell's pairs keep their order
+ * (or its reverse), which is all that decides the result; the lanes are independent chains
+ * of velocity updates for the processor to overlap.
  */
 template <class VisitRow>
 __attribute__((always_inline)) inline void forEachPairRow(const SweepCells& run, VisitRow&& visitRow) {
     constexpr int LANES = SWEEP_LANES;
     const int direction = run.reverse ? -1 : 1;
-    int next[LANES], last[LANES], active = 0;
+    int next[LANES], last[LANES], first[LANES], active = 0;
+    const PairGeometry* cellPairs[LANES];
     size_t taken = run.begin;
     auto takeCell = [&](int l) {
         while (taken < run.end) {
@@ -42,6 +48,8 @@ __attribute__((always_inline)) inline void forEachPairRow(const SweepCells& run,
             if (run.start[cell + 1] > run.start[cell]) {  // (PairSweep lists no empty cell; a lane must not start on one)
                 next[l] = run.reverse ? run.start[cell + 1] - 1 : run.start[cell];
                 last[l] = run.reverse ? run.start[cell] - 1 : run.start[cell + 1];
+                first[l] = run.start[cell];
+                cellPairs[l] = run.pairs[cell];
                 return true;
             }
         }
@@ -51,9 +59,13 @@ __attribute__((always_inline)) inline void forEachPairRow(const SweepCells& run,
         active++;
     while (active > 0) {
         int row[LANES];
-        for (int l = 0; l < LANES; l++)
-            row[l] = next[l < active ? l : 0];
-        visitRow(row, active);
+        const PairGeometry* rowPairs[LANES];
+        for (int l = 0; l < LANES; l++) {
+            const int from = (l < active ? l : 0);
+            row[l] = next[from];
+            rowPairs[l] = cellPairs[from] + (next[from] - first[from]);
+        }
+        visitRow(row, rowPairs, active);
         for (int l = 0; l < active; l++) {
             next[l] += direction;
             if (next[l] == last[l] && !takeCell(l)) {
@@ -61,6 +73,8 @@ __attribute__((always_inline)) inline void forEachPairRow(const SweepCells& run,
                 active--;
                 next[l] = next[active];
                 last[l] = last[active];
+                first[l] = first[active];
+                cellPairs[l] = cellPairs[active];
                 l--;
             }
         }
@@ -69,29 +83,29 @@ __attribute__((always_inline)) inline void forEachPairRow(const SweepCells& run,
 
 /**
  * A cell's pairs are a run of the list, but the sweep hops between cells (and lanes) too
- * often for the hardware to see the runs: each pair asks for the one 8 further on.
+ * often for the hardware to see the runs: each pair asks for the one 8 further on (an
+ * address past its part of the list is only a hint to the processor, never read).
  */
 template <class Random>
-__attribute__((always_inline)) inline void prefetchAhead(const std::vector<PairGeometry>& list, const std::vector<Random>& random,
+__attribute__((always_inline)) inline void prefetchAhead(const PairGeometry* const* rowPairs, const std::vector<Random>& random,
                                                          const int* row, int n, bool reverse) {
-    const int ahead = reverse ? -8 : 8, last = (int) list.size() - 1;
+    const int ahead = reverse ? -8 : 8, last = (int) random.size() - 1;
     for (int l = 0; l < n; l++) {
-        const int k = std::max(0, std::min(last, row[l] + ahead));
-        __builtin_prefetch(&list[k]);
-        __builtin_prefetch((const char*) &list[k] + sizeof(PairGeometry) - 1);  // 72 bytes: it spans two lines
-        __builtin_prefetch(&random[k]);
+        const uintptr_t pair = (uintptr_t) rowPairs[l] + ahead * (intptr_t) sizeof(PairGeometry);
+        __builtin_prefetch((const void*) pair);
+        __builtin_prefetch((const void*) (pair + sizeof(PairGeometry) - 1));  // 72 bytes: it spans two lines
+        __builtin_prefetch(&random[std::max(0, std::min(last, row[l] + ahead))]);
     }
 }
 
 /** Apply a pair rule (PairEvaluators.h) to the pairs of a run of cells, pair k with random[k]. */
 template <class Rule, class Random>
-void sweepCells(const Rule& rule, const std::vector<PairGeometry>& list, const std::vector<Random>& random,
-                std::vector<OpenMM::Vec3>& v, const SweepCells& run) {
+void sweepCells(const Rule& rule, const std::vector<Random>& random, std::vector<OpenMM::Vec3>& v, const SweepCells& run) {
     if (run.independent) {
-        forEachPairRow(run, [&](const int* row, int n) {
-            prefetchAhead(list, random, row, n, run.reverse);
+        forEachPairRow(run, [&](const int* row, const PairGeometry* const* rowPairs, int n) {
+            prefetchAhead(rowPairs, random, row, n, run.reverse);
             for (int l = 0; l < n; l++)
-                rule(list[row[l]], random[row[l]], v);
+                rule(*rowPairs[l], random[row[l]], v);
         });
         return;
     }
@@ -99,8 +113,9 @@ void sweepCells(const Rule& rule, const std::vector<PairGeometry>& list, const s
         const int cell = run.cells[run.reverse ? run.begin + run.end - 1 - k : k];
         const int first = run.reverse ? run.start[cell + 1] - 1 : run.start[cell], last = run.reverse ? run.start[cell] - 1 : run.start[cell + 1];
         for (int p = first; p != last; p += (run.reverse ? -1 : 1)) {
-            prefetchAhead(list, random, &p, 1, run.reverse);
-            rule(list[p], random[p], v);
+            const PairGeometry* pair = run.pairs[cell] + (p - run.start[cell]);
+            prefetchAhead(&pair, random, &p, 1, run.reverse);
+            rule(*pair, random[p], v);
         }
     }
 }

@@ -53,7 +53,7 @@ private:
     template <class Visit>
     void runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end, const Visit& visit,
                   bool reverse) const {
-        visit(SweepCells{cells, pairs.getCellPairStart(), begin, end, reverse, independentCells});
+        visit(SweepCells{cells, pairs.getCellPairStart(), pairs.getCellPairs(), begin, end, reverse, independentCells});
     }
     /**
      * Worker w's items [begin, end) (a colour's cells, or a group's planes) given the pairs
@@ -131,7 +131,7 @@ inline void PairSweep::workerShare(const std::vector<int>& before, int w, size_t
 template <class Rule, class Random>
 void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule,
                     const std::vector<Random>& random, bool reverse) {
-    runColours(pairs, [&](const SweepCells& cells) { sweepCells(rule, pairs.getPairs(), random, velocities, cells); }, reverse);
+    runColours(pairs, [&](const SweepCells& cells) { sweepCells(rule, random, velocities, cells); }, reverse);
 }
 
 template <class Visit>

@@ -15,9 +15,8 @@ enum class RowVectorUnit { Best, Baseline };
  * the arithmetic of ShardlowPairUpdate::apply in every lane (the same result bit for bit).
  * Cells that are not independent, and massless particles, go pair by pair as before.
  */
-void sweepCells(const ShardlowPairUpdate<const EqualMassPairImpulse&>& rule, const std::vector<PairGeometry>& list,
-                const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells& run,
-                RowVectorUnit unit = RowVectorUnit::Best);
+void sweepCells(const ShardlowPairUpdate<const EqualMassPairImpulse&>& rule, const std::vector<double>& random,
+                std::vector<OpenMM::Vec3>& v, const SweepCells& run, RowVectorUnit unit = RowVectorUnit::Best);
 
 /**
  * The CPU platform's exp and sqrt for the pair Ornstein-Uhlenbeck update: exp is glibc's
@@ -32,7 +31,7 @@ struct RowConsistentMath {
 };
 
 /** The same for the pair Ornstein-Uhlenbeck update, with RowConsistentMath's functions in every lane. */
-void sweepCells(const PairOrnsteinUhlenbeckUpdate<const EqualMassPairImpulse&, RowConsistentMath>& rule, const std::vector<PairGeometry>& list,
+void sweepCells(const PairOrnsteinUhlenbeckUpdate<const EqualMassPairImpulse&, RowConsistentMath>& rule,
                 const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells& run,
                 RowVectorUnit unit = RowVectorUnit::Best);
 
