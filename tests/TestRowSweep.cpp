@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <random>
+#include <string>
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
@@ -52,12 +53,22 @@ struct IndependentCells {
         }
     }
 
-    /** The velocities after a sweep over every cell, through sweepCells with this unit, or (unit null) cell by cell and pair by pair. */
+    /**
+     * The velocities after a sweep over every cell, through sweepCells with this unit, or
+     * (unit null) cell by cell and pair by pair.  With `apart`, the even and the odd cells'
+     * pairs lie in two lists, as the pair search's workers leave theirs.
+     */
     template <class Rule>
-    std::vector<Vec3> swept(const Rule& rule, bool reverse, const RowVectorUnit* unit) const {
-        std::vector<const PairGeometry*> cellPairs;
+    std::vector<Vec3> swept(const Rule& rule, bool reverse, const RowVectorUnit* unit, bool apart) const {
+        std::vector<PairGeometry> parts[2];
         for (size_t c = 0; c + 1 < start.size(); c++)
-            cellPairs.push_back(list.data() + start[c]);
+            parts[c % 2].insert(parts[c % 2].end(), list.begin() + start[c], list.begin() + start[c + 1]);
+        std::vector<const PairGeometry*> cellPairs;
+        size_t placed[2] = {0, 0};
+        for (size_t c = 0; c + 1 < start.size(); c++) {
+            cellPairs.push_back(apart ? parts[c % 2].data() + placed[c % 2] : list.data() + start[c]);
+            placed[c % 2] += start[c + 1] - start[c];
+        }
         const SweepCells run{cells, start, cellPairs, 0, cells.size(), reverse, unit != nullptr};
         std::vector<Vec3> out = v;
         if (unit != nullptr)
@@ -70,20 +81,25 @@ struct IndependentCells {
 
 } // namespace
 
-/** Each unit's sweep against the pair-by-pair one: bit for bit, the baseline target's within `baselineTolerance`. */
+/**
+ * Each unit's sweep, and the pair-by-pair one, over cells whose pairs lie in two lists,
+ * against the pair-by-pair sweep of one list: bit for bit, the baseline target's within
+ * `baselineTolerance`.
+ */
 template <class Rule>
 void expectRowsEqualPairByPair(const Rule& rule, double baselineTolerance) {
     for (unsigned seed : {1u, 2u, 3u})
         for (bool reverse : {false, true}) {
             const IndependentCells cells(seed);
-            const std::vector<Vec3> expected = cells.swept(rule, reverse, nullptr);
-            for (RowVectorUnit unit : {RowVectorUnit::Best, RowVectorUnit::Baseline}) {
-                const double tolerance = (unit == RowVectorUnit::Best ? 0.0 : baselineTolerance);
-                const std::vector<Vec3> v = cells.swept(rule, reverse, &unit);
+            const std::vector<Vec3> expected = cells.swept(rule, reverse, nullptr, false);
+            const RowVectorUnit best = RowVectorUnit::Best, baseline = RowVectorUnit::Baseline;
+            for (const RowVectorUnit* unit : {&best, &baseline, (const RowVectorUnit*) nullptr}) {
+                const double tolerance = (unit == &baseline ? baselineTolerance : 0.0);
+                const std::vector<Vec3> v = cells.swept(rule, reverse, unit, true);
                 for (size_t i = 0; i < v.size(); i++)
                     for (int k = 0; k < 3; k++)
                         ASSERT_NEAR(v[i][k], expected[i][k], tolerance) << "seed " << seed << (reverse ? " reverse" : "")
-                                                                        << " unit " << (int) unit << " particle " << i;
+                                                                        << (unit ? " row unit " + std::to_string((int) *unit) : " pair by pair") << " particle " << i;
             }
             size_t moved = 0;
             for (size_t i = 0; i < expected.size(); i++)
