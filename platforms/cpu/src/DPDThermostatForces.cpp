@@ -117,8 +117,8 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     // worker's own, swapped in and out: the workers' vectors sit side by side in one cache
     // line, and growing them there made every pair write a line that the other workers'
     // cores were writing too (with two threads this pass took 2.5 times its one-thread time
-    // per thread).  They are overwritten from the start and keep their length (worker 0's:
-    // the whole list's, from the step before): cleared, they would be filled with zeros
+    // per thread).  They are overwritten from the start and keep their length (worker 0's,
+    // found by particle: the whole list's, from the step before): cleared, they would be filled with zeros
     // again as they grew (a PairGeometry zeroes itself), and sizeForWorkerLists, run by
     // worker 0 alone while the others wait, would zero the other workers' part of the list.
     std::vector<PairGeometry>& list = (w == 0 ? pairs : workerPairs[w]);
@@ -133,7 +133,7 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     std::vector<Vec3>& softForce = workerDissipative[w];
     if (soft != nullptr)
         std::fill(softForce.begin(), softForce.begin() + sortedIndex.size(), Vec3());
-    // Each cell's pairs start at a local offset, made global by shiftWorkerCells.
+    // Each cell's pairs start at a local offset, made global (and pointed to) by placeWorkerCells.
     const auto startCell = [&](int cell) { cellPairStart[cell] = (int) count; };
     UniformPairRule rule;
     const bool uniform = uniformRule(soft, rule);

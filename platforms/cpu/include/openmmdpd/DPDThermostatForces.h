@@ -54,7 +54,8 @@ public:
     /**
      * Where the geometry of cell c's first pair lies, the others following it: by slot, the
      * workers' parts of the list are not copied into one (that copy was a tenth of a sweep
-     * integrator's step on two threads).
+     * integrator's step on two threads).  Valid until the next updatePairs, which alone
+     * resizes the lists they point into.
      */
     const std::vector<const PairGeometry*>& getCellPairs() const { return cellPairs; }
     const PairSearch& getSearch() const { return search; }
