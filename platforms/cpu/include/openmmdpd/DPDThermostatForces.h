@@ -53,9 +53,9 @@ public:
     const std::vector<int>& getCellPairStart() const { return cellPairStart; }
     /**
      * Where the geometry of cell c's first pair lies, the others following it: by slot, the
-     * workers' parts of the list are not copied into one (that copy was a tenth of a sweep
-     * integrator's step on two threads).  Valid until the next updatePairs, which alone
-     * resizes the lists they point into.
+     * workers' parts of the list are not copied into one (a copy at memory speed that adds no
+     * pair; README, "At scale").  Valid until the next updatePairs, which alone resizes the
+     * lists they point into.
      */
     const std::vector<const PairGeometry*>& getCellPairs() const { return cellPairs; }
     const PairSearch& getSearch() const { return search; }
