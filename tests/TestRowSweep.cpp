@@ -10,7 +10,6 @@ using OpenMM::Vec3;
 
 namespace {
 
-typedef ShardlowPairUpdate<const EqualMassPairImpulse&> EqualMassShardlow;
 typedef PairOrnsteinUhlenbeckUpdate<const EqualMassPairImpulse&, RowConsistentMath> EqualMassOU;
 const EqualMassPairImpulse IMPULSE{0.8};
 
@@ -111,7 +110,7 @@ void expectRowsEqualPairByPair(const Rule& rule, double baselineTolerance) {
 TEST(RowSweep, ShardlowRowsEqualPairByPair) {
     // The row sweep (four pairs of four cells as one vector) gives the pair-by-pair
     // update's velocities bit for bit, whichever code the processor runs; here both.
-    expectRowsEqualPairByPair(EqualMassShardlow(0.05, IMPULSE), 0.0);
+    expectRowsEqualPairByPair(RowShardlowUpdate(0.05, IMPULSE), 0.0);
 }
 
 TEST(RowSweep, PairOrnsteinUhlenbeckRowsEqualPairByPair) {

@@ -4,6 +4,30 @@
 using namespace DPDPlugin;
 using OpenMM::Vec3;
 
+namespace {
+
+/** Shardlow's halves as one kick where the impulse changes u by J / mu (PairEvaluators.h): not with constraints. */
+template <class Impulse>
+struct ShardlowFormOf {
+    static constexpr ShardlowForm value = ShardlowForm::TwoHalves;
+};
+template <>
+struct ShardlowFormOf<const EqualMassPairImpulse&> {
+    static constexpr ShardlowForm value = ShardlowForm::OneKick;
+};
+template <>
+struct ShardlowFormOf<const FreePairImpulse&> {
+    static constexpr ShardlowForm value = ShardlowForm::OneKick;
+};
+
+template <class Impulse>
+struct ShardlowFormOf<const RecordedImpulse<Impulse>&> : ShardlowFormOf<const Impulse&> {};
+
+template <class Impulse>
+using CpuShardlowUpdate = ShardlowPairUpdate<Impulse, ShardlowFormOf<Impulse>::value>;
+
+} // namespace
+
 SweepDynamics::SweepDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor) :
         PairDynamics(system, integrator, executor, 3), constrainedImpulse(system),
         pairSweep(executor, constrainedImpulse.hasConstraints()), pairsStep(-1) {
@@ -70,13 +94,13 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
     withPairImpulse(context, dt, [&](const auto& impulse) {
-        sweep(*data.velocities, ShardlowPairUpdate<decltype(impulse)>{h, impulse}, normals(PairRandom::RandomForce, current), false);
+        sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, normals(PairRandom::RandomForce, current), false);
     });
     constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder) {
         withPairImpulse(context, dt, [&](const auto& impulse) {
-            sweep(*data.velocities, ShardlowPairUpdate<decltype(impulse)>{h, impulse}, normals(PairRandom::SecondSweep, current), true);
+            sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, normals(PairRandom::SecondSweep, current), true);
         });
         constrainVelocities(context);
     }

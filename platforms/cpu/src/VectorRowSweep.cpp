@@ -21,8 +21,16 @@ using OpenMM::Vec3;
 namespace {
 
 typedef double RowReal __attribute__((vector_size(SWEEP_LANES * sizeof(double))));
-typedef ShardlowPairUpdate<const EqualMassPairImpulse&> EqualMassShardlow;
 typedef PairOrnsteinUhlenbeckUpdate<const EqualMassPairImpulse&, RowConsistentMath> EqualMassOU;
+
+/** The row of value(l) for each lane l.  (Made from zero, where lane by lane into nothing would read the unset lanes.) */
+template <class Value>
+__attribute__((always_inline)) inline RowReal laneValues(Value value) {
+    RowReal x = {};
+    for (int l = 0; l < SWEEP_LANES; l++)
+        x[l] = value(l);
+    return x;
+}
 
 /** A row's functions of its lanes' values: the scalar ones, lane by lane. */
 struct LaneByLaneMath {
@@ -103,15 +111,11 @@ struct PairRow {
         pair.vjz = lanes([&](const PairGeometry& q) { return v[q.j][2]; });
         pair.invMass = invMass;
         pair.mu = mu;
-        for (int l = 0; l < SWEEP_LANES; l++)
-            xi[l] = random[row[l]];
+        xi = laneValues([&](int l) { return random[row[l]]; });
     }
     template <class Value>
     __attribute__((always_inline)) RowReal lanes(Value value) const {
-        RowReal x;
-        for (int l = 0; l < SWEEP_LANES; l++)
-            x[l] = value(*p[l]);
-        return x;
+        return laneValues([&](int l) { return value(*p[l]); });
     }
     __attribute__((always_inline)) void store(std::vector<Vec3>& v) const {
         // The lanes' particles are distinct, except where a lane repeats lane 0's pair: it
@@ -124,7 +128,7 @@ struct PairRow {
 };
 
 template <class Math>
-__attribute__((always_inline)) inline void updateRow(const EqualMassShardlow& rule, PairRow<Math>& row) {
+__attribute__((always_inline)) inline void updateRow(const RowShardlowUpdate& rule, PairRow<Math>& row) {
     rule.apply(row.pair, row.lanes([](const PairGeometry& q) { return q.sigmaWR; }),
                row.lanes([](const PairGeometry& q) { return q.gammaWD; }), row.xi);
 }
@@ -188,7 +192,7 @@ double RowConsistentMath::exp(double x) {
     return std::exp(x);
 }
 
-void DPDPlugin::sweepCells(const EqualMassShardlow& rule, const std::vector<double>& random,
+void DPDPlugin::sweepCells(const RowShardlowUpdate& rule, const std::vector<double>& random,
                            std::vector<Vec3>& v, const SweepCells& run, RowVectorUnit unit) {
     sweepCellsInRows(rule, random, v, run, unit);
 }

@@ -143,8 +143,20 @@ struct PairVelocities {
     void kick(double impulseAlongE) const { impulse.apply(p, impulseAlongE, v); }
 };
 
+/**
+ * How ShardlowPairUpdate adds its halves.  TwoHalves: as algorithms.md writes them, the
+ * explicit half, u found again, the implicit half.  OneKick: as the one impulse they add up
+ * to.  With s the noise, f the friction and c = f / 2mu, the explicit half J1 = (s - f u) / 2
+ * leaves u1 = u + J1 / mu, so the implicit half is J2 = (s - f u1) / (2 (1 + c)) =
+ * J1 (1 - c) / (1 + c), and J1 + J2 = (s - f u) / (1 + c): the same to rounding, with one
+ * read of the velocities and no division between it and the kick, where a sweep's chain of
+ * dependent updates runs (the CPU platform's rows are bound by it).  Only for an impulse
+ * that changes u by J / mu (not the constrained one).
+ */
+enum class ShardlowForm { TwoHalves, OneKick };
+
 /** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
-template <class Impulse = FreePairImpulse>
+template <class Impulse = FreePairImpulse, ShardlowForm Form = ShardlowForm::TwoHalves>
 struct ShardlowPairUpdate {
     ShardlowPairUpdate(double h, Impulse impulse) :
             h(h), sqrtH(std::sqrt(h)), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()) {}
@@ -170,6 +182,11 @@ struct ShardlowPairUpdate {
     void apply(Pair& pair, const Real& sigmaWR, const Real& gammaWD, const Real& xi) const {
         const Real noise = sigmaWR * xi * sqrtH;
         const Real friction = gammaWD * h;
+        if (Form == ShardlowForm::OneKick) {
+            const Real scale = 1 / (1 + friction / (2 * pair.mu));
+            pair.kick(noise * scale - (friction * scale) * pair.normalVelocity());
+            return;
+        }
         // explicit half
         pair.kick(0.5 * (noise - friction * pair.normalVelocity()));
         // implicit half, with u after the explicit one

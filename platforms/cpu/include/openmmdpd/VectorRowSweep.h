@@ -6,6 +6,9 @@
 
 namespace DPDPlugin {
 
+/** Shardlow's update as the CPU platform's rows apply it: equal masses, the halves as one kick. */
+typedef ShardlowPairUpdate<const EqualMassPairImpulse&, ShardlowForm::OneKick> RowShardlowUpdate;
+
 /** The code a row sweep runs: the best the processor has, or the baseline target's (what runs where AVX2 is missing; for tests). */
 enum class RowVectorUnit { Best, Baseline };
 
@@ -15,7 +18,7 @@ enum class RowVectorUnit { Best, Baseline };
  * the arithmetic of ShardlowPairUpdate::apply in every lane (the same result bit for bit).
  * Cells that are not independent, and massless particles, go pair by pair as before.
  */
-void sweepCells(const ShardlowPairUpdate<const EqualMassPairImpulse&>& rule, const std::vector<double>& random,
+void sweepCells(const RowShardlowUpdate& rule, const std::vector<double>& random,
                 std::vector<OpenMM::Vec3>& v, const SweepCells& run, RowVectorUnit unit = RowVectorUnit::Best);
 
 /**
