@@ -3,8 +3,10 @@
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/PairEvaluators.h"
 #include "openmm/State.h"
 #include "openmm/serialization/XmlSerializer.h"
+#include <random>
 #include <sstream>
 #include <utility>
 
@@ -43,6 +45,40 @@ void expectSameState(Context& a, Context& b, const std::string& what) {
 }
 
 } // namespace
+
+// The CPU platform applies Shardlow's halves as the one kick they add up to
+// (ShardlowForm::OneKick): for unequal masses, strong and weak friction and both signs of
+// the noise it must give the two halves' velocities to rounding.
+TEST(SweepIntegrators, ShardlowOneKickIsTheTwoHalvesToRounding) {
+    std::mt19937 engine(11);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0), weight(0.0, 1.0), mass(0.5, 3.0);
+    std::normal_distribution<double> normal;
+    const double gamma = 4.5, sigma = std::sqrt(2 * gamma * 1.0);
+    for (double h : {0.01, 0.05, 0.2}) {
+        for (int trial = 0; trial < 200; trial++) {
+            const std::vector<double> invMass = {1 / mass(engine), 1 / mass(engine)};
+            const FreePairImpulse impulse{invMass};
+            PairGeometry p;
+            p.i = 0;
+            p.j = 1;
+            p.e = Vec3(uniform(engine), uniform(engine), uniform(engine));
+            p.e /= std::sqrt(p.e.dot(p.e));
+            const double wR = weight(engine);
+            p.sigmaWR = sigma * wR;
+            p.gammaWD = gamma * wR * wR;
+            const double xi = normal(engine);
+            const std::vector<Vec3> v0 = {Vec3(uniform(engine), uniform(engine), uniform(engine)),
+                                          Vec3(uniform(engine), uniform(engine), uniform(engine))};
+            std::vector<Vec3> halves = v0, oneKick = v0;
+            ShardlowPairUpdate<const FreePairImpulse&, ShardlowForm::TwoHalves>(h, impulse)(p, xi, halves);
+            ShardlowPairUpdate<const FreePairImpulse&, ShardlowForm::OneKick>(h, impulse)(p, xi, oneKick);
+            for (int k = 0; k < 2; k++) {
+                const Vec3 d = halves[k] - oneKick[k];
+                ASSERT_LT(std::sqrt(d.dot(d)), 1e-14) << "h " << h << " trial " << trial << " particle " << k;
+            }
+        }
+    }
+}
 
 TEST(SweepIntegrators, InvalidParametersNameThemselves) {
     ShardlowIntegrator shardlow(KT_KELVIN, 4.5, 1.0, 0.01);
