@@ -183,7 +183,7 @@ struct ShardlowPairUpdate {
         const Real noise = sigmaWR * xi * sqrtH;
         const Real friction = gammaWD * h;
         if (Form == ShardlowForm::OneKick) {
-            const Real scale = 1 / (1 + friction / (2 * pair.mu));
+            const Real scale = 1 / (1 + friction * (0.5 / pair.mu));
             pair.kick(noise * scale - (friction * scale) * pair.normalVelocity());
             return;
         }
