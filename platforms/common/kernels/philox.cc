@@ -43,3 +43,11 @@ DEVICE mixed boxMuller(PhiloxWords w) {
     const mixed u1 = ((mixed) w.v[1])*scale;
     return sqrt(-(mixed) 2.0f*log(u0))*cos((mixed) TWO_PI*u1);
 }
+
+/* Its partner: the sine of the same angle (PairRandom::boxMullerPartner). */
+DEVICE mixed boxMullerPartner(PhiloxWords w) {
+    const mixed scale = (mixed) 2.3283064365386963e-10f;
+    const mixed u0 = ((mixed) w.v[0]+(mixed) 1.0f)*scale;
+    const mixed u1 = ((mixed) w.v[1])*scale;
+    return sqrt(-(mixed) 2.0f*log(u0))*sin((mixed) TWO_PI*u1);
+}

@@ -81,6 +81,7 @@ typedef struct {
     int rule;
     mixed h, kT;
     unsigned int seed, stream, stepLow, stepHigh;
+    int partner;  /* xi the partner of the key's Box-Muller number (boxMullerPartner) */
 } SweepRule;
 
 /* The impulse J along e on the pair: v_i += J/m_i e, v_j -= J/m_j e (FreePairImpulse). */
@@ -114,7 +115,7 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
     const mixed wR = 1-r/p.y;
     const mixed mu = 1/(vi.w+vj.w);
     const mixed gamma = 2*p.x*mu;  // 2 mu friction
-    const mixed xi = boxMuller(w);
+    const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
     mixed u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
     if (s.rule == SWEEP_SHARDLOW) {
         const mixed noise = sqrt(2*gamma*s.kT)*wR*xi*sqrt(s.h);
@@ -166,7 +167,7 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
 KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, unsigned int seed, unsigned int stream,
         unsigned int stepLow, unsigned int stepHigh, GLOBAL const mixed4* RESTRICT position, GLOBAL mixed4* RESTRICT velocity,
         GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed4 boxSize,
-        mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
+        mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int partner) {
     SweepRule s;
     s.rule = rule;
     s.h = h;
@@ -175,6 +176,7 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
     s.stream = stream;
     s.stepLow = stepLow;
     s.stepHigh = stepHigh;
+    s.partner = partner;
     if (colour < 0) {
         const int total = numCells.x*numCells.y*numCells.z;
         if (GLOBAL_ID == 0)

@@ -31,7 +31,7 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
             {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
-            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 19}}, {&scatterKernel, {"scatterVelocities", 6}},
+            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 20}}, {&scatterKernel, {"scatterVelocities", 6}},
             {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels)
         *k.first = createKernelWithArgs(program, k.second.first, k.second.second);
@@ -132,7 +132,7 @@ void CommonSweepDynamics::buildGrid() {
     sortKernel->execute(total);
 }
 
-void CommonSweepDynamics::sweep(Rule rule, double h, PairRandom::Stream stream, long long step, bool reverse) {
+void CommonSweepDynamics::sweep(Rule rule, double h, PairRandom::Stream stream, long long step, bool reverse, bool partner) {
     gatherVelocities();
     buildGrid();
     const double size[4] = {boxSize[0], boxSize[1], boxSize[2], 0}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
@@ -151,6 +151,7 @@ void CommonSweepDynamics::sweep(Rule rule, double h, PairRandom::Stream stream, 
     setMixed4Arg(cc, colourKernel, 15, inverse);
     colourKernel->setArg(16, mm_int4(numCells[0], numCells[1], numCells[2], 0));
     setArrayArgs(colourKernel, 17, {&cellStart, &cellAtoms});
+    colourKernel->setArg(19, partner ? 1 : 0);
     const bool coloured = (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
     const int cellsPerColour = totalCells / 27;
     for (int k = 0; k < (coloured ? 27 : 1); k++) {
@@ -165,17 +166,18 @@ void CommonShardlowDynamics::step(ContextImpl& context, const ShardlowIntegrator
     ContextSelector selector(cc);
     const double dt = integrator.getStepSize();
     const int forceGroups = integrator.getIntegrationForceGroups();
-    // Every random number of the step is keyed by the step it starts from.
+    // Every random number of the step is keyed by the step it starts from (but S2's second sweep's).
     const long long current = cc.getStepCount(), next = current + 1;
     ensureCarriedForce(context, forceGroups);
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
-    // the pairs at the new positions and with numbers of their own.
+    // the pairs at the new positions, with the partners of the numbers the next step's first
+    // sweep takes (as the Reference).
     sweep(ShardlowRule, h, PairRandom::RandomForce, current, false);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder)
-        sweep(ShardlowRule, h, PairRandom::SecondSweep, current, true);
+        sweep(ShardlowRule, h, PairRandom::RandomForce, next, true, true);
     checkStatus(context, next);
     finishStep(dt);
 }

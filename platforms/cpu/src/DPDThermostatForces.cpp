@@ -545,6 +545,15 @@ void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step,
     });
 }
 
+void DPDThermostatForces::drawNormalsAndPartners(PairRandom::Stream stream, long long step, std::vector<double>& xi,
+                                                std::vector<double>& partners) {
+    xi.resize(getNumPairs());
+    partners.resize(getNumPairs());
+    forEachChunkOfPairs([&](size_t start, int n, const int* first, const int* second) {
+        PairRandomBatch::normalsAndPartners(random, stream, step, first, second, n, &xi[start], &partners[start]);
+    });
+}
+
 void DPDThermostatForces::drawBits(PairRandom::Stream stream, long long step, std::vector<r123::Philox4x32::ctr_type>& words) {
     words.resize(getNumPairs());
     forEachChunkOfPairs([&](size_t start, int n, const int* first, const int* second) {

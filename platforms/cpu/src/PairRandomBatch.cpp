@@ -110,15 +110,21 @@ __attribute__((target("avx512f"))) void philoxEight(uint32_t seed, uint32_t stre
 // glibc's vector math library (libmvec): log and cos of four doubles at once, AVX2 variants.
 extern "C" __m256d _ZGVdN4v_log(__m256d);
 extern "C" __m256d _ZGVdN4v_cos(__m256d);
+extern "C" __m256d _ZGVdN4v_sin(__m256d);
 
-/** PairRandom::boxMuller of four pairs of words (given as exact doubles), with its operations: the same numbers to rounding. */
-__attribute__((target("avx2"), always_inline)) inline __m256d boxMullerOf(__m256d first, __m256d second) {
+/**
+ * PairRandom::boxMuller of four pairs of words (given as exact doubles), with its operations:
+ * the same numbers to rounding; and their partners (boxMullerPartner) where asked for.
+ */
+__attribute__((target("avx2"), always_inline)) inline __m256d boxMullerOf(__m256d first, __m256d second, __m256d* partner) {
     // PairRandom::toOpenUniform and toUniform, four at a time.
     const __m256d scale = _mm256_set1_pd(1.0 / 4294967296.0);
     const __m256d u1 = _mm256_mul_pd(_mm256_add_pd(first, _mm256_set1_pd(1.0)), scale);
     const __m256d u2 = _mm256_mul_pd(second, scale);
     const __m256d radius = _mm256_sqrt_pd(_mm256_mul_pd(_mm256_set1_pd(-2.0), _ZGVdN4v_log(u1)));
     const __m256d angle = _mm256_mul_pd(_mm256_set1_pd(2.0 * M_PI), u2);
+    if (partner != nullptr)
+        *partner = _mm256_mul_pd(radius, _ZGVdN4v_sin(angle));
     return _mm256_mul_pd(radius, _ZGVdN4v_cos(angle));
 }
 
@@ -151,13 +157,24 @@ __attribute__((target("avx512f"))) void firstWordsEight(uint32_t seed, uint32_t 
     _mm512_storeu_pd(second, wordsAsDoubles(c[1]));
 }
 
+/** The first min(4, m) of four numbers to out. */
+__attribute__((target("avx2"), always_inline)) inline void storeFour(__m256d x, double* out, int m) {
+    if (m >= 4) {
+        _mm256_storeu_pd(out, x);
+        return;
+    }
+    alignas(32) double last[4];
+    _mm256_store_pd(last, x);
+    std::copy(last, last + m, out);
+}
+
 /**
- * PairRandomBatch::normals for n <= NORMALS_BLOCK pairs: all their words first (eight or four
+ * PairRandomBatch::normals (and their partners, given partnerOut) for n <= NORMALS_BLOCK pairs: all their words first (eight or four
  * draws at a time), then Box-Muller four at a time.  (Each four's normals made straight from
  * its draw measured slower: one long chain of dependent steps, where a block's draws overlap.)
  */
 __attribute__((target("avx2"))) void normalBlockAVX2(const PairRandom& random, uint32_t stream, long long step, const int* i,
-                                                     const int* j, int n, double* out) {
+                                                     const int* j, int n, double* out, double* partnerOut) {
     alignas(32) double first[NORMALS_BLOCK], second[NORMALS_BLOCK];
     int k = 0;
     if (haveAVX512())
@@ -176,14 +193,11 @@ __attribute__((target("avx2"))) void normalBlockAVX2(const PairRandom& random, u
         second[k] = second[n - 1];
     }
     for (k = 0; k < n; k += 4) {
-        const __m256d x = boxMullerOf(_mm256_load_pd(first + k), _mm256_load_pd(second + k));
-        if (k + 4 <= n) {
-            _mm256_storeu_pd(out + k, x);
-            continue;
-        }
-        alignas(32) double last[4];
-        _mm256_store_pd(last, x);
-        std::copy(last, last + (n - k), out + k);
+        __m256d y;
+        const __m256d x = boxMullerOf(_mm256_load_pd(first + k), _mm256_load_pd(second + k), partnerOut ? &y : nullptr);
+        storeFour(x, out + k, n - k);
+        if (partnerOut)
+            storeFour(y, partnerOut + k, n - k);
     }
 }
 #define OPENMMDPD_BOX_MULLER_AVX2
@@ -208,15 +222,25 @@ void PairRandomBatch::bits(const PairRandom& random, PairRandom::Stream stream, 
 
 void PairRandomBatch::normals(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j,
                               int n, double* out) {
+    normalsAndPartners(random, stream, step, i, j, n, out, nullptr);
+}
+
+void PairRandomBatch::normalsAndPartners(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i,
+                                         const int* j, int n, double* out, double* partnerOut) {
     for (int start = 0; start < n; start += NORMALS_BLOCK) {
         const int m = std::min(NORMALS_BLOCK, n - start);
 #ifdef OPENMMDPD_BOX_MULLER_AVX2
         if (haveAVX2()) {
-            normalBlockAVX2(random, (uint32_t) stream, step, i + start, j + start, m, out + start);
+            normalBlockAVX2(random, (uint32_t) stream, step, i + start, j + start, m, out + start,
+                            partnerOut ? partnerOut + start : nullptr);
             continue;
         }
 #endif
-        for (int k = start; k < start + m; k++)
-            out[k] = random.gaussian(stream, step, i[k], j[k]);
+        for (int k = start; k < start + m; k++) {
+            const r123::Philox4x32::ctr_type words = random.bits(stream, step, i[k], j[k]);
+            out[k] = PairRandom::boxMuller(words);
+            if (partnerOut)
+                partnerOut[k] = PairRandom::boxMullerPartner(words);
+        }
     }
 }

@@ -37,8 +37,13 @@ void SweepDynamics::updatePairs(OpenMM::ContextImpl& context, long long step) {
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     thermostat.updatePairs(*platformData(context).positions, box, nullptr, nullptr, wantsPairsBySlot());
+    pairsFound(step);
+}
+
+void SweepDynamics::pairsFound(long long step) {
     pairSweep.prepare(thermostat);
     pairsStep = step;
+    nextNormalsStep = -1;
 }
 
 void SweepDynamics::startStep(OpenMM::ContextImpl& context, int forceGroups) {
@@ -46,8 +51,7 @@ void SweepDynamics::startStep(OpenMM::ContextImpl& context, int forceGroups) {
     if (!carriedForceValid(*data.positions, *data.velocities)) {
         computeConservativeAndPairs(context, forceGroups, data.stepCount);
         force = conservative;
-        pairSweep.prepare(thermostat);
-        pairsStep = data.stepCount;
+        pairsFound(data.stepCount);
         setCarriedForceValid();
     }
     else if (pairsStep != data.stepCount || thermostat.arePairsBySlot() != wantsPairsBySlot())
@@ -70,13 +74,24 @@ void SweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups
 
 void SweepDynamics::carryForce(OpenMM::ContextImpl& context, int forceGroups, long long step) {
     computeConservativeAndPairs(context, forceGroups, step);
-    pairSweep.prepare(thermostat);
-    pairsStep = step;
+    pairsFound(step);
     forEachParticle(force.size(), [&](size_t i) { force[i] = conservative[i]; });
 }
 
 const std::vector<double>& SweepDynamics::normals(PairRandom::Stream stream, long long step) {
     thermostat.drawNormals(stream, step, pairNormals);
+    return pairNormals;
+}
+
+const std::vector<double>& SweepDynamics::firstSweepNormals(long long step) {
+    const bool kept = (nextNormalsStep == step && nextNormalsSeed == thermostat.getSeed());
+    return (kept ? nextNormals : normals(PairRandom::RandomForce, step));
+}
+
+const std::vector<double>& SweepDynamics::secondSweepNormals(long long next) {
+    thermostat.drawNormalsAndPartners(PairRandom::RandomForce, next, nextNormals, pairNormals);
+    nextNormalsStep = next;
+    nextNormalsSeed = thermostat.getSeed();
     return pairNormals;
 }
 
@@ -90,17 +105,18 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     const double dt = integrator.getStepSize();
     const long long current = data.stepCount;
     startStep(context, integrator.getIntegrationForceGroups());
-    // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order.
+    // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, with
+    // the partners of the next step's first sweep's numbers.
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
     withPairImpulse(context, dt, [&](const auto& impulse) {
-        sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, normals(PairRandom::RandomForce, current), false);
+        sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, firstSweepNormals(current), false);
     });
     constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder) {
         withPairImpulse(context, dt, [&](const auto& impulse) {
-            sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, normals(PairRandom::SecondSweep, current), true);
+            sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, secondSweepNormals(current + 1), true);
         });
         constrainVelocities(context);
     }

@@ -59,13 +59,14 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
     std::vector<Vec3>& v = *data(context).velocities;
     const double dt = integrator.getStepSize();
     const int forceGroups = integrator.getIntegrationForceGroups();
-    // Every random number of the step is keyed by the step it starts from.
+    // Every random number of the step is keyed by the step it starts from (but S2's second sweep's).
     const long long current = data(context).stepCount;
     ensureCarriedForce(context, forceGroups);
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
-    // the pairs at the new positions and with numbers of their own.
+    // the pairs at the new positions, with the partners of the numbers the next step's first
+    // sweep takes over the same pairs (independent of them and of this step's).
     const std::vector<PairGeometry> pairs = findPairs(context);
     withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
         sweep(pairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse}, DrawnNormals{random, PairRandom::RandomForce, current}, v);
@@ -76,7 +77,7 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
         const std::vector<PairGeometry> newPairs = findPairs(context);
         withPairImpulse(context, newPairs, dt, [&](const auto& impulse) {
             sweepInReverse(newPairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse},
-                           DrawnNormals{random, PairRandom::SecondSweep, current}, v);
+                           DrawnPartnerNormals{random, PairRandom::RandomForce, current + 1}, v);
         });
         constrainVelocities(context);
     }

@@ -31,9 +31,10 @@ protected:
     void takeConservativeForce(OpenMM::ContextImpl& context, int forceGroups, double kick);
     /**
      * The Context's velocities swept pair by pair at the current positions with a rule over
-     * a time h, the numbers of `stream` keyed by step; reverse: in exactly the opposite order.
+     * a time h, the numbers of `stream` keyed by step (partner: their partners,
+     * PairRandom::partnerGaussian); reverse: in exactly the opposite order.
      */
-    void sweep(Rule rule, double h, PairRandom::Stream stream, long long step, bool reverse);
+    void sweep(Rule rule, double h, PairRandom::Stream stream, long long step, bool reverse, bool partner = false);
 
 private:
     /** The Reference's grid at the current positions, each cell's atoms in index order. */

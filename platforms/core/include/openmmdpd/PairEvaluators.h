@@ -103,6 +103,14 @@ struct DrawnNormals {
     double operator()(const PairGeometry& p) const { return random.gaussian(stream, step, p.i, p.j); }
 };
 
+/** A pair's normal number for a sweep, the partner of DrawnNormals' for the same key (PairRandom::partnerGaussian). */
+struct DrawnPartnerNormals {
+    const PairRandom& random;
+    PairRandom::Stream stream;
+    long long step;
+    double operator()(const PairGeometry& p) const { return random.partnerGaussian(stream, step, p.i, p.j); }
+};
+
 /** A pair's random words for a sweep, drawn from PairRandom (the definition). */
 struct DrawnBits {
     const PairRandom& random;
@@ -164,7 +172,7 @@ struct ShardlowPairUpdate {
     Impulse impulse;
     Reciprocal reducedMass;  // mu from 1/mu
 
-    /** xi: the pair's normal number of the sweep (stream RandomForce, or SecondSweep for S2's second). */
+    /** xi: the pair's normal number of the sweep (RandomForce of the step; for S2's second, its partner at the next step). */
     void operator()(const PairGeometry& p, double xi, std::vector<OpenMM::Vec3>& v) const {
         const double inverseMu = impulse.inverseReducedMass(p);
         if (inverseMu == 0)

@@ -20,7 +20,8 @@ namespace DPDPlugin {
 class PairRandom {
 public:
     enum Stream : uint32_t {
-        RandomForce = 0, PairThermalisation = 1, SecondSweep = 2,
+        RandomForce = 0, PairThermalisation = 1,
+        // (2 was S2's second sweep, which now takes partnerGaussian of the next step's RandomForce)
         AuxiliaryNoise = 3,    // EDPD: the noise of a pair variable's step
         AuxiliaryRecall = 4    // EDPD: a pair variable drawn or caught up when a pair (re)appears
     };
@@ -46,6 +47,16 @@ public:
         return boxMuller(bits(stream, step, i, j));
     }
 
+    /**
+     * The other standard normal number of the same Box-Muller pair (the sine where gaussian()
+     * takes the cosine): independent of gaussian() for the same key, so a step that needs
+     * two numbers for a pair that the next step keys again (S2's second sweep and the next
+     * step's first) can draw once for both.
+     */
+    double partnerGaussian(Stream stream, long long step, int i, int j) const {
+        return boxMullerPartner(bits(stream, step, i, j));
+    }
+
     /** A uniform number in [0, 1) from one word of a draw. */
     static double toUniform(uint32_t x) {
         return (double) x * (1.0 / 4294967296.0);
@@ -61,6 +72,11 @@ public:
     /** The same from two words. */
     static double boxMuller(uint32_t first, uint32_t second) {
         return std::sqrt(-2.0 * std::log(toOpenUniform(first))) * std::cos(2.0 * M_PI * toUniform(second));
+    }
+
+    /** The partner of boxMuller(): the sine of the same angle. */
+    static double boxMullerPartner(const r123::Philox4x32::ctr_type& r) {
+        return std::sqrt(-2.0 * std::log(toOpenUniform(r[0]))) * std::sin(2.0 * M_PI * toUniform(r[1]));
     }
 
 private:

@@ -130,6 +130,8 @@ public:
     };
     /** xi[k] = getRandom().gaussian(stream, step, pair k), for every pair of the list, in batches. */
     void drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi);
+    /** drawNormals, and partners[k] = getRandom().partnerGaussian(stream, step, pair k) from the same draws. */
+    void drawNormalsAndPartners(PairRandom::Stream stream, long long step, std::vector<double>& xi, std::vector<double>& partners);
     /** words[k] = getRandom().bits(stream, step, pair k), for every pair of the list, in batches. */
     void drawBits(PairRandom::Stream stream, long long step, std::vector<r123::Philox4x32::ctr_type>& words);
     void setSeed(uint32_t seed) { random = PairRandom(seed); }

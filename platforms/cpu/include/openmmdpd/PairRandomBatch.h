@@ -26,6 +26,9 @@ struct PairRandomBatch {
      */
     static void normals(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j, int n,
                         double* out);
+    /** normals() and, where partnerOut is given, partnerOut[k] = random.partnerGaussian(...) to rounding, from the same draws. */
+    static void normalsAndPartners(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j,
+                                   int n, double* out, double* partnerOut);
 };
 
 } // namespace DPDPlugin

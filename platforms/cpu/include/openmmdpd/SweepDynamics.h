@@ -27,8 +27,20 @@ protected:
     void carryForce(OpenMM::ContextImpl& context, int forceGroups, long long step);
     /** The pair list (and the sweep's colouring) at the current positions, those of `step` (-1: of no step). */
     void updatePairs(OpenMM::ContextImpl& context, long long step);
+    /** After every new pair list (of `step`): the sweep's colouring, and no numbers kept for the old list. */
+    void pairsFound(long long step);
     /** This step's normal numbers of a stream for every pair of the current list, drawn in batches (as DrawnNormals). */
     const std::vector<double>& normals(PairRandom::Stream stream, long long step);
+    /**
+     * Shardlow's numbers for a first sweep at `step` (RandomForce): kept from the last S2
+     * step's second sweep where it drew them over the same pair list and seed, else drawn.
+     */
+    const std::vector<double>& firstSweepNormals(long long step);
+    /**
+     * S2's numbers for its second sweep, ending at step `next`: the partners of the next
+     * step's first sweep's (DrawnPartnerNormals), drawn with them, which are kept.
+     */
+    const std::vector<double>& secondSweepNormals(long long next);
     /**
      * Apply a pair rule (PairEvaluators.h) to every pair, pair k with random[k], in the sweep
      * order or its reverse; over a list by slot, on the velocities copied into slot order and back.
@@ -85,6 +97,10 @@ private:
     PairSweep pairSweep;
     long long pairsStep;
     std::vector<double> pairNormals;
+    // firstSweepNormals(nextNormalsStep) over the current list (-1: none), with the seed they were drawn with
+    std::vector<double> nextNormals;
+    long long nextNormalsStep = -1;
+    uint32_t nextNormalsSeed = 0;
     std::vector<r123::Philox4x32::ctr_type> pairBits;
     std::vector<OpenMM::Vec3> slotVelocities;
     std::vector<double> slotInverseMasses;
