@@ -58,7 +58,8 @@ TEST(SweepIntegrators, ShardlowOneKickIsTheTwoHalvesToRounding) {
         for (int trial = 0; trial < 200; trial++) {
             const std::vector<double> invMass = {1 / mass(engine), 1 / mass(engine)};
             const FreePairImpulse impulse{invMass};
-            PairGeometry p;
+            PairGeometry p{};
+            p.imageVx = uniform(engine);  // as under shear: j moves with its image
             p.i = 0;
             p.j = 1;
             p.e = Vec3(uniform(engine), uniform(engine), uniform(engine));

@@ -169,9 +169,10 @@ __attribute__((target("avx2"), always_inline)) inline void storeFour(__m256d x, 
 }
 
 /**
- * PairRandomBatch::normals (and their partners, given partnerOut) for n <= NORMALS_BLOCK pairs: all their words first (eight or four
- * draws at a time), then Box-Muller four at a time.  (Each four's normals made straight from
- * its draw measured slower: one long chain of dependent steps, where a block's draws overlap.)
+ * PairRandomBatch::normals (and their partners, given partnerOut) for n <= NORMALS_BLOCK
+ * pairs: all their words first (eight or four draws at a time), then Box-Muller four at a
+ * time.  (Each four's normals made straight from its draw measured slower: one long chain of
+ * dependent steps, where a block's draws overlap.)
  */
 __attribute__((target("avx2"))) void normalBlockAVX2(const PairRandom& random, uint32_t stream, long long step, const int* i,
                                                      const int* j, int n, double* out, double* partnerOut) {
@@ -193,7 +194,7 @@ __attribute__((target("avx2"))) void normalBlockAVX2(const PairRandom& random, u
         second[k] = second[n - 1];
     }
     for (k = 0; k < n; k += 4) {
-        __m256d y;
+        __m256d y = _mm256_setzero_pd();
         const __m256d x = boxMullerOf(_mm256_load_pd(first + k), _mm256_load_pd(second + k), partnerOut ? &y : nullptr);
         storeFour(x, out + k, n - k);
         if (partnerOut)

@@ -1,5 +1,6 @@
 #include "openmmdpd/SweepDynamics.h"
 #include "openmmdpd/PairEvaluators.h"
+#include <type_traits>
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
@@ -26,6 +27,10 @@ struct ShardlowFormOf<const RecordedImpulse<Impulse>&> : ShardlowFormOf<const Im
 template <class Impulse>
 using CpuShardlowUpdate = ShardlowPairUpdate<Impulse, ShardlowFormOf<Impulse>::value>;
 
+// The rule for equal masses must be the one VectorRowSweep's rows take, or the sweep would go pair by pair.
+static_assert(std::is_same<CpuShardlowUpdate<const EqualMassPairImpulse&>, RowShardlowUpdate>::value,
+              "the equal-mass Shardlow update is the row sweep's");
+
 } // namespace
 
 SweepDynamics::SweepDynamics(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, ParallelExecutor& executor) :
@@ -36,22 +41,14 @@ SweepDynamics::SweepDynamics(const OpenMM::System& system, const DPDThermostatIn
 void SweepDynamics::updatePairs(OpenMM::ContextImpl& context, long long step) {
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    thermostat.updatePairs(*platformData(context).positions, box, nullptr, nullptr, wantsPairsBySlot());
-    pairsFound(step);
-}
-
-void SweepDynamics::pairsFound(long long step) {
-    pairSweep.prepare(thermostat);
-    pairsStep = step;
-    nextNormalsStep = -1;
+    findPairs(step, [&] { thermostat.updatePairs(*platformData(context).positions, box, nullptr, nullptr, wantsPairsBySlot()); });
 }
 
 void SweepDynamics::startStep(OpenMM::ContextImpl& context, int forceGroups) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     if (!carriedForceValid(*data.positions, *data.velocities)) {
-        computeConservativeAndPairs(context, forceGroups, data.stepCount);
+        findPairs(data.stepCount, [&] { computeConservativeAndPairs(context, forceGroups, data.stepCount); });
         force = conservative;
-        pairsFound(data.stepCount);
         setCarriedForceValid();
     }
     else if (pairsStep != data.stepCount || thermostat.arePairsBySlot() != wantsPairsBySlot())
@@ -73,8 +70,7 @@ void SweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups
 }
 
 void SweepDynamics::carryForce(OpenMM::ContextImpl& context, int forceGroups, long long step) {
-    computeConservativeAndPairs(context, forceGroups, step);
-    pairsFound(step);
+    findPairs(step, [&] { computeConservativeAndPairs(context, forceGroups, step); });
     forEachParticle(force.size(), [&](size_t i) { force[i] = conservative[i]; });
 }
 
@@ -84,12 +80,13 @@ const std::vector<double>& SweepDynamics::normals(PairRandom::Stream stream, lon
 }
 
 const std::vector<double>& SweepDynamics::firstSweepNormals(long long step) {
-    const bool kept = (nextNormalsStep == step && nextNormalsSeed == thermostat.getSeed());
+    const bool kept = (normalsKept && nextNormalsStep == step && nextNormalsSeed == thermostat.getSeed());
     return (kept ? nextNormals : normals(PairRandom::RandomForce, step));
 }
 
 const std::vector<double>& SweepDynamics::secondSweepNormals(long long next) {
     thermostat.drawNormalsAndPartners(PairRandom::RandomForce, next, nextNormals, pairNormals);
+    normalsKept = true;
     nextNormalsStep = next;
     nextNormalsSeed = thermostat.getSeed();
     return pairNormals;

@@ -10,9 +10,9 @@ from openmmdpd.catalog import INSTABILITY_THRESHOLD, integrators
 
 # Seeds (scene, thermostat and velocities) whose run at dt = 0.03 on the CPU platform (one
 # thread) goes through a WCA collision that throws a chain bead out at tens of kT, found by
-# running 5000 steps with the sentinel on for seeds 1-22 (GW and S1: 9 of 44 runs fire; without
-# it one goes on to blow up, the others recover; S1's seed found again when its update became
-# one kick, which moved its trajectories by rounding: 3 of 22 fire, seed 3 blows up):
+# running 5000 steps with the sentinel on for seeds 1-22 (GW and S1: 9 of 44 runs fired; without
+# it one went on to blow up, the others recovered).  S1's seed was found again when its update
+# became one kick, which moved its trajectories by rounding (3 of its 22 runs fire now):
 # S1, seed 19: bead 8 at 59 kT at step 3780; the chain's kT peaks at 4.5 over the next 10 steps.
 # GW, seed 13: bead 16 at 53 kT at step 864; the chain's kT peaks at 4.3.
 # A trajectory this chaotic depends on the last bit of the arithmetic: another build or CPU

@@ -88,7 +88,8 @@ struct AuxiliaryRecurrence {
  * Pairwise-sequential velocity updates (algorithms.md sections 2 and 3): each acts on one
  * pair in place, with an impulse J along e, so momentum is conserved pair by pair.  A sweep
  * applies one of them to every pair in a fixed order, giving each pair its random input of
- * the sweep (DrawnNormals or DrawnBits, or the same numbers drawn ahead in batches).  The
+ * the sweep (DrawnNormals, DrawnPartnerNormals or DrawnBits, or the same numbers drawn ahead
+ * in batches).  The
  * Impulse is FreePairImpulse (v_i += J/m_i e, v_j -= J/m_j e, reduced mass
  * m_i m_j/(m_i + m_j)) or, in a System with constraints, ConstrainedPairImpulse (the
  * effective reduced mass and the constraint forces the impulse calls up); a pair the

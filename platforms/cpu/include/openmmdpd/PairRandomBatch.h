@@ -7,7 +7,8 @@ namespace DPDPlugin {
 
 /**
  * PairRandom's numbers drawn many at a time, for the CPU platform's pair loops: the same
- * words (bit for bit), and normal numbers equal to PairRandom::boxMuller's to rounding.
+ * words (bit for bit), and normal numbers (and their partners) equal to PairRandom::boxMuller's
+ * (boxMullerPartner's) to rounding.
  */
 struct PairRandomBatch {
     /**

@@ -27,8 +27,18 @@ protected:
     void carryForce(OpenMM::ContextImpl& context, int forceGroups, long long step);
     /** The pair list (and the sweep's colouring) at the current positions, those of `step` (-1: of no step). */
     void updatePairs(OpenMM::ContextImpl& context, long long step);
-    /** After every new pair list (of `step`): the sweep's colouring, and no numbers kept for the old list. */
-    void pairsFound(long long step);
+    /**
+     * A new pair list, of `step`, by find(); then the sweep's colouring.  The numbers kept for
+     * the old list are dropped first, so that a find that throws (a force that blew up) leaves
+     * none behind for a list they do not belong to.
+     */
+    template <class Find>
+    void findPairs(long long step, Find find) {
+        normalsKept = false;
+        find();
+        pairSweep.prepare(thermostat);
+        pairsStep = step;
+    }
     /** This step's normal numbers of a stream for every pair of the current list, drawn in batches (as DrawnNormals). */
     const std::vector<double>& normals(PairRandom::Stream stream, long long step);
     /**
@@ -97,9 +107,10 @@ private:
     PairSweep pairSweep;
     long long pairsStep;
     std::vector<double> pairNormals;
-    // firstSweepNormals(nextNormalsStep) over the current list (-1: none), with the seed they were drawn with
+    // Where normalsKept: firstSweepNormals(nextNormalsStep) over the current list, drawn with nextNormalsSeed
     std::vector<double> nextNormals;
-    long long nextNormalsStep = -1;
+    bool normalsKept = false;
+    long long nextNormalsStep = 0;
     uint32_t nextNormalsSeed = 0;
     std::vector<r123::Philox4x32::ctr_type> pairBits;
     std::vector<OpenMM::Vec3> slotVelocities;
