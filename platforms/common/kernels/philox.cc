@@ -36,18 +36,23 @@ DEVICE PhiloxWords pairWords(unsigned int seed, unsigned int stream, unsigned in
     return philox4x32(stepLow, stepHigh, (unsigned int) lo, (unsigned int) hi, seed, stream);
 }
 
-/* Textbook Box-Muller on the first two words: sqrt(-2 log u0) cos(2 pi u1), u0 in (0, 1], u1 in [0, 1). */
+/* Box-Muller's radius sqrt(-2 log u0), u0 in (0, 1], from the first word. */
+DEVICE mixed boxMullerRadius(PhiloxWords w) {
+    const mixed u0 = ((mixed) w.v[0]+(mixed) 1.0f)*(mixed) 2.3283064365386963e-10f;
+    return sqrt(-(mixed) 2.0f*log(u0));
+}
+
+/* Box-Muller's angle 2 pi u1, u1 in [0, 1), from the second word. */
+DEVICE mixed boxMullerAngle(PhiloxWords w) {
+    return (mixed) TWO_PI*(((mixed) w.v[1])*(mixed) 2.3283064365386963e-10f);
+}
+
+/* Textbook Box-Muller on the first two words: sqrt(-2 log u0) cos(2 pi u1). */
 DEVICE mixed boxMuller(PhiloxWords w) {
-    const mixed scale = (mixed) 2.3283064365386963e-10f;
-    const mixed u0 = ((mixed) w.v[0]+(mixed) 1.0f)*scale;
-    const mixed u1 = ((mixed) w.v[1])*scale;
-    return sqrt(-(mixed) 2.0f*log(u0))*cos((mixed) TWO_PI*u1);
+    return boxMullerRadius(w)*cos(boxMullerAngle(w));
 }
 
 /* Its partner: the sine of the same angle (PairRandom::boxMullerPartner). */
 DEVICE mixed boxMullerPartner(PhiloxWords w) {
-    const mixed scale = (mixed) 2.3283064365386963e-10f;
-    const mixed u0 = ((mixed) w.v[0]+(mixed) 1.0f)*scale;
-    const mixed u1 = ((mixed) w.v[1])*scale;
-    return sqrt(-(mixed) 2.0f*log(u0))*sin((mixed) TWO_PI*u1);
+    return boxMullerRadius(w)*sin(boxMullerAngle(w));
 }

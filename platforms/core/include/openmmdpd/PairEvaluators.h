@@ -89,8 +89,7 @@ struct AuxiliaryRecurrence {
  * pair in place, with an impulse J along e, so momentum is conserved pair by pair.  A sweep
  * applies one of them to every pair in a fixed order, giving each pair its random input of
  * the sweep (DrawnNormals, DrawnPartnerNormals or DrawnBits, or the same numbers drawn ahead
- * in batches).  The
- * Impulse is FreePairImpulse (v_i += J/m_i e, v_j -= J/m_j e, reduced mass
+ * in batches).  The Impulse is FreePairImpulse (v_i += J/m_i e, v_j -= J/m_j e, reduced mass
  * m_i m_j/(m_i + m_j)) or, in a System with constraints, ConstrainedPairImpulse (the
  * effective reduced mass and the constraint forces the impulse calls up); a pair the
  * constraints hold rigid along e is left alone.

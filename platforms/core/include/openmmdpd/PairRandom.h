@@ -71,15 +71,19 @@ public:
     static double boxMuller(const r123::Philox4x32::ctr_type& r) { return boxMuller(r[0], r[1]); }
     /** The same from two words. */
     static double boxMuller(uint32_t first, uint32_t second) {
-        return std::sqrt(-2.0 * std::log(toOpenUniform(first))) * std::cos(2.0 * M_PI * toUniform(second));
+        return boxMullerRadius(first) * std::cos(boxMullerAngle(second));
     }
 
     /** The partner of boxMuller(): the sine of the same angle. */
     static double boxMullerPartner(const r123::Philox4x32::ctr_type& r) {
-        return std::sqrt(-2.0 * std::log(toOpenUniform(r[0]))) * std::sin(2.0 * M_PI * toUniform(r[1]));
+        return boxMullerRadius(r[0]) * std::sin(boxMullerAngle(r[1]));
     }
 
 private:
+    /** Box-Muller's radius sqrt(-2 log u) and angle 2 pi u', the same for both numbers of the pair. */
+    static double boxMullerRadius(uint32_t first) { return std::sqrt(-2.0 * std::log(toOpenUniform(first))); }
+    static double boxMullerAngle(uint32_t second) { return 2.0 * M_PI * toUniform(second); }
+
     uint32_t seed;
 };
 
