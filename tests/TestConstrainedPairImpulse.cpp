@@ -2,9 +2,10 @@
  * ConstrainedPairImpulse against closed forms: the effective reduced mass of a pair whose
  * particles belong to rigid groups, and an impulse that leaves every constraint's relative
  * velocity at zero, conserves momentum and changes the pair's relative normal velocity by
- * J / mu_eff.
+ * J / mu_eff; so that Shardlow's halves add up to one kick with it as with free particles.
  */
 #include "openmmdpd/ConstrainedPairImpulse.h"
+#include "openmmdpd/PairEvaluators.h"
 #include "openmm/System.h"
 #include <gtest/gtest.h>
 #include <cmath>
@@ -94,6 +95,33 @@ TEST(ConstrainedPairImpulse, ImpulseKeepsTheConstraintsAndMomentumAndMovesThePai
         EXPECT_NEAR(p.e.dot(v[p.i] - v[p.j]), 0.7 * inverse, 1e-14);
         // The constraints only ever take motion away: mu_eff >= the free reduced mass.
         EXPECT_LE(inverse, 1 / g.system.getParticleMass(p.i) + 1 / g.system.getParticleMass(p.j) + 1e-15);
+    }
+}
+
+// Its pair's u changes by J / mu_eff, so ShardlowForm's algebra holds with mu_eff for mu:
+// the CPU platform's one kick gives the two halves' velocities to rounding here too.
+TEST(ConstrainedPairImpulse, ShardlowOneKickIsTheTwoHalvesToRounding) {
+    Groups g;
+    ConstrainedPairImpulse impulse(g.system);
+    impulse.prepare(g.r);
+    std::vector<Vec3> v0(g.r.size());
+    impulse.inverseReducedMass(pair(g.r, 5, 3));  // a start in motion that keeps the constraints
+    impulse.apply(pair(g.r, 5, 3), 1.3, v0);
+    for (const std::pair<int, int>& ij : std::vector<std::pair<int, int>>{{0, 3}, {4, 1}, {5, 2}, {5, 0}}) {
+        for (double h : {0.01, 0.2}) {
+            PairGeometry p = pair(g.r, ij.first, ij.second);
+            p.gammaWD = 4.5 * 0.3 * 0.3;
+            p.sigmaWR = 3.0 * 0.3;
+            std::vector<Vec3> halves = v0, oneKick = v0;
+            ShardlowPairUpdate<const ConstrainedPairImpulse&, ShardlowForm::TwoHalves>(h, impulse)(p, -0.8, halves);
+            ShardlowPairUpdate<const ConstrainedPairImpulse&, ShardlowForm::OneKick>(h, impulse)(p, -0.8, oneKick);
+            for (size_t k = 0; k < v0.size(); k++) {
+                const Vec3 d = halves[k] - oneKick[k];
+                ASSERT_LT(std::sqrt(d.dot(d)), 1e-14) << ij.first << "-" << ij.second << " h " << h << " particle " << k;
+            }
+            const Vec3 moved = halves[p.i] - v0[p.i];
+            ASSERT_GT(std::sqrt(moved.dot(moved)), 1e-3);  // the pair was kicked
+        }
     }
 }
 

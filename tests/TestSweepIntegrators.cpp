@@ -149,7 +149,8 @@ TEST(SweepIntegrators, SameTrajectoryOnOneOrTwoCpuThreads) {
     // 6912 (12 a side) each group's planes; with 20000 (over ParallelExecutor::SERIAL_LOOP_LIMIT)
     // the element-wise passes, the search's among them, run on both threads too.  CPU against
     // Reference: TestPlatformsAgree.cpp.
-    for (const auto& [n, steps] : {std::pair<int, int>(2000, 100), std::pair<int, int>(6912, 20), std::pair<int, int>(20000, 3)}) {
+    for (const std::pair<int, int>& size : {std::make_pair(2000, 100), std::make_pair(6912, 20), std::make_pair(20000, 3)}) {
+        const int n = size.first, steps = size.second;
         std::vector<Vec3> positions;
         std::unique_ptr<System> system(makeFluid(n, 0, positions));
         for (const char* scheme : SCHEMES) {

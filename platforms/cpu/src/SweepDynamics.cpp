@@ -7,25 +7,9 @@ using OpenMM::Vec3;
 
 namespace {
 
-/** Shardlow's halves as one kick where the impulse changes u by J / mu (PairEvaluators.h): not with constraints. */
+/** Shardlow's halves as the one kick they add up to (PairEvaluators.h), with every impulse. */
 template <class Impulse>
-struct ShardlowFormOf {
-    static constexpr ShardlowForm value = ShardlowForm::TwoHalves;
-};
-template <>
-struct ShardlowFormOf<const EqualMassPairImpulse&> {
-    static constexpr ShardlowForm value = ShardlowForm::OneKick;
-};
-template <>
-struct ShardlowFormOf<const FreePairImpulse&> {
-    static constexpr ShardlowForm value = ShardlowForm::OneKick;
-};
-
-template <class Impulse>
-struct ShardlowFormOf<const RecordedImpulse<Impulse>&> : ShardlowFormOf<const Impulse&> {};
-
-template <class Impulse>
-using CpuShardlowUpdate = ShardlowPairUpdate<Impulse, ShardlowFormOf<Impulse>::value>;
+using CpuShardlowUpdate = ShardlowPairUpdate<Impulse, ShardlowForm::OneKick>;
 
 // The rule for equal masses must be the one VectorRowSweep's rows take, or the sweep would go pair by pair.
 static_assert(std::is_same<CpuShardlowUpdate<const EqualMassPairImpulse&>, RowShardlowUpdate>::value,

@@ -158,8 +158,10 @@ struct PairVelocities {
  * leaves u1 = u + J1 / mu, so the implicit half is J2 = (s - f u1) / (2 (1 + c)) =
  * J1 (1 - c) / (1 + c), and J1 + J2 = (s - f u) / (1 + c): the same to rounding, with one
  * read of the velocities and no division between it and the kick, where a sweep's chain of
- * dependent updates runs (the CPU platform's rows are bound by it).  Only for an impulse
- * that changes u by J / mu (not the constrained one).
+ * dependent updates runs (the CPU platform's rows are bound by it).  It holds for every
+ * impulse here: each changes u by J / mu, mu the pair's reduced mass, the effective one
+ * mu_eff under constraints (ConstrainedPairImpulse), where one kick also solves the
+ * constraints once instead of twice.
  */
 enum class ShardlowForm { TwoHalves, OneKick };
 
