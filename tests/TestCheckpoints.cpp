@@ -57,10 +57,6 @@ struct Scheme {
     std::function<Integrator*()> make;
 };
 
-void PrintTo(const Scheme& scheme, std::ostream* out) {
-    *out << scheme.name;
-}
-
 template <class T>
 T* seeded(T* integrator) {
     integrator->setRandomNumberSeed(77);

@@ -43,19 +43,24 @@ Vec3 momentum(const System& system, const std::vector<Vec3>& v) {
 
 /**
  * A dimer (0, 1) of masses 1 and 3 along x, a rigid triangle (2, 3, 4) of masses 16, 1, 1,
- * a free particle 5 of mass 2, and a constraint listed twice (redundant) in the triangle.
+ * a free particle 5 of mass 2, a constraint listed twice (redundant) in the triangle, and a
+ * bent chain (6, 7, 8) of masses 2, 1, 4 with two bonds and no angle constraint, whose ends
+ * can move relative to each other.
  */
 struct Groups {
     System system;
-    std::vector<Vec3> r = {Vec3(0, 0, 0), Vec3(0.5, 0, 0), Vec3(2, 0, 0), Vec3(2.1, 0.09, 0), Vec3(1.95, 0.09, 0.05), Vec3(0.3, 0.6, 0.2)};
+    std::vector<Vec3> r = {Vec3(0, 0, 0), Vec3(0.5, 0, 0), Vec3(2, 0, 0), Vec3(2.1, 0.09, 0), Vec3(1.95, 0.09, 0.05), Vec3(0.3, 0.6, 0.2),
+                          Vec3(1, 1, 1), Vec3(1.4, 1, 1), Vec3(1.6, 1.3, 1.1)};
     Groups() {
-        for (double m : {1.0, 3.0, 16.0, 1.0, 1.0, 2.0})
+        for (double m : {1.0, 3.0, 16.0, 1.0, 1.0, 2.0, 2.0, 1.0, 4.0})
             system.addParticle(m);
         system.addConstraint(0, 1, 0.5);
         system.addConstraint(2, 3, 0.1);
         system.addConstraint(2, 4, 0.1);
         system.addConstraint(3, 4, 0.16);
         system.addConstraint(4, 2, 0.1);
+        system.addConstraint(6, 7, 0.4);
+        system.addConstraint(7, 8, std::sqrt(0.14));
     }
 };
 
@@ -83,7 +88,7 @@ TEST(ConstrainedPairImpulse, ImpulseKeepsTheConstraintsAndMomentumAndMovesThePai
     Groups g;
     ConstrainedPairImpulse impulse(g.system);
     impulse.prepare(g.r);
-    for (const std::pair<int, int>& ij : std::vector<std::pair<int, int>>{{0, 3}, {4, 1}, {5, 2}, {5, 0}}) {
+    for (const std::pair<int, int>& ij : std::vector<std::pair<int, int>>{{0, 3}, {4, 1}, {5, 2}, {5, 0}, {6, 8}}) {
         const PairGeometry p = pair(g.r, ij.first, ij.second);
         std::vector<Vec3> v(g.r.size());  // at rest: every constraint velocity holds
         const double inverse = impulse.inverseReducedMass(p);
@@ -107,7 +112,10 @@ TEST(ConstrainedPairImpulse, ShardlowOneKickIsTheTwoHalvesToRounding) {
     std::vector<Vec3> v0(g.r.size());
     impulse.inverseReducedMass(pair(g.r, 5, 3));  // a start in motion that keeps the constraints
     impulse.apply(pair(g.r, 5, 3), 1.3, v0);
-    for (const std::pair<int, int>& ij : std::vector<std::pair<int, int>>{{0, 3}, {4, 1}, {5, 2}, {5, 0}}) {
+    impulse.inverseReducedMass(pair(g.r, 5, 8));
+    impulse.apply(pair(g.r, 5, 8), -0.9, v0);
+    // (6, 8): both in one cluster, not held rigid by it
+    for (const std::pair<int, int>& ij : std::vector<std::pair<int, int>>{{0, 3}, {4, 1}, {5, 2}, {5, 0}, {6, 8}}) {
         for (double h : {0.01, 0.2}) {
             PairGeometry p = pair(g.r, ij.first, ij.second);
             p.gammaWD = 4.5 * 0.3 * 0.3;

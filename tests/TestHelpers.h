@@ -27,7 +27,7 @@ namespace {
 const double KT_KELVIN = 120.27236;  // kT = 1 kJ/mol
 
 // A DPD fluid at density 4 in a cubic box: soft repulsion a (0 = ideal gas, no force).
-System* makeFluid(int n, double a, std::vector<Vec3>& positions, unsigned seed = 5) {
+inline System* makeFluid(int n, double a, std::vector<Vec3>& positions, unsigned seed = 5) {
     System* system = new System();
     const double box = std::cbrt(n / 4.0);
     system->setDefaultPeriodicBoxVectors(Vec3(box, 0, 0), Vec3(0, box, 0), Vec3(0, 0, box));
@@ -56,8 +56,8 @@ System* makeFluid(int n, double a, std::vector<Vec3>& positions, unsigned seed =
     return system;
 }
 
-std::unique_ptr<Context> makeContext(System& system, Integrator& integrator, const std::string& platform,
-                                     const std::vector<Vec3>& positions, int threads = 0, bool deterministic = false) {
+inline std::unique_ptr<Context> makeContext(System& system, Integrator& integrator, const std::string& platform,
+                                            const std::vector<Vec3>& positions, int threads = 0, bool deterministic = false) {
     std::map<std::string, std::string> properties;
     if (platform == "CPU" && threads > 0)
         properties["Threads"] = std::to_string(threads);
@@ -69,7 +69,7 @@ std::unique_ptr<Context> makeContext(System& system, Integrator& integrator, con
     return context;
 }
 
-std::vector<std::string> platforms() {
+inline std::vector<std::string> platforms() {
     std::vector<std::string> names = {"Reference"};
 #if OPENMMDPD_HAVE_CPU
     names.push_back("CPU");
@@ -121,7 +121,7 @@ inline void expectCheckpointContinuesBitForBit(Context& context, Integrator& int
     }
 }
 
-void expectErrorNaming(const std::function<void()>& action, const std::string& name) {
+inline void expectErrorNaming(const std::function<void()>& action, const std::string& name) {
     try {
         action();
         ADD_FAILURE() << "no exception for " << name;

@@ -23,12 +23,12 @@ struct Scheme {
     bool uniformMasses = false;  // the integrator takes one mass only
 };
 
-void PrintTo(const Scheme& scheme, std::ostream* out) {
+inline void PrintTo(const Scheme& scheme, std::ostream* out) {
     *out << scheme.name;
 }
 
 /** GW (lambda 1/2 and 0.65), DPD-VV, SC-VV, S1, S2, Lowe, pair OU (both splittings), EDPD (both), OC; gamma 4.5, rc 1, kT 1. */
-std::vector<Scheme> schemesAt(double dt) {
+inline std::vector<Scheme> schemesAt(double dt) {
     using namespace DPDPlugin;
     auto dpdvv = [dt](DPDVVIntegrator::Variant variant, double lambda) {
         DPDVVIntegrator* integrator = new DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, dt);
@@ -83,7 +83,7 @@ std::vector<Scheme> schemesAt(double dt) {
  * (weighted); gamma (vV) or Gamma (Lowe) 4.5, rc 1, kT 1.  The System needs a force in
  * group 1, the default fast group.
  */
-std::vector<Scheme> staggeredSchemesAt(double dt) {
+inline std::vector<Scheme> staggeredSchemesAt(double dt) {
     using namespace DPDPlugin;
     auto staggered = [dt](StaggeredDPDIntegrator::BaseScheme base, int k) {
         StaggeredDPDIntegrator* integrator = new StaggeredDPDIntegrator(KT_KELVIN, 4.5, 1.0, dt, k);

@@ -67,7 +67,7 @@ void DPDPlugin::uploadMixed4(ComputeContext& cc, ComputeArray& array, const std:
             data[k] = mm_double4(rows[4 * k], rows[4 * k + 1], rows[4 * k + 2], rows[4 * k + 3]);
         if (!array.isInitialized())
             array.initialize<mm_double4>(cc, n, name);
-        else if (array.getSize() != (int) n)
+        else if ((size_t) array.getSize() != n)
             array.resize(n);
         array.upload(data);
     }
@@ -77,7 +77,7 @@ void DPDPlugin::uploadMixed4(ComputeContext& cc, ComputeArray& array, const std:
             data[k] = mm_float4((float) rows[4 * k], (float) rows[4 * k + 1], (float) rows[4 * k + 2], (float) rows[4 * k + 3]);
         if (!array.isInitialized())
             array.initialize<mm_float4>(cc, n, name);
-        else if (array.getSize() != (int) n)
+        else if ((size_t) array.getSize() != n)
             array.resize(n);
         array.upload(data);
     }
@@ -94,7 +94,7 @@ void CommonCellScan::execute(int numCells, ComputeArray& cellCount, ComputeArray
     const int numBlocks = (numCells + BlockSize - 1) / BlockSize;
     if (!blockSums.isInitialized())
         blockSums.initialize<int>(cc, numBlocks, "dpdCellBlockSums");
-    else if (blockSums.getSize() < numBlocks)
+    else if ((int) blockSums.getSize() < numBlocks)
         blockSums.resize(numBlocks);
     blockKernel->setArg(0, numCells);
     blockKernel->setArg(1, cellCount);

@@ -160,8 +160,9 @@ struct PairVelocities {
  * read of the velocities and no division between it and the kick, where a sweep's chain of
  * dependent updates runs (the CPU platform's rows are bound by it).  It holds for every
  * impulse here: each changes u by J / mu, mu the pair's reduced mass, the effective one
- * mu_eff under constraints (ConstrainedPairImpulse), where one kick also solves the
- * constraints once instead of twice.
+ * mu_eff under constraints (ConstrainedPairImpulse), where one kick also spreads the
+ * impulse over the constraint clusters once instead of twice (the constraints are solved
+ * once per pair in either form).
  */
 enum class ShardlowForm { TwoHalves, OneKick };
 
