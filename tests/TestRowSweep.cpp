@@ -1,5 +1,9 @@
 #if OPENMMDPD_HAVE_CPU
+#include "TestHelpers.h"
+#include "openmmdpd/PairSweep.h"
+#include "openmmdpd/ShardlowIntegrator.h"
 #include "openmmdpd/VectorRowSweep.h"
+#include <memory>
 #include <gtest/gtest.h>
 #include <cmath>
 #include <random>
@@ -119,5 +123,47 @@ TEST(RowSweep, PairOrnsteinUhlenbeckRowsEqualPairByPair) {
     // scalar exp while a pair alone keeps libmvec's: the same to rounding (velocities of
     // order 1; 1e-14 is some 100 roundings).
     expectRowsEqualPairByPair(EqualMassOU(0.05, 1.0, IMPULSE), 1e-14);
+}
+
+TEST(PairSweep, StripsGiveTheColourOrderBitForBit) {
+    // A sweep over a whole box (12 cells a side, 6912 particles): colour by colour and pair
+    // by pair (as for constraints), plane by plane in rows of four lanes, and in strips of
+    // one and of two rows per y mod 3 (of the four a plane has): the same velocities bit
+    // for bit, in the sweep order and its reverse.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(6912, 0, positions));
+    ShardlowIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.05);
+    Vec3 box[3];
+    system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    SerialExecutor executor;
+    DPDThermostatForces thermostat(*system, integrator, executor, 3);
+    thermostat.updatePairs(positions, box);
+    ASSERT_EQ(thermostat.getSearch().getNumCellsAlong(1), 12);
+    std::vector<double> xi;
+    thermostat.drawNormals(PairRandom::RandomForce, 3, xi);
+    std::mt19937 engine(7);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    std::vector<Vec3> v0(positions.size());
+    for (Vec3& vi : v0)
+        vi = Vec3(uniform(engine), uniform(engine), uniform(engine));
+    const RowShardlowUpdate rule(0.025, IMPULSE);
+    for (bool reverse : {false, true}) {
+        auto sweptBy = [&](PairSweep&& sweep) {
+            std::vector<Vec3> v = v0;
+            sweep.prepare(thermostat);
+            sweep.run(thermostat, v, rule, xi, reverse);
+            return v;
+        };
+        const std::vector<Vec3> expected = sweptBy(PairSweep(executor, true));
+        size_t moved = 0;
+        for (size_t i = 0; i < v0.size(); i++)
+            moved += (expected[i][0] != v0[i][0]);
+        ASSERT_GT(moved, v0.size() / 2);
+        for (int stripCells : {PairSweep::STRIP_CELLS, 36, 72}) {
+            const std::vector<Vec3> v = sweptBy(PairSweep(executor, false, stripCells));
+            for (size_t i = 0; i < v.size(); i++)
+                ASSERT_EQ(v[i], expected[i]) << "stripCells " << stripCells << (reverse ? ", reverse" : "") << ", particle " << i;
+        }
+    }
 }
 #endif

@@ -25,13 +25,20 @@ namespace DPDPlugin {
  * cell's pairs reach the next plane of cells along z and no further, so cells in planes more
  * than one apart share no particle, and the colour's z mod 3 is its most significant digit:
  * the 9 colours of a group (one z mod 3) can run plane by plane, all 9 in a plane before
- * the group's next plane, and a group's planes can be shared out over the workers.  Two
- * planes' velocities stay in cache through a plane's 9 colours.  With too few planes to
- * share, each colour's cells are shared out instead.
+ * the group's next plane, and a group's planes can be shared out over the workers.  Within a
+ * plane the same holds along y: a cell's pairs reach one row of cells either side, so rows
+ * three apart share no particle, and y mod 3 is the colour's next digit: the 3 colours of one
+ * y mod 3 can run strip by strip (a strip: some of the plane's rows of that y mod 3), all 3 in
+ * a strip before the next strip.  Where a plane is wider than stripCells, its strips are,
+ * so that the velocities a strip's colours touch stay in cache (README, "At scale").  With
+ * too few planes to share, each colour's cells are shared out instead.
  */
 class PairSweep {
 public:
-    PairSweep(ParallelExecutor& executor, bool oneThread = false) : executor(executor), oneThread(oneThread) {}
+    /** The cells of a plane a strip spans at most, by default: a strip's velocities and those it reaches fit a core's cache. */
+    static constexpr int STRIP_CELLS = 1728;
+    PairSweep(ParallelExecutor& executor, bool oneThread = false, int stripCells = STRIP_CELLS) :
+            executor(executor), oneThread(oneThread), stripCells(stripCells) {}
     /** Group the current pair list's cells by colour (call after every pair update). */
     void prepare(const DPDThermostatForces& pairs);
     /**
@@ -46,7 +53,7 @@ private:
     /** visit(run) for runs of cells that cover all pairs, in the sweep order or its reverse (SweepCells). */
     template <class Visit>
     void runColours(const DPDThermostatForces& pairs, const Visit& visit, bool reverse);
-    /** The planes [begin, end) of a group, each with its colours in turn (or in reverse). */
+    /** The planes [begin, end) of a group, each strip by strip with its colours in turn (or all in reverse). */
     template <class Visit>
     void runPlanes(const DPDThermostatForces& pairs, int group, int begin, int end, const Visit& visit, bool reverse) const;
     /** visit(run) for a colour's cells [begin, end). */
@@ -60,15 +67,17 @@ private:
      * before each item (`before`, one longer than the items): equal shares of the pairs.
      */
     void workerShare(const std::vector<int>& before, int w, size_t& begin, size_t& end) const;
-    /** prepare()'s second half: where each plane starts in each colour's cells, and the pairs before it. */
+    /** prepare()'s second half: where each strip of each plane starts in each colour's cells, and the pairs before each plane. */
     void preparePlanes(const PairSearch& search);
     ParallelExecutor& executor;
     const bool oneThread;
+    const int stripCells;
     bool independentCells = false;
     static constexpr int GROUPS = 3, GROUP_COLOURS = 9;  // of the 27 colours, by z mod 3
-    std::vector<std::vector<int>> colourCells;           // by colour, in cell order (so plane by plane)
+    std::vector<std::vector<int>> colourCells;           // by colour, in cell order (so plane by plane, row by row)
     std::vector<std::vector<int>> colourPairsBefore;     // pairs in the colour's cells before each
-    std::vector<std::vector<int>> colourPlaneStart;      // where each plane of the colour's group starts in colourCells (27 colours)
+    int strips = 1;                                      // strips per plane
+    std::vector<std::vector<int>> colourStripStart;      // where strip s of plane k of the colour's group starts in colourCells: k * strips + s
     std::vector<std::vector<int>> groupPairsBefore;      // pairs in the group's planes before each (3 groups)
 };
 
@@ -92,28 +101,37 @@ inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
 }
 
 inline void PairSweep::preparePlanes(const PairSearch& search) {
-    // Plane k of group g (z mod 3) is z = g + 3k.
+    // Plane k of group g (z mod 3) is z = g + 3k; row y of a plane is row m = y / 3 of the
+    // rows of its y mod 3, and strip s holds the rows m * strips / rows = s (strips as equal as can be).
     const int colours = (int) colourCells.size();
-    colourPlaneStart.assign(colours == 27 ? colours : 0, std::vector<int>());
-    const int planeCells = search.getNumCellsAlong(0) * search.getNumCellsAlong(1), planes = search.getNumCellsAlong(2);
-    for (int c = 0; c < (int) colourPlaneStart.size(); c++) {
+    colourStripStart.assign(colours == 27 ? colours : 0, std::vector<int>());
+    groupPairsBefore.assign(colours == 27 ? GROUPS : 0, std::vector<int>());
+    if (colours != 27)
+        return;
+    const int nx = search.getNumCellsAlong(0), ny = search.getNumCellsAlong(1), planes = search.getNumCellsAlong(2);
+    const auto rows = [&](int y) { return (ny - y % 3 + 2) / 3; };  // of the y mod 3 of row y
+    const auto groupPlanes = [&](int g) { return (planes - g + 2) / 3; };
+    const int stripRows = std::max(1, stripCells / (3 * nx));
+    strips = (rows(0) + stripRows - 1) / stripRows;
+    const auto stripOf = [&](int cell) {
+        const int y = cell / nx % ny;
+        return cell / (nx * ny) / 3 * strips + y / 3 * strips / rows(y);
+    };
+    for (int c = 0; c < colours; c++) {
         const std::vector<int>& cells = colourCells[c];
-        const int groupPlanes = (planes - c / GROUP_COLOURS + 2) / 3;
-        std::vector<int>& planeStart = colourPlaneStart[c];
-        planeStart.assign(groupPlanes + 1, (int) cells.size());
-        for (int k = 0, index = 0; k < groupPlanes; k++) {
-            while (index < (int) cells.size() && cells[index] / planeCells / 3 < k)
+        std::vector<int>& stripStart = colourStripStart[c];
+        stripStart.assign(groupPlanes(c / GROUP_COLOURS) * strips + 1, (int) cells.size());
+        for (int strip = 0, index = 0; strip + 1 < (int) stripStart.size(); strip++) {
+            while (index < (int) cells.size() && stripOf(cells[index]) < strip)
                 index++;
-            planeStart[k] = index;
+            stripStart[strip] = index;
         }
     }
-    groupPairsBefore.assign(colourPlaneStart.empty() ? 0 : GROUPS, std::vector<int>());
-    for (int g = 0; g < (int) groupPairsBefore.size(); g++) {
-        const int groupPlanes = (int) colourPlaneStart[g * GROUP_COLOURS].size() - 1;
-        groupPairsBefore[g].assign(groupPlanes + 1, 0);
-        for (int k = 0; k <= groupPlanes; k++)
+    for (int g = 0; g < GROUPS; g++) {
+        groupPairsBefore[g].assign(groupPlanes(g) + 1, 0);
+        for (int k = 0; k <= groupPlanes(g); k++)
             for (int c = g * GROUP_COLOURS; c < (g + 1) * GROUP_COLOURS; c++)
-                groupPairsBefore[g][k] += colourPairsBefore[c][colourPlaneStart[c][k]];
+                groupPairsBefore[g][k] += colourPairsBefore[c][colourStripStart[c][k * strips]];
     }
 }
 
@@ -136,13 +154,16 @@ void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>&
 
 template <class Visit>
 void PairSweep::runPlanes(const DPDThermostatForces& pairs, int group, int begin, int end, const Visit& visit, bool reverse) const {
+    const auto inOrder = [&](int i, int n) { return reverse ? n - 1 - i : i; };
     for (int p = begin; p < end; p++) {
-        const int k = reverse ? begin + end - 1 - p : p;
-        for (int q = 0; q < GROUP_COLOURS; q++) {
-            const int colour = group * GROUP_COLOURS + (reverse ? GROUP_COLOURS - 1 - q : q);
-            const std::vector<int>& planeStart = colourPlaneStart[colour];
-            runCells(pairs, colourCells[colour], planeStart[k], planeStart[k + 1], visit, reverse);
-        }
+        const int k = inOrder(p - begin, end - begin) + begin;
+        for (int b = 0; b < 3; b++)  // y mod 3
+            for (int s = 0; s < strips; s++)
+                for (int x = 0; x < 3; x++) {  // x mod 3
+                    const int colour = group * GROUP_COLOURS + 3 * inOrder(b, 3) + inOrder(x, 3), strip = k * strips + inOrder(s, strips);
+                    const std::vector<int>& stripStart = colourStripStart[colour];
+                    runCells(pairs, colourCells[colour], stripStart[strip], stripStart[strip + 1], visit, reverse);
+                }
     }
 }
 
@@ -158,7 +179,7 @@ void PairSweep::runColours(const DPDThermostatForces& pairs, const Visit& visit,
         }
         return;
     }
-    const int workers = executor.getNumWorkers(), fewestPlanes = (int) colourPlaneStart.back().size() - 1;
+    const int workers = executor.getNumWorkers(), fewestPlanes = (int) groupPairsBefore.back().size() - 1;
     if (workers == 1 || fewestPlanes >= 2 * workers) {
         // Plane by plane, each group's planes shared out: one wait per group.
         executor.executePhases(GROUPS, [&](int w, int g) {
