@@ -27,7 +27,8 @@ struct IndependentCells {
     std::vector<double> xi;
     std::vector<Vec3> v;
 
-    explicit IndependentCells(unsigned seed) {
+    /** withImages: some pairs' j images move (a sheared box); without, the geometry is one a UniformPair can hold. */
+    explicit IndependentCells(unsigned seed, bool withImages = true) {
         std::mt19937 engine(seed);
         std::uniform_real_distribution<double> uniform(-1.0, 1.0);
         std::uniform_int_distribution<int> pairsInCell(0, 11);
@@ -48,7 +49,7 @@ struct IndependentCells {
                 g.wR = 0.5 + 0.5 * uniform(engine);
                 g.gammaWD = 4.5 * g.wR * g.wR;
                 g.sigmaWR = 3.0 * g.wR;
-                g.imageVx = (k % 2 == 0 ? 0.25 * uniform(engine) : 0.0);
+                g.imageVx = (withImages && k % 2 == 0 ? 0.25 * uniform(engine) : 0.0);
                 list.push_back(g);
                 xi.push_back(uniform(engine) * 2);
             }
@@ -72,12 +73,27 @@ struct IndependentCells {
             cellPairs.push_back(apart ? parts[c % 2].data() + placed[c % 2] : list.data() + start[c]);
             placed[c % 2] += start[c + 1] - start[c];
         }
-        const SweepCells run{cells, start, cellPairs, 0, cells.size(), reverse, unit != nullptr};
+        const SweepCells<PairGeometry> run{cells, start, cellPairs, 0, cells.size(), reverse, unit != nullptr, nullptr};
         std::vector<Vec3> out = v;
         if (unit != nullptr)
             sweepCells(rule, xi, out, run, *unit);
         else
             sweepCells<Rule, double>(rule, xi, out, run);
+        return out;
+    }
+
+    /** The same over a list of UniformPair whose geometry is `uniform`'s: in rows with this unit, or (null) pair by pair. */
+    template <class Rule>
+    std::vector<Vec3> sweptUniform(const Rule& rule, bool reverse, const RowVectorUnit* unit, const UniformPairRule& uniform) const {
+        std::vector<UniformPair> uniformList;
+        for (const PairGeometry& g : list)
+            uniformList.push_back({g.i, g.j, g.e, g.wR});
+        std::vector<const UniformPair*> cellPairs;
+        for (size_t c = 0; c + 1 < start.size(); c++)
+            cellPairs.push_back(uniformList.data() + start[c]);
+        const SweepCells<UniformPair> run{cells, start, cellPairs, 0, cells.size(), reverse, unit != nullptr, &uniform};
+        std::vector<Vec3> out = v;
+        sweepCells(rule, xi, out, run, unit != nullptr ? *unit : RowVectorUnit::Best);
         return out;
     }
 };
@@ -123,6 +139,33 @@ TEST(RowSweep, PairOrnsteinUhlenbeckRowsEqualPairByPair) {
     // scalar exp while a pair alone keeps libmvec's: the same to rounding (velocities of
     // order 1; 1e-14 is some 100 roundings).
     expectRowsEqualPairByPair(EqualMassOU(0.05, 1.0, IMPULSE), 1e-14);
+}
+
+TEST(RowSweep, UniformPairsGiveThePairGeometryOnes) {
+    // A list of UniformPair (e and wR, with gamma and sigma the rule's) in rows, by each
+    // unit, and pair by pair, against the pair-by-pair sweep of the PairGeometry list the
+    // same pairs make (gamma wR^2 and sigma wR as pairGeometry computes them): bit for bit,
+    // the baseline target's pair OU rows within 1e-14 (see the test above).
+    const UniformPairRule uniform{1.0, 1.0, 4.5, 3.0, 0.0, false, 0.0, 0.0, 0.0};
+    const RowShardlowUpdate shardlow(0.05, IMPULSE);
+    const EqualMassOU ou(0.05, 1.0, IMPULSE);
+    const RowVectorUnit best = RowVectorUnit::Best, baseline = RowVectorUnit::Baseline;
+    for (unsigned seed : {1u, 2u, 3u})
+        for (bool reverse : {false, true}) {
+            const IndependentCells cells(seed, false);
+            for (const RowVectorUnit* unit : {&best, &baseline, (const RowVectorUnit*) nullptr}) {
+                const std::string where = "seed " + std::to_string(seed) + (reverse ? " reverse" : "") +
+                                          (unit ? " row unit " + std::to_string((int) *unit) : " pair by pair");
+                const std::vector<Vec3> s = cells.sweptUniform(shardlow, reverse, unit, uniform),
+                                        sExpected = cells.swept(shardlow, reverse, nullptr, false);
+                const std::vector<Vec3> o = cells.sweptUniform(ou, reverse, unit, uniform), oExpected = cells.swept(ou, reverse, nullptr, false);
+                for (size_t i = 0; i < s.size(); i++) {
+                    ASSERT_EQ(s[i], sExpected[i]) << "Shardlow, " << where << ", particle " << i;
+                    for (int k = 0; k < 3; k++)
+                        ASSERT_NEAR(o[i][k], oExpected[i][k], unit == &baseline ? 1e-14 : 0.0) << "pair OU, " << where << ", particle " << i;
+                }
+            }
+        }
 }
 
 TEST(PairSweep, StripsGiveTheColourOrderBitForBit) {

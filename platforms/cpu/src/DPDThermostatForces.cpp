@@ -28,6 +28,7 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
         cellMultiple(cellMultiple), random(PairRandom::seedFor(integrator.getRandomNumberSeed())) {
     const int workers = executor.getNumWorkers();
     workerPairs.resize(workers);
+    workerUniformPairs.resize(workers);
     workerPairParticles.resize(workers);
     workerListSize.resize(workers);
     keptPairs.resize(workers);
@@ -56,6 +57,8 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
     cellPairs.resize(search.getNumCells());
+    pairsUniform = (bySlot && canRunUniformPairBlock() && uniformRule(soft, listRule));
+    cellUniformPairs.resize(search.getNumCells());
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const bool sheared = (parameters.getShearRate() != 0);
     sortedTypes.resize(sortedIndex.size());
@@ -85,7 +88,10 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         else if (phase == 1)
             findWorkerPairs(w, soft);
         else if (phase == 2 && w == 0 && !pairsInParts) {
-            sizeForWorkerLists(pairs);
+            if (pairsUniform)
+                sizeForWorkerLists(uniformPairs);
+            else
+                sizeForWorkerLists(pairs);
             sizeForWorkerLists(pairParticles);
         }
         else if (phase == 3) {
@@ -104,12 +110,33 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
 }
 
 const std::vector<PairGeometry>& DPDThermostatForces::getPairs() const {
-    if (pairsInParts)
-        throw OpenMM::OpenMMException(name + ": internal error: the pair list found by slot is in the workers' parts; walk it by cell");
+    if (pairsInParts || pairsUniform)
+        throw OpenMM::OpenMMException(name + ": internal error: the pair list found by slot is in the workers' parts or of UniformPair; walk it by cell");
     return pairs;
 }
 
 void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft) {
+    if (pairsUniform) {
+        fillWorkerList(w, soft, uniformPairs, workerUniformPairs,
+                       [&](int p, const int* qs, const Vec3* ds, int hits, std::vector<UniformPair>& out,
+                           std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& softForce) {
+                           appendUniformPairs(listRule, p, qs, ds, hits, out, outParticles, count, softForce);
+                       });
+        return;
+    }
+    UniformPairRule rule;
+    const bool uniform = uniformRule(soft, rule);
+    fillWorkerList(w, soft, pairs, workerPairs,
+                   [&](int p, const int* qs, const Vec3* ds, int hits, std::vector<PairGeometry>& out,
+                       std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& softForce) {
+                       if (!(uniform && appendUniformPairs(rule, p, qs, ds, hits, out, outParticles, count, softForce)))
+                           appendPairsOneByOne(p, qs, ds, hits, out, outParticles, count, softForce, soft);
+                   });
+}
+
+template <class Entry, class AppendBlock>
+void DPDThermostatForces::fillWorkerList(int w, const SoftRepulsionKernel* soft, std::vector<Entry>& firstPart,
+                                         std::vector<std::vector<Entry>>& otherParts, AppendBlock appendBlock) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
     // Worker 0 writes the list itself (with one worker, all of it): a second buffer for its
@@ -121,60 +148,63 @@ void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft
     // found by particle: the whole list's, from the step before): cleared, they would be filled with zeros
     // again as they grew (a PairGeometry zeroes itself), and sizeForWorkerLists, run by
     // worker 0 alone while the others wait, would zero the other workers' part of the list.
-    std::vector<PairGeometry>& list = (w == 0 ? pairs : workerPairs[w]);
+    std::vector<Entry>& list = (w == 0 ? firstPart : otherParts[w]);
     std::vector<PairParticles>& listParticles = (w == 0 ? pairParticles : workerPairParticles[w]);
-    std::vector<PairGeometry> out;
+    std::vector<Entry> out;
     std::vector<PairParticles> outParticles;
     out.swap(list);
     outParticles.swap(listParticles);
     size_t count = 0;
-    const std::vector<int>& sortedIndex = search.getSortedIndex();
-    const TypePairTable& table = parameters.getTable();
     std::vector<Vec3>& softForce = workerDissipative[w];
     if (soft != nullptr)
-        std::fill(softForce.begin(), softForce.begin() + sortedIndex.size(), Vec3());
+        std::fill(softForce.begin(), softForce.begin() + search.getSortedIndex().size(), Vec3());
     // Each cell's pairs start at a local offset, made global (and pointed to) by placeWorkerCells.
     const auto startCell = [&](int cell) { cellPairStart[cell] = (int) count; };
-    UniformPairRule rule;
-    const bool uniform = uniformRule(soft, rule);
     search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* qs, const Vec3* ds, int hits) {
-        if (uniform && appendUniformPairs(rule, p, qs, ds, hits, out, outParticles, count, softForce))
-            return;
-        for (int k = 0; k < hits; k++) {
-            const int q = qs[k];
-            const Vec3& d = ds[k];
-            const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
-            const double imageVx =
-                    sortedHeights.empty() ? 0.0 : parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q], d[1], searchedHeight);
-            // Written in place: copied from a local, the fields stored one by one and read
-            // back two at a time would stall the copy (no store forwarding).
-            if (count == out.size()) {
-                out.emplace_back();
-                outParticles.emplace_back();
-            }
-            PairGeometry& g = out[count];
-            if (!parameters.pairGeometry(i, j, t, d, g, imageVx))
-                continue;
-            outParticles[count++] = {i, j};
-            if (pairsBySlot) {
-                g.i = p;
-                g.j = q;
-            }
-            if (soft != nullptr) {
-                const int softType = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
-                const Vec3 f = g.e * soft->pairForce(i, j, softType, table.cutoff(t) * (1 - g.wR));
-                softForce[p] += f;
-                softForce[q] -= f;
-            }
-        }
+        appendBlock(p, qs, ds, hits, out, outParticles, count, softForce);
     }, startCell);
     workerListSize[w] = count;
     out.swap(list);
     outParticles.swap(listParticles);
 }
 
+void DPDThermostatForces::appendPairsOneByOne(int p, const int* qs, const Vec3* ds, int hits, std::vector<PairGeometry>& out,
+                                              std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& softForce,
+                                              const SoftRepulsionKernel* soft) const {
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const TypePairTable& table = parameters.getTable();
+    for (int k = 0; k < hits; k++) {
+        const int q = qs[k];
+        const Vec3& d = ds[k];
+        const int i = sortedIndex[p], j = sortedIndex[q], t = table.indexOfTypes(sortedTypes[p], sortedTypes[q]);
+        const double imageVx =
+                sortedHeights.empty() ? 0.0 : parameters.imageVelocityX(sortedHeights[p] - sortedHeights[q], d[1], searchedHeight);
+        // Written in place: copied from a local, the fields stored one by one and read
+        // back two at a time would stall the copy (no store forwarding).
+        if (count == out.size()) {
+            out.emplace_back();
+            outParticles.emplace_back();
+        }
+        PairGeometry& g = out[count];
+        if (!parameters.pairGeometry(i, j, t, d, g, imageVx))
+            continue;
+        outParticles[count++] = {i, j};
+        if (pairsBySlot) {
+            g.i = p;
+            g.j = q;
+        }
+        if (soft != nullptr) {
+            const int softType = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
+            const Vec3 f = g.e * soft->pairForce(i, j, softType, table.cutoff(t) * (1 - g.wR));
+            softForce[p] += f;
+            softForce[q] -= f;
+        }
+    }
+}
+
+template <class Entry>
 bool DPDThermostatForces::appendUniformPairs(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits,
-                                             std::vector<PairGeometry>& out, std::vector<PairParticles>& outParticles, size_t& count,
+                                             std::vector<Entry>& out, std::vector<PairParticles>& outParticles, size_t& count,
                                              std::vector<Vec3>& softForce) const {
     if (count + hits > out.size()) {
         out.resize(count + hits);
@@ -233,11 +263,20 @@ void DPDThermostatForces::placeWorkerCells(int w) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
     const size_t offset = workerPairsBefore(w);
-    const PairGeometry* part = (pairsInParts ? (w == 0 ? pairs : workerPairs[w]).data() : pairs.data() + offset);
-    for (size_t cell = begin; cell < end; cell++) {
-        cellPairs[cell] = part + cellPairStart[cell];
+    if (pairsUniform)
+        pointCellsInto(w, begin, end, offset, uniformPairs, workerUniformPairs, cellUniformPairs);
+    else
+        pointCellsInto(w, begin, end, offset, pairs, workerPairs, cellPairs);
+    for (size_t cell = begin; cell < end; cell++)
         cellPairStart[cell] += (int) offset;
-    }
+}
+
+template <class Entry>
+void DPDThermostatForces::pointCellsInto(int w, size_t begin, size_t end, size_t offset, const std::vector<Entry>& firstPart,
+                                         const std::vector<std::vector<Entry>>& otherParts, std::vector<const Entry*>& cellEntries) {
+    const Entry* part = (pairsInParts ? (w == 0 ? firstPart : otherParts[w]).data() : firstPart.data() + offset);
+    for (size_t cell = begin; cell < end; cell++)
+        cellEntries[cell] = part + cellPairStart[cell];
 }
 
 void DPDThermostatForces::compute(int terms, const std::vector<Vec3>& velocities, long long step, double dt,

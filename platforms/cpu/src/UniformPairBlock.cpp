@@ -19,7 +19,7 @@ typedef double Lane4 __attribute__((vector_size(4 * sizeof(double))));
 
 /** Four hits' geometry, lane by lane as pairGeometry computes it (no FMA: the target has none). */
 struct HitRow {
-    Lane4 dx, dy, dz, r2, wR, ex, ey, ez, softForce;
+    Lane4 dx, dy, dz, r2, wR, ex, ey, ez, gammaWD, sigmaWR, softForce;
 
     __attribute__((target("avx2"))) HitRow(const Vec3* ds, int first, int hits) {
         // lanes past the last hit repeat the first (and are not accepted)
@@ -37,6 +37,8 @@ struct HitRow {
         ex = dx * scale;
         ey = dy * scale;
         ez = dz * scale;
+        gammaWD = rule.gamma * wR * wR;
+        sigmaWR = rule.sigma * wR;
         if (rule.soft) {
             const Lane4 softR = rule.cutoff * (1 - wR);
             const Lane4 force = rule.softA * (1 - softR * rule.softInverseCutoff);
@@ -46,8 +48,24 @@ struct HitRow {
     }
 };
 
+/** Lane l of a row as a list entry. */
+inline void setEntry(PairGeometry& g, const HitRow& row, int l, const UniformPairRule& rule) {
+    g.e = Vec3(row.ex[l], row.ey[l], row.ez[l]);
+    g.wR = row.wR[l];
+    g.gammaWD = row.gammaWD[l];
+    g.sigmaWR = row.sigmaWR[l];
+    g.rate = rule.rate;
+    g.imageVx = 0;
+}
+
+inline void setEntry(UniformPair& pair, const HitRow& row, int l, const UniformPairRule&) {
+    pair.e = Vec3(row.ex[l], row.ey[l], row.ez[l]);
+    pair.wR = row.wR[l];
+}
+
+template <class Entry>
 __attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits,
-                                                         int* acceptedQ, PairGeometry* out, Vec3* softForce) {
+                                                         int* acceptedQ, Entry* out, Vec3* softForce) {
     int n = 0;
     Vec3 forceOnP = (rule.soft ? softForce[p] : Vec3());
     for (int first = 0; first < hits; first += 4) {
@@ -59,21 +77,14 @@ __attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& 
         if (accept == 0)
             continue;
         row.finish(rule);
-        const Lane4 gammaWD = rule.gamma * row.wR * row.wR, sigmaWR = rule.sigma * row.wR;
         for (int l = 0; l < 4; l++) {
             if (!(accept & (1 << l)))
                 continue;
-            PairGeometry& g = out[n];
-            g.e = Vec3(row.ex[l], row.ey[l], row.ez[l]);
-            g.wR = row.wR[l];
-            g.gammaWD = gammaWD[l];
-            g.sigmaWR = sigmaWR[l];
-            g.rate = rule.rate;
-            g.imageVx = 0;
+            setEntry(out[n], row, l, rule);
             const int q = acceptedQ[n++] = qs[first + l];
             if (rule.soft) {
-                // g.e * force, as SoftRepulsionKernel::pairForce's caller makes it (0 beyond the soft cutoff)
-                const Vec3 f = g.e * row.softForce[l];
+                // e * force, as SoftRepulsionKernel::pairForce's caller makes it (0 beyond the soft cutoff)
+                const Vec3 f = Vec3(row.ex[l], row.ey[l], row.ez[l]) * row.softForce[l];
                 forceOnP += f;
                 softForce[q] -= f;
             }
@@ -87,11 +98,34 @@ __attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& 
 } // namespace
 #endif
 
-int DPDPlugin::uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits, int* acceptedQ,
-                                PairGeometry* out, Vec3* softForce) {
+bool DPDPlugin::canRunUniformPairBlock() {
+#ifdef OPENMMDPD_X86_VECTORS
+    return haveAVX2();
+#else
+    return false;
+#endif
+}
+
+namespace {
+
+template <class Entry>
+int uniformPairBlockOn(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits, int* acceptedQ, Entry* out,
+                       Vec3* softForce) {
 #ifdef OPENMMDPD_X86_VECTORS
     if (haveAVX2())
         return uniformPairBlockAVX2(rule, p, qs, ds, hits, acceptedQ, out, softForce);
 #endif
     return -1;
+}
+
+} // namespace
+
+int DPDPlugin::uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits, int* acceptedQ,
+                                PairGeometry* out, Vec3* softForce) {
+    return uniformPairBlockOn(rule, p, qs, ds, hits, acceptedQ, out, softForce);
+}
+
+int DPDPlugin::uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits, int* acceptedQ,
+                                UniformPair* out, Vec3* softForce) {
+    return uniformPairBlockOn(rule, p, qs, ds, hits, acceptedQ, out, softForce);
 }

@@ -91,86 +91,99 @@ struct PairRowVelocities {
 /** A row's pairs: their geometry, random numbers and velocities, loaded lane by lane, and stored back. */
 template <class Math>
 struct PairRow {
-    const PairGeometry* p[SWEEP_LANES];
+    int i[SWEEP_LANES], j[SWEEP_LANES];
     PairRowVelocities<Math> pair;
-    RowReal xi;
+    RowReal sigmaWR, gammaWD, xi;
 
-    __attribute__((always_inline)) PairRow(const PairGeometry* const* rowPairs, const std::vector<double>& random, const int* row,
-                                           const std::vector<Vec3>& v, double invMass, double mu) {
-        for (int l = 0; l < SWEEP_LANES; l++)
-            p[l] = rowPairs[l];
-        pair.ex = lanes([](const PairGeometry& q) { return q.e[0]; });
-        pair.ey = lanes([](const PairGeometry& q) { return q.e[1]; });
-        pair.ez = lanes([](const PairGeometry& q) { return q.e[2]; });
-        pair.imageVx = lanes([](const PairGeometry& q) { return q.imageVx; });
-        pair.vix = lanes([&](const PairGeometry& q) { return v[q.i][0]; });
-        pair.viy = lanes([&](const PairGeometry& q) { return v[q.i][1]; });
-        pair.viz = lanes([&](const PairGeometry& q) { return v[q.i][2]; });
-        pair.vjx = lanes([&](const PairGeometry& q) { return v[q.j][0]; });
-        pair.vjy = lanes([&](const PairGeometry& q) { return v[q.j][1]; });
-        pair.vjz = lanes([&](const PairGeometry& q) { return v[q.j][2]; });
+    template <class Entry>
+    __attribute__((always_inline)) PairRow(const Entry* const* rowPairs, const SweepCells<Entry>& run, const std::vector<double>& random,
+                                           const int* row, const std::vector<Vec3>& v, double invMass, double mu) {
+        for (int l = 0; l < SWEEP_LANES; l++) {
+            i[l] = rowPairs[l]->i;
+            j[l] = rowPairs[l]->j;
+        }
+        loadGeometry(rowPairs, run);
+        pair.vix = laneValues([&](int l) { return v[i[l]][0]; });
+        pair.viy = laneValues([&](int l) { return v[i[l]][1]; });
+        pair.viz = laneValues([&](int l) { return v[i[l]][2]; });
+        pair.vjx = laneValues([&](int l) { return v[j[l]][0]; });
+        pair.vjy = laneValues([&](int l) { return v[j[l]][1]; });
+        pair.vjz = laneValues([&](int l) { return v[j[l]][2]; });
         pair.invMass = invMass;
         pair.mu = mu;
         xi = laneValues([&](int l) { return random[row[l]]; });
     }
-    template <class Value>
-    __attribute__((always_inline)) RowReal lanes(Value value) const {
-        return laneValues([&](int l) { return value(*p[l]); });
+    __attribute__((always_inline)) void loadGeometry(const PairGeometry* const* q, const SweepCells<PairGeometry>&) {
+        pair.ex = laneValues([&](int l) { return q[l]->e[0]; });
+        pair.ey = laneValues([&](int l) { return q[l]->e[1]; });
+        pair.ez = laneValues([&](int l) { return q[l]->e[2]; });
+        pair.imageVx = laneValues([&](int l) { return q[l]->imageVx; });
+        sigmaWR = laneValues([&](int l) { return q[l]->sigmaWR; });
+        gammaWD = laneValues([&](int l) { return q[l]->gammaWD; });
+    }
+    /** As pairGeometry(UniformPair, rule) makes them, lane by lane. */
+    __attribute__((always_inline)) void loadGeometry(const UniformPair* const* q, const SweepCells<UniformPair>& run) {
+        pair.ex = laneValues([&](int l) { return q[l]->e[0]; });
+        pair.ey = laneValues([&](int l) { return q[l]->e[1]; });
+        pair.ez = laneValues([&](int l) { return q[l]->e[2]; });
+        pair.imageVx = RowReal{};
+        const RowReal wR = laneValues([&](int l) { return q[l]->wR; });
+        gammaWD = run.uniformRule->gamma * wR * wR;
+        sigmaWR = run.uniformRule->sigma * wR;
     }
     __attribute__((always_inline)) void store(std::vector<Vec3>& v) const {
         // The lanes' particles are distinct, except where a lane repeats lane 0's pair: it
         // stores the same values again, after lane 0.
         for (int l = 0; l < SWEEP_LANES; l++) {
-            v[p[l]->i] = Vec3(pair.vix[l], pair.viy[l], pair.viz[l]);
-            v[p[l]->j] = Vec3(pair.vjx[l], pair.vjy[l], pair.vjz[l]);
+            v[i[l]] = Vec3(pair.vix[l], pair.viy[l], pair.viz[l]);
+            v[j[l]] = Vec3(pair.vjx[l], pair.vjy[l], pair.vjz[l]);
         }
     }
 };
 
 template <class Math>
 __attribute__((always_inline)) inline void updateRow(const RowShardlowUpdate& rule, PairRow<Math>& row) {
-    rule.apply(row.pair, row.lanes([](const PairGeometry& q) { return q.sigmaWR; }),
-               row.lanes([](const PairGeometry& q) { return q.gammaWD; }), row.xi);
+    rule.apply(row.pair, row.sigmaWR, row.gammaWD, row.xi);
 }
 
 template <class Math>
 __attribute__((always_inline)) inline void updateRow(const EqualMassOU& rule, PairRow<Math>& row) {
-    rule.apply(row.pair, row.lanes([](const PairGeometry& q) { return q.gammaWD; }), row.xi, rule.commonKTOverMu);
+    rule.apply(row.pair, row.gammaWD, row.xi, rule.commonKTOverMu);
 }
 
-template <class Math, class Rule>
+template <class Math, class Rule, class Entry>
 __attribute__((always_inline)) inline void sweepRows(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v,
-                                                     const SweepCells& run) {
+                                                     const SweepCells<Entry>& run) {
     // always inlined, as the row's other functions, so that it is compiled for the caller's vector unit
     const double invMass = rule.impulse.invMass, mu = rule.reducedMass(invMass + invMass);
-    forEachPairRow(run, [&](const int* rowIndex, const PairGeometry* const* rowPairs, int n) __attribute__((always_inline)) {
+    forEachPairRow(run, [&](const int* rowIndex, const Entry* const* rowPairs, int n) __attribute__((always_inline)) {
         prefetchAhead(rowPairs, random, rowIndex, n, run.reverse);
-        PairRow<Math> row(rowPairs, random, rowIndex, v, invMass, mu);
+        PairRow<Math> row(rowPairs, run, random, rowIndex, v, invMass, mu);
         updateRow(rule, row);
         row.store(v);
     });
 }
 
-template <class Rule>
-void sweepRowsBase(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v,
-                   const SweepCells& run) {
+template <class Rule, class Entry>
+void sweepRowsBase(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells<Entry>& run) {
     sweepRows<LaneByLaneMath>(rule, random, v, run);
 }
 
 #ifdef OPENMMDPD_X86_VECTORS
 // The same code, compiled for 4-wide vectors where the processor has them.
-template <class Rule>
-__attribute__((target("avx2"))) void sweepRowsAVX2(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells& run) {
+template <class Rule, class Entry>
+__attribute__((target("avx2"))) void sweepRowsAVX2(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v,
+                                                   const SweepCells<Entry>& run) {
     sweepRows<AVX2RowMath>(rule, random, v, run);
 }
 #endif
 
 /** sweepCells of either rule: rows of pairs where the cells are independent and masses nonzero, else pair by pair. */
-template <class Rule>
-void sweepCellsInRows(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v,
-                      const SweepCells& run, RowVectorUnit unit) {
+template <class Rule, class Entry>
+void sweepCellsInRows(const Rule& rule, const std::vector<double>& random, std::vector<Vec3>& v, const SweepCells<Entry>& run,
+                      RowVectorUnit unit) {
     if (!run.independent || rule.impulse.invMass == 0)
-        sweepCells<Rule, double>(rule, random, v, run);
+        sweepCells<Rule, double, Entry>(rule, random, v, run);
 #ifdef OPENMMDPD_X86_VECTORS
     else if (unit == RowVectorUnit::Best && haveAVX2())
         sweepRowsAVX2(rule, random, v, run);
@@ -192,12 +205,22 @@ double RowConsistentMath::exp(double x) {
     return std::exp(x);
 }
 
-void DPDPlugin::sweepCells(const RowShardlowUpdate& rule, const std::vector<double>& random,
-                           std::vector<Vec3>& v, const SweepCells& run, RowVectorUnit unit) {
+void DPDPlugin::sweepCells(const RowShardlowUpdate& rule, const std::vector<double>& random, std::vector<Vec3>& v,
+                           const SweepCells<PairGeometry>& run, RowVectorUnit unit) {
     sweepCellsInRows(rule, random, v, run, unit);
 }
 
-void DPDPlugin::sweepCells(const EqualMassOU& rule, const std::vector<double>& random,
-                           std::vector<Vec3>& v, const SweepCells& run, RowVectorUnit unit) {
+void DPDPlugin::sweepCells(const RowShardlowUpdate& rule, const std::vector<double>& random, std::vector<Vec3>& v,
+                           const SweepCells<UniformPair>& run, RowVectorUnit unit) {
+    sweepCellsInRows(rule, random, v, run, unit);
+}
+
+void DPDPlugin::sweepCells(const EqualMassOU& rule, const std::vector<double>& random, std::vector<Vec3>& v,
+                           const SweepCells<PairGeometry>& run, RowVectorUnit unit) {
+    sweepCellsInRows(rule, random, v, run, unit);
+}
+
+void DPDPlugin::sweepCells(const EqualMassOU& rule, const std::vector<double>& random, std::vector<Vec3>& v,
+                           const SweepCells<UniformPair>& run, RowVectorUnit unit) {
     sweepCellsInRows(rule, random, v, run, unit);
 }

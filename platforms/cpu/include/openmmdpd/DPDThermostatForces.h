@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DPDPairCore.h"
 #include "openmmdpd/ParallelExecutor.h"
+#include "openmmdpd/UniformPairBlock.h"
 #include <algorithm>
 #include <array>
 #include <string>
@@ -17,7 +18,6 @@ namespace DPDPlugin {
  * staggered scheme) call this; pairwise-sequential rules use the same pair list.
  */
 class SoftRepulsionKernel;
-struct UniformPairRule;
 
 class DPDThermostatForces {
 public:
@@ -38,7 +38,7 @@ public:
     void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
                      const SoftRepulsionKernel* soft = nullptr, std::vector<OpenMM::Vec3>* softOut = nullptr,
                      bool bySlot = false);
-    /** The pair list, in one piece: after updatePairs by particle (by slot it is in parts: see getCellPairs). */
+    /** The pair list, in one piece: after updatePairs by particle (by slot it is in parts, or of UniformPair: see getCellPairs). */
     const std::vector<PairGeometry>& getPairs() const;
     /** The number of pairs in the list: the pairs (and their random numbers) are numbered [0, getNumPairs()). */
     size_t getNumPairs() const { return cellPairStart.empty() ? 0 : (size_t) cellPairStart.back(); }
@@ -58,6 +58,15 @@ public:
      * lists they point into.
      */
     const std::vector<const PairGeometry*>& getCellPairs() const { return cellPairs; }
+    /**
+     * Whether the list by slot is one of UniformPair, each pair's geometry given by
+     * getUniformRule() and the entry (where every pair shares its parameters, and the
+     * processor runs uniformPairBlock): then getCellUniformPairs() says where each cell's
+     * pairs lie, and getCellPairs() is stale.
+     */
+    bool arePairsUniform() const { return pairsUniform; }
+    const UniformPairRule& getUniformRule() const { return listRule; }
+    const std::vector<const UniformPair*>& getCellUniformPairs() const { return cellUniformPairs; }
     const PairSearch& getSearch() const { return search; }
     const PairRandom& getRandom() const { return random; }
     /**
@@ -188,15 +197,32 @@ private:
      * workers' parts copied in.
      */
     void findWorkerPairs(int w, const SoftRepulsionKernel* soft);
+    /**
+     * findWorkerPairs' frame for a list of either entry: worker w's part of it (and of the
+     * pairs' particles) grown in place by appendBlock(p, qs, ds, hits, out, outParticles,
+     * count, softForce) for each block of hits of its cells.
+     */
+    template <class Entry, class AppendBlock>
+    void fillWorkerList(int w, const SoftRepulsionKernel* soft, std::vector<Entry>& firstPart, std::vector<std::vector<Entry>>& otherParts,
+                        AppendBlock appendBlock);
+    /** findWorkerPairs for one block of hits, pair by pair (what uniformPairBlock does four at a time). */
+    void appendPairsOneByOne(int p, const int* qs, const OpenMM::Vec3* ds, int hits, std::vector<PairGeometry>& out,
+                             std::vector<PairParticles>& outParticles, size_t& count, std::vector<OpenMM::Vec3>& softForce,
+                             const SoftRepulsionKernel* soft) const;
     /** Whether every pair shares its parameters (UniformPairRule), and if so, those. */
     bool uniformRule(const SoftRepulsionKernel* soft, UniformPairRule& rule) const;
     /** findWorkerPairs for one block of p's hits through uniformPairBlock, appended at count; false where that cannot run. */
+    template <class Entry>
     bool appendUniformPairs(const UniformPairRule& rule, int p, const int* qs, const OpenMM::Vec3* ds, int hits,
-                            std::vector<PairGeometry>& out, std::vector<PairParticles>& outParticles, size_t& count,
+                            std::vector<Entry>& out, std::vector<PairParticles>& outParticles, size_t& count,
                             std::vector<OpenMM::Vec3>& softForce) const;
     size_t workerPairsBefore(int w) const;
     /** Worker w's cells: where their pairs lie (cellPairs), and their offsets into its own list made numbers in the whole list. */
     void placeWorkerCells(int w);
+    /** placeWorkerCells' pointers, into a list of either entry. */
+    template <class Entry>
+    void pointCellsInto(int w, size_t begin, size_t end, size_t offset, const std::vector<Entry>& firstPart,
+                        const std::vector<std::vector<Entry>>& otherParts, std::vector<const Entry*>& cellEntries);
     template <class Entry>
     void sizeForWorkerLists(std::vector<Entry>& list) const;
     template <class Entry>
@@ -221,6 +247,12 @@ private:
     std::vector<int> cellPairStart;
     std::vector<const PairGeometry*> cellPairs;
     std::vector<std::vector<PairGeometry>> workerPairs;  // workers 1, 2, ...: their parts of the list
+    // The list by slot where pairsUniform, as `pairs`, `cellPairs` and `workerPairs` otherwise
+    bool pairsUniform = false;
+    UniformPairRule listRule{};
+    std::vector<UniformPair> uniformPairs;
+    std::vector<const UniformPair*> cellUniformPairs;
+    std::vector<std::vector<UniformPair>> workerUniformPairs;
     std::vector<size_t> workerListSize;                 // each worker's number of pairs
     // Each pair's particles, by list index: what drawing its numbers reads (8 bytes, where
     // reading them from the list would bring its 72 bytes in from memory once more).

@@ -50,18 +50,21 @@ public:
              const std::vector<Random>& random, bool reverse);
 
 private:
-    /** visit(run) for runs of cells that cover all pairs, in the sweep order or its reverse (SweepCells). */
+    /** run() over the list's entries of one kind, each cell's where cellPairs says (null uniformRule: PairGeometry). */
+    template <class Entry, class Rule, class Random>
+    void runOver(const DPDThermostatForces& pairs, const std::vector<const Entry*>& cellPairs, const UniformPairRule* uniformRule,
+                 std::vector<OpenMM::Vec3>& velocities, const Rule& rule, const std::vector<Random>& random, bool reverse) {
+        runColours([&](const std::vector<int>& cells, size_t begin, size_t end) {
+            sweepCells(rule, random, velocities,
+                       SweepCells<Entry>{cells, pairs.getCellPairStart(), cellPairs, begin, end, reverse, independentCells, uniformRule});
+        }, reverse);
+    }
+    /** visit(cells, begin, end) for runs of a colour's cells [begin, end) that cover all pairs, in the sweep order or its reverse (SweepCells). */
     template <class Visit>
-    void runColours(const DPDThermostatForces& pairs, const Visit& visit, bool reverse);
+    void runColours(const Visit& visit, bool reverse);
     /** The planes [begin, end) of a group, each strip by strip with its colours in turn (or all in reverse). */
     template <class Visit>
-    void runPlanes(const DPDThermostatForces& pairs, int group, int begin, int end, const Visit& visit, bool reverse) const;
-    /** visit(run) for a colour's cells [begin, end). */
-    template <class Visit>
-    void runCells(const DPDThermostatForces& pairs, const std::vector<int>& cells, size_t begin, size_t end, const Visit& visit,
-                  bool reverse) const {
-        visit(SweepCells{cells, pairs.getCellPairStart(), pairs.getCellPairs(), begin, end, reverse, independentCells});
-    }
+    void runPlanes(int group, int begin, int end, const Visit& visit, bool reverse) const;
     /**
      * Worker w's items [begin, end) (a colour's cells, or a group's planes) given the pairs
      * before each item (`before`, one longer than the items): equal shares of the pairs.
@@ -149,11 +152,14 @@ inline void PairSweep::workerShare(const std::vector<int>& before, int w, size_t
 template <class Rule, class Random>
 void PairSweep::run(const DPDThermostatForces& pairs, std::vector<OpenMM::Vec3>& velocities, const Rule& rule,
                     const std::vector<Random>& random, bool reverse) {
-    runColours(pairs, [&](const SweepCells& cells) { sweepCells(rule, random, velocities, cells); }, reverse);
+    if (pairs.arePairsUniform())
+        runOver(pairs, pairs.getCellUniformPairs(), &pairs.getUniformRule(), velocities, rule, random, reverse);
+    else
+        runOver(pairs, pairs.getCellPairs(), nullptr, velocities, rule, random, reverse);
 }
 
 template <class Visit>
-void PairSweep::runPlanes(const DPDThermostatForces& pairs, int group, int begin, int end, const Visit& visit, bool reverse) const {
+void PairSweep::runPlanes(int group, int begin, int end, const Visit& visit, bool reverse) const {
     const auto inOrder = [&](int i, int n) { return reverse ? n - 1 - i : i; };
     for (int p = begin; p < end; p++) {
         const int k = inOrder(p - begin, end - begin) + begin;
@@ -162,20 +168,20 @@ void PairSweep::runPlanes(const DPDThermostatForces& pairs, int group, int begin
                 for (int x = 0; x < 3; x++) {  // x mod 3
                     const int colour = group * GROUP_COLOURS + 3 * inOrder(b, 3) + inOrder(x, 3), strip = k * strips + inOrder(s, strips);
                     const std::vector<int>& stripStart = colourStripStart[colour];
-                    runCells(pairs, colourCells[colour], stripStart[strip], stripStart[strip + 1], visit, reverse);
+                    visit(colourCells[colour], stripStart[strip], stripStart[strip + 1]);
                 }
     }
 }
 
 template <class Visit>
-void PairSweep::runColours(const DPDThermostatForces& pairs, const Visit& visit, bool reverse) {
+void PairSweep::runColours(const Visit& visit, bool reverse) {
     const int colours = (int) colourCells.size();
     if (!independentCells) {
         // Colour by colour, exactly: without colours, or where an impulse reaches beyond its
         // pair (constraints) and planes do not bound which particles a cell touches.
         for (int c = 0; c < colours; c++) {
             const std::vector<int>& cells = colourCells[reverse ? colours - 1 - c : c];
-            runCells(pairs, cells, 0, cells.size(), visit, reverse);
+            visit(cells, 0, cells.size());
         }
         return;
     }
@@ -186,7 +192,7 @@ void PairSweep::runColours(const DPDThermostatForces& pairs, const Visit& visit,
             const int group = reverse ? GROUPS - 1 - g : g;
             size_t begin, end;
             workerShare(groupPairsBefore[group], w, begin, end);
-            runPlanes(pairs, group, (int) begin, (int) end, visit, reverse);
+            runPlanes(group, (int) begin, (int) end, visit, reverse);
         });
         return;
     }
@@ -195,7 +201,7 @@ void PairSweep::runColours(const DPDThermostatForces& pairs, const Visit& visit,
         const int colour = reverse ? colours - 1 - c : c;
         size_t begin, end;
         workerShare(colourPairsBefore[colour], w, begin, end);
-        runCells(pairs, colourCells[colour], begin, end, visit, reverse);
+        visit(colourCells[colour], begin, end);
     });
 }
 

@@ -15,11 +15,14 @@ enum class RowVectorUnit { Best, Baseline };
 /**
  * sweepCells for Shardlow's update where all masses are equal (the common case): the pairs
  * of a row of independent cells (forEachPairRow) are updated as one, a vector lane each, with
- * the arithmetic of ShardlowPairUpdate::apply in every lane (the same result bit for bit).
- * Cells that are not independent, and massless particles, go pair by pair as before.
+ * the arithmetic of ShardlowPairUpdate::apply in every lane (the same result bit for bit),
+ * over a list of PairGeometry or of UniformPair.  Cells that are not independent, and
+ * massless particles, go pair by pair as before.
  */
-void sweepCells(const RowShardlowUpdate& rule, const std::vector<double>& random,
-                std::vector<OpenMM::Vec3>& v, const SweepCells& run, RowVectorUnit unit = RowVectorUnit::Best);
+void sweepCells(const RowShardlowUpdate& rule, const std::vector<double>& random, std::vector<OpenMM::Vec3>& v,
+                const SweepCells<PairGeometry>& run, RowVectorUnit unit = RowVectorUnit::Best);
+void sweepCells(const RowShardlowUpdate& rule, const std::vector<double>& random, std::vector<OpenMM::Vec3>& v,
+                const SweepCells<UniformPair>& run, RowVectorUnit unit = RowVectorUnit::Best);
 
 /**
  * The CPU platform's exp and sqrt for the pair Ornstein-Uhlenbeck update: exp is glibc's
@@ -35,7 +38,10 @@ struct RowConsistentMath {
 
 /** The same for the pair Ornstein-Uhlenbeck update, with RowConsistentMath's functions in every lane. */
 void sweepCells(const PairOrnsteinUhlenbeckUpdate<const EqualMassPairImpulse&, RowConsistentMath>& rule,
-                const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells& run,
+                const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells<PairGeometry>& run,
+                RowVectorUnit unit = RowVectorUnit::Best);
+void sweepCells(const PairOrnsteinUhlenbeckUpdate<const EqualMassPairImpulse&, RowConsistentMath>& rule,
+                const std::vector<double>& random, std::vector<OpenMM::Vec3>& v, const SweepCells<UniformPair>& run,
                 RowVectorUnit unit = RowVectorUnit::Best);
 
 } // namespace DPDPlugin
