@@ -168,20 +168,21 @@ TEST(RowSweep, UniformPairsGiveThePairGeometryOnes) {
         }
 }
 
-TEST(PairSweep, StripsGiveTheColourOrderBitForBit) {
-    // A sweep over a whole box (12 cells a side, 6912 particles): colour by colour and pair
-    // by pair (as for constraints), plane by plane in rows of four lanes, and in strips of
-    // one and of two rows per y mod 3 (of the four a plane has): the same velocities bit
-    // for bit, in the sweep order and its reverse.
-    std::vector<Vec3> positions;
-    std::unique_ptr<System> system(makeFluid(6912, 0, positions));
+/**
+ * A sweep over the whole of a fluid's pairs (found by particle) with each strip budget in
+ * stripCells, against colour by colour and pair by pair (as for constraints): the same
+ * velocities bit for bit, in the sweep order and its reverse.
+ */
+static void expectStripsGiveTheColourOrder(const System& system, const std::vector<Vec3>& positions, int cellsAlongY,
+                                    const std::vector<int>& stripCells) {
     ShardlowIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.05);
     Vec3 box[3];
-    system->getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
     SerialExecutor executor;
-    DPDThermostatForces thermostat(*system, integrator, executor, 3);
+    DPDThermostatForces thermostat(system, integrator, executor, 3);
     thermostat.updatePairs(positions, box);
-    ASSERT_EQ(thermostat.getSearch().getNumCellsAlong(1), 12);
+    ASSERT_EQ(thermostat.getSearch().getNumCellsAlong(1), cellsAlongY);
+    ASSERT_TRUE(thermostat.getSearch().isColourable());
     std::vector<double> xi;
     thermostat.drawNormals(PairRandom::RandomForce, 3, xi);
     std::mt19937 engine(7);
@@ -202,11 +203,25 @@ TEST(PairSweep, StripsGiveTheColourOrderBitForBit) {
         for (size_t i = 0; i < v0.size(); i++)
             moved += (expected[i][0] != v0[i][0]);
         ASSERT_GT(moved, v0.size() / 2);
-        for (int stripCells : {PairSweep::STRIP_CELLS, 36, 72}) {
-            const std::vector<Vec3> v = sweptBy(PairSweep(executor, false, stripCells));
+        for (int cells : stripCells) {
+            const std::vector<Vec3> v = sweptBy(PairSweep(executor, false, cells));
             for (size_t i = 0; i < v.size(); i++)
-                ASSERT_EQ(v[i], expected[i]) << "stripCells " << stripCells << (reverse ? ", reverse" : "") << ", particle " << i;
+                ASSERT_EQ(v[i], expected[i]) << "stripCells " << cells << (reverse ? ", reverse" : "") << ", particle " << i;
         }
     }
+}
+
+TEST(PairSweep, StripsGiveTheColourOrderBitForBit) {
+    // Periodic, 12 cells a side (four rows of each y mod 3): one strip a plane (the default),
+    // strips of one row and of two.  Not periodic, 13 cells a side (5, 4 and 4 rows of each
+    // y mod 3): strips of one row (a class of 4 rows leaves one of the 5 strips empty), and
+    // three strips of 2, 2 and 1 rows, or 2, 1 and 1.
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> periodic(makeFluid(6912, 0, positions));
+    expectStripsGiveTheColourOrder(*periodic, positions, 12, {PairSweep::STRIP_CELLS, 36, 72});
+    std::unique_ptr<System> open(makeFluid(9841, 0, positions));
+    dynamic_cast<CustomBondForce&>(open->getForce(0)).setUsesPeriodicBoundaryConditions(false);
+    ASSERT_FALSE(open->usesPeriodicBoundaryConditions());
+    expectStripsGiveTheColourOrder(*open, positions, 13, {39, 78});
 }
 #endif

@@ -38,7 +38,7 @@ public:
     void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
                      const SoftRepulsionKernel* soft = nullptr, std::vector<OpenMM::Vec3>* softOut = nullptr,
                      bool bySlot = false);
-    /** The pair list, in one piece: after updatePairs by particle (by slot it is in parts, or of UniformPair: see getCellPairs). */
+    /** The pair list, in one piece: after updatePairs by particle (by slot it may be in parts, or of UniformPair: see getCellPairs, getCellUniformPairs). */
     const std::vector<PairGeometry>& getPairs() const;
     /** The number of pairs in the list: the pairs (and their random numbers) are numbered [0, getNumPairs()). */
     size_t getNumPairs() const { return cellPairStart.empty() ? 0 : (size_t) cellPairStart.back(); }
@@ -55,7 +55,7 @@ public:
      * Where the geometry of cell c's first pair lies, the others following it: by slot, the
      * workers' parts of the list are not copied into one (a copy at memory speed that adds no
      * pair; README, "At scale").  Valid until the next updatePairs, which alone resizes the
-     * lists they point into.
+     * lists they point into; stale where arePairsUniform().
      */
     const std::vector<const PairGeometry*>& getCellPairs() const { return cellPairs; }
     /**
@@ -255,7 +255,7 @@ private:
     std::vector<std::vector<UniformPair>> workerUniformPairs;
     std::vector<size_t> workerListSize;                 // each worker's number of pairs
     // Each pair's particles, by list index: what drawing its numbers reads (8 bytes, where
-    // reading them from the list would bring its 72 bytes in from memory once more).
+    // reading them from the list would bring its 40 or 72 bytes in from memory once more).
     std::vector<PairParticles> pairParticles;
     std::vector<std::vector<PairParticles>> workerPairParticles;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;

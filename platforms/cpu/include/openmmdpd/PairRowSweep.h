@@ -41,7 +41,7 @@ constexpr int SWEEP_LANES = 4;
 /**
  * visitRow(row, rowPairs, n) for the pairs of a run of independent cells, SWEEP_LANES cells
  * at a time, pair by pair: row[l] is the number of the next pair of the l-th of n cells in
- * progress and rowPairs[l] its geometry (the lanes past n repeat lane 0), and a cell that
+ * progress and rowPairs[l] its list entry (the lanes past n repeat lane 0), and a cell that
  * ends is followed in its lane by the run's next one.  Each cell's pairs keep their order
  * (or its reverse), which is all that decides the result; the lanes are independent chains
  * of velocity updates for the processor to overlap.

@@ -29,13 +29,14 @@ namespace DPDPlugin {
  * plane the same holds along y: a cell's pairs reach one row of cells either side, so rows
  * three apart share no particle, and y mod 3 is the colour's next digit: the 3 colours of one
  * y mod 3 can run strip by strip (a strip: some of the plane's rows of that y mod 3), all 3 in
- * a strip before the next strip.  Where a plane is wider than stripCells, its strips are,
- * so that the velocities a strip's colours touch stay in cache (README, "At scale").  With
- * too few planes to share, each colour's cells are shared out instead.
+ * a strip before the next strip.  A plane of more than stripCells cells runs in strips of as
+ * many rows as keep a strip within stripCells (one at least), so that the velocities a
+ * strip's colours touch stay in cache (README, "At scale").  With too few planes to share,
+ * each colour's cells are shared out instead.
  */
 class PairSweep {
 public:
-    /** The cells of a plane a strip spans at most, by default: a strip's velocities and those it reaches fit a core's cache. */
+    /** The cells of a plane a strip spans at most (unless one row takes more), by default: its velocities and those it reaches fit a core's cache. */
     static constexpr int STRIP_CELLS = 1728;
     PairSweep(ParallelExecutor& executor, bool oneThread = false, int stripCells = STRIP_CELLS) :
             executor(executor), oneThread(oneThread), stripCells(stripCells) {}
@@ -62,7 +63,7 @@ private:
     /** visit(cells, begin, end) for runs of a colour's cells [begin, end) that cover all pairs, in the sweep order or its reverse (SweepCells). */
     template <class Visit>
     void runColours(const Visit& visit, bool reverse);
-    /** The planes [begin, end) of a group, each strip by strip with its colours in turn (or all in reverse). */
+    /** The planes [begin, end) of a group, each by y mod 3, strip by strip, a strip's colours (x mod 3) in turn (or all in reverse). */
     template <class Visit>
     void runPlanes(int group, int begin, int end, const Visit& visit, bool reverse) const;
     /**

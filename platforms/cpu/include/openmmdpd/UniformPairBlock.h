@@ -27,6 +27,7 @@ struct UniformPair {
     OpenMM::Vec3 e;
     double wR;
 };
+static_assert(sizeof(UniformPair) == 40, "a UniformPair is the 40 bytes its readers count on");
 
 /** A uniform pair's PairGeometry: what DPDPairParameters::pairGeometry gives it (the same operations on the same values). */
 inline PairGeometry pairGeometry(const UniformPair& pair, const UniformPairRule& rule) {
