@@ -369,11 +369,13 @@ TEST(StaggeredIntegrator, PolymerListCheckedAgainWhenItOrTheContextChanges) {
 TEST(StaggeredIntegrator, FastForceWithoutParticleListIsCheckedAtEveryEvaluation) {
     // A CustomNonbondedForce without interaction groups lists no particles, so an explicit
     // list cannot be checked when the Context is made.  This one joins polymer bead 0 to
-    // solvent particle 5 by a spring at its rest length: zero at the start, non-zero once
-    // bead 0 moves in the first sub-step.
+    // solvent particle 5 by a spring of stiffness k: zero through the first step (k = 0: at
+    // its rest length it was not zero to rounding on every platform and processor), non-zero
+    // in the second.
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeFluid(200, 18.75, positions));
-    CustomNonbondedForce* spring = new CustomNonbondedForce("f1*f2*100*(r-0.5)^2");
+    CustomNonbondedForce* spring = new CustomNonbondedForce("k*f1*f2*(r-0.5)^2");
+    spring->addGlobalParameter("k", 0);
     spring->addPerParticleParameter("f");
     spring->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
     spring->setCutoffDistance(1.0);
@@ -388,6 +390,8 @@ TEST(StaggeredIntegrator, FastForceWithoutParticleListIsCheckedAtEveryEvaluation
         integrator.setPolymerParticles({0, 1, 2, 3, 4});
         EXPECT_FALSE(integrator.fastForcesListTheirParticles(*system));
         auto context = makeContext(*system, integrator, platform, positions);
+        integrator.step(1);
+        context->setParameter("k", 100);
         expectErrorNaming([&] { integrator.step(1); }, "at step 1 the fast forces act on particle 5, which is not a polymer particle");
     }
 }
