@@ -33,6 +33,7 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
     workerListSize.resize(workers);
     keptPairs.resize(workers);
     keptImageVx.resize(workers);
+    keptPairCount.assign(workers, 0);
     workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
     if (workers > 1)
         workerRandom.assign(workers, std::vector<Vec3>(system.getNumParticles()));
@@ -475,6 +476,7 @@ struct DPDSlotForces {
     long long step;
     double invSqrtDt;
     int batchSize = 0;  // pairs in the batch so far: accumulateBySlot's position in it
+    size_t keptCount = 0;  // pairs kept so far: the vectors may be longer
     PairGeometry g[PairSearch::MAX_BLOCK];
     int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
@@ -515,6 +517,18 @@ struct DPDSlotForces {
         if (terms & RandomTerm)  // the same numbers as random.gaussian(), drawn for the whole batch at once
             PairRandomBatch::normals(random, PairRandom::RandomForce, step, first, second, n, xi);
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
+        // Kept pairs are written field by field into their place: a pushed temporary is
+        // stored and reloaded in pieces that the processor cannot forward, a stall per pair.
+        // The vectors keep their length from step to step (grown, never cleared), so that
+        // they are not zeroed again as they grow.
+        DPDThermostatForces::KeptPair* kept = nullptr;
+        if (keep != nullptr) {
+            if (keptCount + n > keep->size())
+                keep->resize(keptCount + n);
+            if (keepImageVx != nullptr && keptCount + n > keepImageVx->size())
+                keepImageVx->resize(keptCount + n);
+            kept = keep->data() + keptCount;
+        }
         for (int k = 0; k < n; k++) {
             const int p = slotP[k], q = slots[k];
             forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
@@ -522,15 +536,20 @@ struct DPDSlotForces {
                                      ? DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[q]))
                                      : Vec3());
             dissipative[k] = (separate ? fd : fd + forces[k]);
-            if (keep != nullptr)
-                keep->push_back({p, q, g[k].e, g[k].gammaWD});
+            if (kept != nullptr) {
+                kept[k].p = p;
+                kept[k].q = q;
+                kept[k].e = g[k].e;
+                kept[k].gammaWD = g[k].gammaWD;
+            }
             if (keepImageVx != nullptr)
-                keepImageVx->push_back(g[k].imageVx);
+                (*keepImageVx)[keptCount + k] = g[k].imageVx;
             if (soft != nullptr) {
                 const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
                 forces[k] += g[k].e * soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
             }
         }
+        keptCount += (keep != nullptr ? n : 0);
         batchSize = 0;
     }
 };
@@ -544,8 +563,6 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
     std::vector<double> keptVx;
     kept.swap(keptPairs[w]);
     keptVx.swap(keptImageVx[w]);
-    kept.clear();
-    keptVx.clear();
     const bool sheared = !sortedHeights.empty();
     std::unique_ptr<DPDSlotForces> evaluate(
             new DPDSlotForces{parameters, random, search.getSortedIndex(), *slotVelocities, sortedTypes, sortedSoftTypes,
@@ -558,6 +575,7 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);
     kept.swap(keptPairs[w]);
     keptVx.swap(keptImageVx[w]);
+    keptPairCount[w] = evaluate->keptCount;
 }
 
 void DPDThermostatForces::sumKeptDissipative(int w) {
@@ -565,15 +583,25 @@ void DPDThermostatForces::sumKeptDissipative(int w) {
     std::fill(out.begin(), out.begin() + search.getSortedIndex().size(), Vec3());
     const std::vector<KeptPair>& kept = keptPairs[w];
     const std::vector<double>& imageVx = keptImageVx[w];
+    const bool sheared = !sortedHeights.empty();  // as in the pass that kept them
+    const std::vector<Vec3>& v = *slotVelocities;
+    const size_t count = keptPairCount[w];
     PairGeometry g;
-    for (size_t k = 0; k < kept.size(); k++) {
-        const KeptPair& pair = kept[k];
-        g.e = pair.e;
-        g.gammaWD = pair.gammaWD;
-        g.imageVx = (imageVx.empty() ? 0.0 : imageVx[k]);
-        const Vec3 f = DPDPairForce::dissipative(g, g.relativeVelocity((*slotVelocities)[pair.p], (*slotVelocities)[pair.q]));
-        out[pair.p] += f;
-        out[pair.q] -= f;
+    // The pairs come in runs of one slot p (as they were found): the run's forces on p are
+    // summed in a register, which keeps the loop free of a store-load chain through out[p].
+    for (size_t k = 0; k < count;) {
+        const int p = kept[k].p;
+        Vec3 forceP;
+        for (; k < count && kept[k].p == p; k++) {
+            const KeptPair& pair = kept[k];
+            g.e = pair.e;
+            g.gammaWD = pair.gammaWD;
+            g.imageVx = (sheared ? imageVx[k] : 0.0);
+            const Vec3 f = DPDPairForce::dissipative(g, g.relativeVelocity(v[p], v[pair.q]));
+            forceP += f;
+            out[pair.q] -= f;
+        }
+        out[p] += forceP;
     }
 }
 
