@@ -25,16 +25,16 @@ inline double floorOf(double x) {
 // The separate multiplies and adds of Vec3::dot, in its order (no fused multiply-add), so
 // every version finds the same pairs.
 int gatherScalar(const double* x, const double* y, const double* z, const PairSearch::ScanRun* runs, int numRuns,
-                 double cutoff2, int* hits, int* runEnd) {
+                 double cutoff2, int* hits, int* hitRun) {
     int count = 0;
     for (int k = 0; k < numRuns; k++) {
         const Vec3 r = runs[k].r;
         for (int q = runs[k].first; q < runs[k].last; q++) {
             const double dx = r[0] - x[q], dy = r[1] - y[q], dz = r[2] - z[q];
             hits[count] = q;
+            hitRun[count] = k;
             count += (dx * dx + dy * dy + dz * dz < cutoff2);
         }
-        runEnd[k] = count;
     }
     return count;
 }
@@ -43,7 +43,7 @@ int gatherScalar(const double* x, const double* y, const double* z, const PairSe
 // AVX2 without FMA: the compiler cannot contract the products into fused operations.
 __attribute__((target("avx2"))) int gatherAVX2(const double* x, const double* y, const double* z,
                                                const PairSearch::ScanRun* runs, int numRuns, double cutoff2, int* hits,
-                                               int* runEnd) {
+                                               int* hitRun) {
     // For each 4-bit mask of slots within the cutoff: the offsets of its set bits, in order.
     alignas(16) static const int offsets[16][4] = {
         {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0}, {1, 2, 0, 0}, {0, 1, 2, 0},
@@ -54,6 +54,7 @@ __attribute__((target("avx2"))) int gatherAVX2(const double* x, const double* y,
     for (int k = 0; k < numRuns; k++) {
         const __m256d rx = _mm256_set1_pd(runs[k].r[0]), ry = _mm256_set1_pd(runs[k].r[1]), rz = _mm256_set1_pd(runs[k].r[2]);
         const int last = runs[k].last;
+        const __m128i run = _mm_set1_epi32(k);
         for (int q = runs[k].first; q < last; q += 4) {
             const __m256d dx = _mm256_sub_pd(rx, _mm256_loadu_pd(x + q));
             const __m256d dy = _mm256_sub_pd(ry, _mm256_loadu_pd(y + q));
@@ -64,9 +65,9 @@ __attribute__((target("avx2"))) int gatherAVX2(const double* x, const double* y,
             const int mask = _mm256_movemask_pd(_mm256_cmp_pd(r2, limit, _CMP_LT_OQ)) & inRun;
             const __m128i slots = _mm_add_epi32(_mm_set1_epi32(q), _mm_load_si128((const __m128i*) offsets[mask]));
             _mm_storeu_si128((__m128i*) (hits + count), slots);
+            _mm_storeu_si128((__m128i*) (hitRun + count), run);
             count += __builtin_popcount(mask);
         }
-        runEnd[k] = count;
     }
     return count;
 }
@@ -245,10 +246,11 @@ int PairSearch::gatherInOneCall(int cell, int p, HitBlock& block) const {
     if (candidates > MAX_BLOCK)
         return -1;
     const int count = gatherWithinCutoff(sortedX.data(), sortedY.data(), sortedZ.data(), block.runs, numRuns, cutoff * cutoff,
-                                         block.hits, block.runEnd);
-    for (int k = 0, run = 0; run < numRuns; run++)
-        for (; k < block.runEnd[run]; k++)
-            block.d[k] = block.runs[run].r - sortedPositions[block.hits[k]];
+                                         block.hits, block.hitRun);
+    // One flat loop: nested over the runs, its ~5 short loops of unpredictable length cost a
+    // mispredicted branch each.
+    for (int k = 0; k < count; k++)
+        block.d[k] = block.runs[block.hitRun[k]].r - sortedPositions[block.hits[k]];
     return count;
 }
 

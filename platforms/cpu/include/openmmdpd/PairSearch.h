@@ -148,7 +148,7 @@ private:
     void neighbourCells(int cell, std::vector<Neighbour>& out) const;
     /** A particle's hits: their slots, the runs they came from, and their displacements. */
     struct HitBlock {
-        int hits[MAX_BLOCK + 4], runEnd[27];
+        int hits[MAX_BLOCK + 4], hitRun[MAX_BLOCK + 4];
         OpenMM::Vec3 d[MAX_BLOCK];
         ScanRun runs[27];
     };
@@ -187,13 +187,13 @@ private:
     std::vector<double> sortedX, sortedY, sortedZ;  // the same, by coordinate (read four at a time)
     /**
      * Appends to hits, run by run, every slot q of the runs with |r - position q|^2 <
-     * cutoff2 (computed as Vec3::dot does), sets runEnd[k] to the number of hits after run
-     * k and returns the number of hits.  Four slots at a time where the processor has AVX2,
+     * cutoff2 (computed as Vec3::dot does), and to hitRun the index of each hit's run, and
+     * returns the number of hits.  Four slots at a time where the processor has AVX2,
      * with exactly the scalar arithmetic; it reads up to 3 slots past a run (the coordinate
      * arrays are padded) and may write 3 entries past its last hit.
      */
     int (*gatherWithinCutoff)(const double* x, const double* y, const double* z, const ScanRun* runs, int numRuns,
-                              double cutoff2, int* hits, int* runEnd);
+                              double cutoff2, int* hits, int* hitRun);
     std::vector<int> neighbourStart;
     std::vector<Neighbour> neighbourTable;
     int tableCells[3] = {0, 0, 0};
@@ -243,7 +243,7 @@ int PairSearch::gatherInChunks(int cell, int p, HitBlock& block, BlockVisitor& v
                 run.first = chunkStart;
                 run.last = chunkEnd;
                 count += gatherWithinCutoff(sortedX.data(), sortedY.data(), sortedZ.data(), &run, 1, cutoff2, block.hits + count,
-                                            block.runEnd);
+                                            block.hitRun + count);
                 for (int h = chunkHits; h < count; h++)
                     block.d[h] = run.r - sortedPositions[block.hits[h]];
                 continue;
