@@ -24,10 +24,34 @@ namespace DPDPlugin {
  * acceptedSlots, OpenMM::Vec3* forces)  completes the forces of its n pairs, whose other
  * slots are acceptedSlots[0, n) (a thermostat draws their random numbers
  * together there: ~8 pairs per block are too few to keep the generator's vector lanes
- * busy).  With `outputs` buffers (distinct vectors) output t of batch pair k is forces[t *
+ * busy).  With `outputs` (1 or 2) buffers (distinct vectors) output t of batch pair k is forces[t *
  * MAX_BLOCK + k].  The sums are the same whatever the batches: each block's forces on p are
  * summed, then added, in block order.
  */
+/**
+ * accumulateBySlot's adding of a batch: for each block b, -f to the other slot of each of its
+ * pairs and the block's sum to its slot p, in every output buffer.  The outputs share one
+ * loop over the pairs (each buffer's sums in the same order as alone).
+ */
+template <int Outputs>
+void addBatchBySlot(std::vector<OpenMM::Vec3>* const* slotForce, const OpenMM::Vec3* forces, const int* slots, const int* blockSlot,
+                    const int* blockEnd, int blocks) {
+    OpenMM::Vec3* out[Outputs];
+    for (int t = 0; t < Outputs; t++)
+        out[t] = slotForce[t]->data();
+    for (int b = 0, k = 0; b < blocks; b++) {
+        OpenMM::Vec3 forceP[Outputs];  // summed here, not in out[p], to keep the loop free of a store-load chain
+        for (; k < blockEnd[b]; k++)
+            for (int t = 0; t < Outputs; t++) {
+                const OpenMM::Vec3& f = forces[t * PairSearch::MAX_BLOCK + k];
+                forceP[t] += f;
+                out[t][slots[k]] -= f;
+            }
+        for (int t = 0; t < Outputs; t++)
+            out[t][blockSlot[b]] += forceP[t];
+    }
+}
+
 template <class Evaluator>
 void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& evaluate, std::vector<OpenMM::Vec3>* const* slotForce,
                       int outputs = 1) {
@@ -40,18 +64,10 @@ void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& e
     std::vector<OpenMM::Vec3> forces(outputs * PairSearch::MAX_BLOCK);
     const auto addBatch = [&]() {
         evaluate.finishBatch(kept, slots, forces.data());
-        for (int t = 0; t < outputs; t++) {
-            std::vector<OpenMM::Vec3>& out = *slotForce[t];
-            const OpenMM::Vec3* f = forces.data() + t * PairSearch::MAX_BLOCK;
-            for (int b = 0, k = 0; b < blocks; b++) {
-                OpenMM::Vec3 forceP;  // summed here, not in out[p], to keep the loop free of a store-load chain
-                for (; k < blockEnd[b]; k++) {
-                    forceP += f[k];
-                    out[slots[k]] -= f[k];
-                }
-                out[blockSlot[b]] += forceP;
-            }
-        }
+        if (outputs == 1)
+            addBatchBySlot<1>(slotForce, forces.data(), slots, blockSlot, blockEnd, blocks);
+        else
+            addBatchBySlot<2>(slotForce, forces.data(), slots, blockSlot, blockEnd, blocks);
         kept = blocks = 0;
     };
     search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const OpenMM::Vec3* d, int count) {
