@@ -480,13 +480,18 @@ struct DPDSlotForces {
     PairGeometry g[PairSearch::MAX_BLOCK];
     int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
+    double softOnPair[PairSearch::MAX_BLOCK];  // the soft force along e, where the rows make it
 
-    const UniformPairRule* uniform = nullptr;  // every pair's parameters where they are shared (the soft force's left out), else null
+    // Every pair's parameters where they are shared, else null; the soft force's too where
+    // uniform->soft (the rows then make its pair forces), else it is looked up pair by pair.
+    const UniformPairRule* uniform = nullptr;
 
     int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3*) {
         const int i = sortedIndex[p], start = batchSize;
         const TypePairTable& table = parameters.getTable();
-        const int n = (uniform ? uniformPairBlock(*uniform, p, q, d, count, slots, &g[batchSize], nullptr) : -1);
+        const int n = (uniform ? uniformPairBlock(*uniform, p, q, d, count, slots, &g[batchSize], nullptr,
+                                                  uniform->soft ? &softOnPair[batchSize] : nullptr)
+                               : -1);
         if (n >= 0) {
             for (int k = 0; k < n; k++, batchSize++) {
                 g[batchSize].i = i;
@@ -544,7 +549,9 @@ struct DPDSlotForces {
             }
             if (keepImageVx != nullptr)
                 (*keepImageVx)[keptCount + k] = g[k].imageVx;
-            if (soft != nullptr) {
+            if (soft != nullptr && uniform != nullptr && uniform->soft)
+                forces[k] += g[k].e * softOnPair[k];
+            else if (soft != nullptr) {
                 const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
                 forces[k] += g[k].e * soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
             }
@@ -569,7 +576,7 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
                               sheared ? sortedHeights.data() : nullptr, searchedHeight, soft, keep ? &kept : nullptr,
                               keep && sheared ? &keptVx : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
     UniformPairRule rule;
-    if (uniformRule(nullptr, rule))
+    if (canRunUniformPairBlock() && (uniformRule(soft, rule) || uniformRule(nullptr, rule)))
         evaluate->uniform = &rule;
     std::vector<Vec3>* out[2] = {&workerDissipative[w], separate ? &workerRandom[w] : nullptr};
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);

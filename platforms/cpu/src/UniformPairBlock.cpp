@@ -45,6 +45,8 @@ struct HitRow {
             // pairForce's test, NaN included: 0 where r >= the soft cutoff
             softForce = (Lane4) _mm256_andnot_pd((__m256d) (softR >= rule.softCutoff), (__m256d) force);
         }
+        else
+            softForce = Lane4{0, 0, 0, 0};  // read by no one, but set: the compiler cannot tell
     }
 };
 
@@ -65,9 +67,10 @@ inline void setEntry(UniformPair& pair, const HitRow& row, int l, const UniformP
 
 template <class Entry>
 __attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits,
-                                                         int* acceptedQ, Entry* out, Vec3* softForce) {
+                                                         int* acceptedQ, Entry* out, Vec3* softForce, double* softPairForce) {
     int n = 0;
-    Vec3 forceOnP = (rule.soft ? softForce[p] : Vec3());
+    const bool bySlot = rule.soft && softPairForce == nullptr;
+    Vec3 forceOnP = (bySlot ? softForce[p] : Vec3());
     for (int first = 0; first < hits; first += 4) {
         HitRow row(ds, first, hits);
         // pairGeometry's test, NaN included: a pair is out where r2 >= cutoff2 or r2 == 0
@@ -81,8 +84,10 @@ __attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& 
             if (!(accept & (1 << l)))
                 continue;
             setEntry(out[n], row, l, rule);
+            if (rule.soft && softPairForce != nullptr)
+                softPairForce[n] = row.softForce[l];
             const int q = acceptedQ[n++] = qs[first + l];
-            if (rule.soft) {
+            if (bySlot) {
                 // e * force, as SoftRepulsionKernel::pairForce's caller makes it (0 beyond the soft cutoff)
                 const Vec3 f = Vec3(row.ex[l], row.ey[l], row.ez[l]) * row.softForce[l];
                 forceOnP += f;
@@ -90,7 +95,7 @@ __attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& 
             }
         }
     }
-    if (rule.soft)
+    if (bySlot)
         softForce[p] = forceOnP;
     return n;
 }
@@ -110,10 +115,10 @@ namespace {
 
 template <class Entry>
 int uniformPairBlockOn(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits, int* acceptedQ, Entry* out,
-                       Vec3* softForce) {
+                       Vec3* softForce, double* softPairForce) {
 #ifdef OPENMMDPD_X86_VECTORS
     if (haveAVX2())
-        return uniformPairBlockAVX2(rule, p, qs, ds, hits, acceptedQ, out, softForce);
+        return uniformPairBlockAVX2(rule, p, qs, ds, hits, acceptedQ, out, softForce, softPairForce);
 #endif
     return -1;
 }
@@ -121,11 +126,11 @@ int uniformPairBlockOn(const UniformPairRule& rule, int p, const int* qs, const 
 } // namespace
 
 int DPDPlugin::uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits, int* acceptedQ,
-                                PairGeometry* out, Vec3* softForce) {
-    return uniformPairBlockOn(rule, p, qs, ds, hits, acceptedQ, out, softForce);
+                                PairGeometry* out, Vec3* softForce, double* softPairForce) {
+    return uniformPairBlockOn(rule, p, qs, ds, hits, acceptedQ, out, softForce, softPairForce);
 }
 
 int DPDPlugin::uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits, int* acceptedQ,
                                 UniformPair* out, Vec3* softForce) {
-    return uniformPairBlockOn(rule, p, qs, ds, hits, acceptedQ, out, softForce);
+    return uniformPairBlockOn(rule, p, qs, ds, hits, acceptedQ, out, softForce, nullptr);
 }

@@ -51,12 +51,14 @@ bool canRunUniformPairBlock();
  * four hits at a time where the processor has AVX2: the hits within the cutoff as
  * out[0, n) (i and j left for the caller to set) with their partners' slots in acceptedQ,
  * and, with the soft force, its pair forces added to softForce by slot, pair by pair in hit
- * order.  Bit for bit what DPDPairParameters::pairGeometry and SoftRepulsionKernel::pairForce
- * give pair by pair: the same operations in the same order, each rounded alike in a lane.
- * Returns n; returns -1 where the processor has no AVX2 (the caller goes pair by pair).
+ * order, or, given softPairForce, each accepted pair's soft force along e to
+ * softPairForce[0, n) (the caller adds it where it adds the pair's other forces).  Bit for
+ * bit what DPDPairParameters::pairGeometry and SoftRepulsionKernel::pairForce give pair by
+ * pair: the same operations in the same order, each rounded alike in a lane.  Returns n;
+ * returns -1 where the processor has no AVX2 (the caller goes pair by pair).
  */
 int uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const OpenMM::Vec3* ds, int hits, int* acceptedQ,
-                     PairGeometry* out, OpenMM::Vec3* softForce);
+                     PairGeometry* out, OpenMM::Vec3* softForce, double* softPairForce = nullptr);
 /** The same with the accepted pairs as UniformPair (i and j left for the caller to set). */
 int uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const OpenMM::Vec3* ds, int hits, int* acceptedQ,
                      UniformPair* out, OpenMM::Vec3* softForce);
