@@ -6,6 +6,7 @@
 #include "openmmdpd/PairEvaluators.h"
 #include "openmm/State.h"
 #include "openmm/serialization/XmlSerializer.h"
+#include <map>
 #include <random>
 #include <sstream>
 #include <utility>
@@ -189,7 +190,8 @@ TEST(SweepIntegrators, CpuMatchesReferenceWithForces) {
 // take them as constants, four hits at a time (UniformPairBlock); give a third of the
 // particles a second type with the same parameters and they go pair by pair.  Both ways must
 // give the same trajectory bit for bit: the sweeps' list pass (with the native soft force
-// summed in it) and GW's one-pass forces.
+// summed in it), GW's one-pass forces and DPD-VV's and SC-VV's first pass (the soft force's
+// pair forces made in the rows too) and kept-pairs passes.
 TEST(SweepIntegrators, SharedParametersGiveThePerTypeTrajectoryBitForBit) {
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeFluid(3000, 0, positions));
@@ -198,11 +200,16 @@ TEST(SweepIntegrators, SharedParametersGiveThePerTypeTrajectoryBitForBit) {
     for (int i = 0; i < system->getNumParticles(); i++)
         soft->setParticleType(i, 0);
     system->addForce(soft);
-    for (const std::string scheme : {"S1", "S2", "Lowe", "PairOU", "GW"}) {
+    const std::map<std::string, DPDVVIntegrator::Variant> variants = {
+            {"GW", DPDVVIntegrator::GrootWarren}, {"DPD-VV", DPDVVIntegrator::DPDVV}, {"SC-VV", DPDVVIntegrator::SelfConsistent}};
+    for (const std::string scheme : {"S1", "S2", "Lowe", "PairOU", "GW", "DPD-VV", "SC-VV"}) {
         std::unique_ptr<DPDThermostatIntegrator> shared, typed;
         for (auto* integrator : {&shared, &typed}) {
-            if (scheme == "GW")
-                integrator->reset(new DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, 0.04));
+            if (variants.count(scheme)) {
+                DPDVVIntegrator* vv = new DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, 0.04);
+                vv->setVariant(variants.at(scheme));
+                integrator->reset(vv);
+            }
             else
                 *integrator = makeScheme(scheme, 0.04);
             (*integrator)->setRandomNumberSeed(42);

@@ -480,10 +480,11 @@ struct DPDSlotForces {
     PairGeometry g[PairSearch::MAX_BLOCK];
     int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
-    double softOnPair[PairSearch::MAX_BLOCK];  // the soft force along e, where the rows make it
+    double softOnPair[PairSearch::MAX_BLOCK];  // the soft force along e, where the rows make it (their softPairForce)
 
     // Every pair's parameters where they are shared, else null; the soft force's too where
     // uniform->soft (the rows then make its pair forces), else it is looked up pair by pair.
+    // Set only where the rows run (canRunUniformPairBlock), so every block comes from them.
     const UniformPairRule* uniform = nullptr;
 
     int operator()(int p, const int* q, const Vec3* d, int count, int* slots, Vec3*) {
@@ -522,18 +523,8 @@ struct DPDSlotForces {
         if (terms & RandomTerm)  // the same numbers as random.gaussian(), drawn for the whole batch at once
             PairRandomBatch::normals(random, PairRandom::RandomForce, step, first, second, n, xi);
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
-        // Kept pairs are written field by field into their place: a pushed temporary is
-        // stored and reloaded in pieces that the processor cannot forward, a stall per pair.
-        // The vectors keep their length from step to step (grown, never cleared), so that
-        // they are not zeroed again as they grow.
-        DPDThermostatForces::KeptPair* kept = nullptr;
-        if (keep != nullptr) {
-            if (keptCount + n > keep->size())
-                keep->resize(keptCount + n);
-            if (keepImageVx != nullptr && keptCount + n > keepImageVx->size())
-                keepImageVx->resize(keptCount + n);
-            kept = keep->data() + keptCount;
-        }
+        DPDThermostatForces::KeptPair* kept = (keep != nullptr ? keptSpace(n) : nullptr);
+        const bool softFromRows = (soft != nullptr && uniform != nullptr && uniform->soft);
         for (int k = 0; k < n; k++) {
             const int p = slotP[k], q = slots[k];
             forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
@@ -549,7 +540,7 @@ struct DPDSlotForces {
             }
             if (keepImageVx != nullptr)
                 (*keepImageVx)[keptCount + k] = g[k].imageVx;
-            if (soft != nullptr && uniform != nullptr && uniform->soft)
+            if (softFromRows)
                 forces[k] += g[k].e * softOnPair[k];
             else if (soft != nullptr) {
                 const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
@@ -558,6 +549,20 @@ struct DPDSlotForces {
         }
         keptCount += (keep != nullptr ? n : 0);
         batchSize = 0;
+    }
+
+    /**
+     * Room for n more kept pairs (and image velocities), where they are written field by
+     * field: a pushed temporary is stored and reloaded in pieces that the processor cannot
+     * forward, a stall per pair.  The vectors keep their length from step to step (grown,
+     * never cleared), so that they are not zeroed again as they grow.
+     */
+    DPDThermostatForces::KeptPair* keptSpace(int n) {
+        if (keptCount + n > keep->size())
+            keep->resize(keptCount + n);
+        if (keepImageVx != nullptr && keptCount + n > keepImageVx->size())
+            keepImageVx->resize(keptCount + n);
+        return keep->data() + keptCount;
     }
 };
 
@@ -576,7 +581,7 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
                               sheared ? sortedHeights.data() : nullptr, searchedHeight, soft, keep ? &kept : nullptr,
                               keep && sheared ? &keptVx : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
     UniformPairRule rule;
-    if (canRunUniformPairBlock() && (uniformRule(soft, rule) || uniformRule(nullptr, rule)))
+    if (canRunUniformPairBlock() && ((soft != nullptr && uniformRule(soft, rule)) || uniformRule(nullptr, rule)))
         evaluate->uniform = &rule;
     std::vector<Vec3>* out[2] = {&workerDissipative[w], separate ? &workerRandom[w] : nullptr};
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);

@@ -46,7 +46,7 @@ struct HitRow {
             softForce = (Lane4) _mm256_andnot_pd((__m256d) (softR >= rule.softCutoff), (__m256d) force);
         }
         else
-            softForce = Lane4{0, 0, 0, 0};  // read by no one, but set: the compiler cannot tell
+            softForce = Lane4{0, 0, 0, 0};  // read by no one: set for -Wmaybe-uninitialized, which cannot tell
     }
 };
 
@@ -69,7 +69,7 @@ template <class Entry>
 __attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits,
                                                          int* acceptedQ, Entry* out, Vec3* softForce, double* softPairForce) {
     int n = 0;
-    const bool bySlot = rule.soft && softPairForce == nullptr;
+    const bool bySlot = rule.soft && softPairForce == nullptr, perPair = rule.soft && softPairForce != nullptr;
     Vec3 forceOnP = (bySlot ? softForce[p] : Vec3());
     for (int first = 0; first < hits; first += 4) {
         HitRow row(ds, first, hits);
@@ -84,7 +84,7 @@ __attribute__((target("avx2"))) int uniformPairBlockAVX2(const UniformPairRule& 
             if (!(accept & (1 << l)))
                 continue;
             setEntry(out[n], row, l, rule);
-            if (rule.soft && softPairForce != nullptr)
+            if (perPair)
                 softPairForce[n] = row.softForce[l];
             const int q = acceptedQ[n++] = qs[first + l];
             if (bySlot) {

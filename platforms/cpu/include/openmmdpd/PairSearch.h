@@ -146,7 +146,7 @@ private:
         int wrap[3];         // shift = sum_k wrap[k] box[k]: kept so a new box only moves the shifts
     };
     void neighbourCells(int cell, std::vector<Neighbour>& out) const;
-    /** A particle's hits: their slots, the runs they came from, and their displacements. */
+    /** A particle's hits: their slots, the runs they came from (read by gatherInOneCall only), and their displacements. */
     struct HitBlock {
         int hits[MAX_BLOCK + 4], hitRun[MAX_BLOCK + 4];
         OpenMM::Vec3 d[MAX_BLOCK];

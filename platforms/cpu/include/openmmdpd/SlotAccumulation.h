@@ -8,27 +8,6 @@
 namespace DPDPlugin {
 
 /**
- * The CPU platform's accumulate loop for pair forces found on the fly: worker w visits the
- * pair blocks of its cells (PairSearch::workerCells) and adds each accepted pair's force f
- * to slot p and -f to slot q of its own buffer, by cell-sorted slot (neighbouring pairs
- * touch neighbouring memory); the caller adds the buffers in worker order, so the result
- * does not depend on scheduling.
- *
- * The evaluator sees a block of candidate pairs of slot p, keeps those within range and
- * may write their forces on p at once:  int operator()(int p, const int* q, const
- * OpenMM::Vec3* d, int count, int* acceptedSlots, OpenMM::Vec3* forces)  returns how many
- * it kept.  Blocks are gathered into batches of up to MAX_BLOCK kept pairs, block after
- * block: acceptedSlots and forces point at the block's position in the batch, which is the
- * number of pairs kept since the last finishBatch (so an evaluator may index scratch of its
- * own the same way).  Before a batch is added,  void finishBatch(int n, const int*
- * acceptedSlots, OpenMM::Vec3* forces)  completes the forces of its n pairs, whose other
- * slots are acceptedSlots[0, n) (a thermostat draws their random numbers
- * together there: ~8 pairs per block are too few to keep the generator's vector lanes
- * busy).  With `outputs` (1 or 2) buffers (distinct vectors) output t of batch pair k is forces[t *
- * MAX_BLOCK + k].  The sums are the same whatever the batches: each block's forces on p are
- * summed, then added, in block order.
- */
-/**
  * accumulateBySlot's adding of a batch: for each block b, -f to the other slot of each of its
  * pairs and the block's sum to its slot p, in every output buffer.  The outputs share one
  * loop over the pairs (each buffer's sums in the same order as alone).
@@ -52,6 +31,27 @@ void addBatchBySlot(std::vector<OpenMM::Vec3>* const* slotForce, const OpenMM::V
     }
 }
 
+/**
+ * The CPU platform's accumulate loop for pair forces found on the fly: worker w visits the
+ * pair blocks of its cells (PairSearch::workerCells) and adds each accepted pair's force f
+ * to slot p and -f to slot q of its own buffer, by cell-sorted slot (neighbouring pairs
+ * touch neighbouring memory); the caller adds the buffers in worker order, so the result
+ * does not depend on scheduling.
+ *
+ * The evaluator sees a block of candidate pairs of slot p, keeps those within range and
+ * may write their forces on p at once:  int operator()(int p, const int* q, const
+ * OpenMM::Vec3* d, int count, int* acceptedSlots, OpenMM::Vec3* forces)  returns how many
+ * it kept.  Blocks are gathered into batches of up to MAX_BLOCK kept pairs, block after
+ * block: acceptedSlots and forces point at the block's position in the batch, which is the
+ * number of pairs kept since the last finishBatch (so an evaluator may index scratch of its
+ * own the same way).  Before a batch is added,  void finishBatch(int n, const int*
+ * acceptedSlots, OpenMM::Vec3* forces)  completes the forces of its n pairs, whose other
+ * slots are acceptedSlots[0, n) (a thermostat draws their random numbers
+ * together there: ~8 pairs per block are too few to keep the generator's vector lanes
+ * busy).  With `outputs` (1 or 2) buffers (distinct vectors) output t of batch pair k is
+ * forces[t * MAX_BLOCK + k].  The sums are the same whatever the batches: each block's
+ * forces on p are summed, then added, in block order.
+ */
 template <class Evaluator>
 void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& evaluate, std::vector<OpenMM::Vec3>* const* slotForce,
                       int outputs = 1) {
