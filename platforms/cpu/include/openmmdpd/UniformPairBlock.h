@@ -53,10 +53,10 @@ bool canRunUniformPairBlock();
  * and, with the soft force, its pair forces added to softForce by slot, pair by pair in hit
  * order, or, given softPairForce, each accepted pair's soft force along e to
  * softPairForce[0, n) (the caller adds it where it adds the pair's other forces; softForce
- * is then not touched and may be null).  Bit for
- * bit what DPDPairParameters::pairGeometry and SoftRepulsionKernel::pairForce give pair by
- * pair: the same operations in the same order, each rounded alike in a lane.  Returns n;
- * returns -1 where the processor has no AVX2 (the caller goes pair by pair).
+ * is then not touched and may be null).  Bit for bit what DPDPairParameters::pairGeometry
+ * and SoftRepulsionKernel::pairForce give pair by pair: the same operations in the same
+ * order, each rounded alike in a lane.  Returns n; returns -1 where the processor has no
+ * AVX2 (the caller goes pair by pair).
  */
 int uniformPairBlock(const UniformPairRule& rule, int p, const int* qs, const OpenMM::Vec3* ds, int hits, int* acceptedQ,
                      PairGeometry* out, OpenMM::Vec3* softForce, double* softPairForce = nullptr);
