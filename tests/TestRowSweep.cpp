@@ -1,7 +1,9 @@
 #if OPENMMDPD_HAVE_CPU
 #include "TestHelpers.h"
+#include "openmmdpd/DPDPairRows.h"
 #include "openmmdpd/PairSweep.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/UniformPairBlock.h"
 #include "openmmdpd/VectorRowSweep.h"
 #include <memory>
 #include <gtest/gtest.h>
@@ -166,6 +168,52 @@ TEST(RowSweep, UniformPairsGiveThePairGeometryOnes) {
                 }
             }
         }
+}
+
+/**
+ * A thermostat batch's forces in rows (dpdPairForceRows) against DPDPairForce pair by pair,
+ * summed as DPDSlotForces sums them: (FD + FR) + e soft in one output, or FD and FR + e soft
+ * apart.  For every batch size to 13 and each way of asking.
+ */
+static void expectPairForceRowsEqualPairByPair(int n, bool separate, bool soft, bool sheared) {
+    const IndependentCells cells(n + 1, sheared);
+    std::vector<PairGeometry> g;
+    std::vector<int> slotP, slotQ;
+    std::vector<double> softAlongE;
+    ASSERT_FALSE(cells.list.empty());
+    for (size_t k = 0; g.size() < (size_t) n; k = (k + 1) % cells.list.size()) {
+        g.push_back(cells.list[k]);
+        slotP.push_back(cells.list[k].i);
+        slotQ.push_back(cells.list[k].j);
+        softAlongE.push_back(25 * (1 - cells.list[k].wR) - 3);
+    }
+    std::vector<double> xi(cells.xi.begin(), cells.xi.begin() + n);
+    const DPDBatchPairs pairs{g.data(), slotP.data(), slotQ.data(), xi.data(), soft ? softAlongE.data() : nullptr, sheared};
+    const double invSqrtDt = 1 / std::sqrt(0.05);
+    std::vector<Vec3> forces(n), dissipative(n);
+    const int made = dpdPairForceRows(pairs, n, cells.v.data(), invSqrtDt, forces.data(), separate ? dissipative.data() : nullptr);
+    ASSERT_EQ(made, canRunUniformPairBlock() ? n / 4 * 4 : 0);
+    for (int k = 0; k < made; k++) {
+        const Vec3 fd = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(cells.v[slotP[k]], cells.v[slotQ[k]]));
+        const Vec3 fr = DPDPairForce::random(g[k], xi[k], invSqrtDt);
+        Vec3 expected = (separate ? fr : fd + fr);
+        if (soft)
+            expected += g[k].e * softAlongE[k];
+        const std::string where = "n " + std::to_string(n) + (separate ? " separate" : "") + (soft ? " soft" : "") +
+                                  (sheared ? " sheared" : "") + ", pair " + std::to_string(k);
+        ASSERT_EQ(forces[k], expected) << where;
+        if (separate) {
+            ASSERT_EQ(dissipative[k], fd) << where;
+        }
+    }
+}
+
+TEST(DPDPairRows, RowsEqualDPDPairForceBitForBit) {
+    for (int n = 0; n <= 13; n++)
+        for (bool separate : {false, true})
+            for (bool soft : {false, true})
+                for (bool sheared : {false, true})
+                    expectPairForceRowsEqualPairByPair(n, separate, soft, sheared);
 }
 
 /**

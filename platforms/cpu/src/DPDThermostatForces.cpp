@@ -1,4 +1,5 @@
 #include "openmmdpd/DPDThermostatForces.h"
+#include "openmmdpd/DPDPairRows.h"
 #include "openmmdpd/PairRandomBatch.h"
 #include "openmmdpd/SlotAccumulation.h"
 #include "openmmdpd/SoftRepulsionKernel.h"
@@ -480,7 +481,7 @@ struct DPDSlotForces {
     PairGeometry g[PairSearch::MAX_BLOCK];
     int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
-    double softOnPair[PairSearch::MAX_BLOCK];  // the soft force along e, where the rows make it (their softPairForce)
+    double softOnPair[PairSearch::MAX_BLOCK];  // the soft force along e (from the rows, where they make it: their softPairForce)
 
     // Every pair's parameters where they are shared, else null; the soft force's too where
     // uniform->soft (the rows then make its pair forces), else it is looked up pair by pair.
@@ -523,32 +524,43 @@ struct DPDSlotForces {
         if (terms & RandomTerm)  // the same numbers as random.gaussian(), drawn for the whole batch at once
             PairRandomBatch::normals(random, PairRandom::RandomForce, step, first, second, n, xi);
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
-        DPDThermostatForces::KeptPair* kept = (keep != nullptr ? keptSpace(n) : nullptr);
         const bool softFromRows = (soft != nullptr && uniform != nullptr && uniform->soft);
-        for (int k = 0; k < n; k++) {
-            const int p = slotP[k], q = slots[k];
-            forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
-            const Vec3 fd = (terms & DissipativeTerm
-                                     ? DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[p], sortedVelocities[q]))
-                                     : Vec3());
-            dissipative[k] = (separate ? fd : fd + forces[k]);
-            if (kept != nullptr) {
-                kept[k].p = p;
-                kept[k].q = q;
-                kept[k].e = g[k].e;
-                kept[k].gammaWD = g[k].gammaWD;
+        if (soft != nullptr && !softFromRows)
+            for (int k = 0; k < n; k++) {
+                const int t = soft->getTable().indexOfTypes(sortedSoftTypes[slotP[k]], sortedSoftTypes[slots[k]]);
+                softOnPair[k] = soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
             }
-            if (keepImageVx != nullptr)
-                (*keepImageVx)[keptCount + k] = g[k].imageVx;
-            if (softFromRows)
-                forces[k] += g[k].e * softOnPair[k];
-            else if (soft != nullptr) {
-                const int t = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
-                forces[k] += g[k].e * soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
-            }
+        int k = 0;
+        if (terms == (DissipativeTerm | RandomTerm)) {
+            const DPDBatchPairs pairs{g, slotP, slots, xi, soft != nullptr ? softOnPair : nullptr, sortedHeights != nullptr};
+            k = dpdPairForceRows(pairs, n, sortedVelocities.data(), invSqrtDt, forces, separate ? dissipative : nullptr);
         }
-        keptCount += (keep != nullptr ? n : 0);
+        for (; k < n; k++) {
+            forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
+            const Vec3 fd = (terms & DissipativeTerm ? DPDPairForce::dissipative(
+                                                               g[k], g[k].relativeVelocity(sortedVelocities[slotP[k]], sortedVelocities[slots[k]]))
+                                                     : Vec3());
+            dissipative[k] = (separate ? fd : fd + forces[k]);
+            if (soft != nullptr)
+                forces[k] += g[k].e * softOnPair[k];
+        }
+        if (keep != nullptr)
+            keepPairs(n, slots);
         batchSize = 0;
+    }
+
+    void keepPairs(int n, const int* slots) {
+        DPDThermostatForces::KeptPair* kept = keptSpace(n);
+        for (int k = 0; k < n; k++) {
+            kept[k].p = slotP[k];
+            kept[k].q = slots[k];
+            kept[k].e = g[k].e;
+            kept[k].gammaWD = g[k].gammaWD;
+        }
+        if (keepImageVx != nullptr)
+            for (int k = 0; k < n; k++)
+                (*keepImageVx)[keptCount + k] = g[k].imageVx;
+        keptCount += n;
     }
 
     /**

@@ -19,11 +19,20 @@ namespace DPDPlugin {
 struct DPDPairForce {
     /** FD_ij = -gamma wD(r) (e . v_ij) e, wD = wR^2. */
     static OpenMM::Vec3 dissipative(const PairGeometry& p, const OpenMM::Vec3& vij) {
-        return p.e * (-p.gammaWD * p.e.dot(vij));
+        return p.e * dissipativeAlongE(p.gammaWD, p.e.dot(vij));
     }
     /** FR_ij = sigma wR xi e / sqrt(dt). */
     static OpenMM::Vec3 random(const PairGeometry& p, double xi, double invSqrtDt) {
-        return p.e * (p.sigmaWR * xi * invSqrtDt);
+        return p.e * randomAlongE(p.sigmaWR, xi, invSqrtDt);
+    }
+    /** The two forces along e, of one pair or of a row of pairs' lanes (Real: double or a vector of doubles). */
+    template <class Real>
+    static Real dissipativeAlongE(const Real& gammaWD, const Real& eDotVij) {
+        return -gammaWD * eDotVij;
+    }
+    template <class Real>
+    static Real randomAlongE(const Real& sigmaWR, const Real& xi, double invSqrtDt) {
+        return sigmaWR * xi * invSqrtDt;
     }
 };
 

@@ -1,0 +1,114 @@
+// A Lane4 passed or returned by value is passed differently by code built for different
+// vector units (the compiler warns of it); none crosses a call between such code here.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+#include "openmmdpd/DPDPairRows.h"
+#include "openmmdpd/CpuFeatures.h"
+#include "openmmdpd/PairEvaluators.h"
+#include <cstddef>
+
+#ifdef OPENMMDPD_X86_VECTORS
+#include <immintrin.h>
+#endif
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+#ifdef OPENMMDPD_X86_VECTORS
+namespace {
+
+typedef double Lane4 __attribute__((vector_size(4 * sizeof(double))));
+
+// The rows read e and wR, and gammaWD and sigmaWR, as one load each per pair.
+static_assert(offsetof(PairGeometry, wR) == offsetof(PairGeometry, e) + 3 * sizeof(double), "e is followed by wR");
+static_assert(offsetof(PairGeometry, sigmaWR) == offsetof(PairGeometry, gammaWD) + sizeof(double), "gammaWD by sigmaWR");
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "a Vec3 is its three doubles");
+
+inline const double* components(const Vec3& v) {
+    return reinterpret_cast<const double*>(&v);
+}
+
+/** Four rows of four as four columns: column c lane l is row l's element c. */
+__attribute__((target("avx2"), always_inline)) inline void transpose(__m256d r0, __m256d r1, __m256d r2, __m256d r3, Lane4& c0,
+                                                                     Lane4& c1, Lane4& c2, Lane4& c3) {
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+    c0 = (Lane4) _mm256_permute2f128_pd(t0, t2, 0x20);
+    c1 = (Lane4) _mm256_permute2f128_pd(t1, t3, 0x20);
+    c2 = (Lane4) _mm256_permute2f128_pd(t0, t2, 0x31);
+    c3 = (Lane4) _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+/** Four vectors' x, y and z lanes stored as four Vec3s (96 bytes from out). */
+__attribute__((target("avx2"), always_inline)) inline void storeVec3s(const Lane4& x, const Lane4& y, const Lane4& z, Vec3* out) {
+    const __m256d xy02 = _mm256_unpacklo_pd((__m256d) x, (__m256d) y);  // x0 y0 x2 y2
+    const __m256d xy13 = _mm256_unpackhi_pd((__m256d) x, (__m256d) y);  // x1 y1 x3 y3
+    const __m256d zx = _mm256_unpacklo_pd((__m256d) z, xy13);            // z0 x1 z2 x3
+    const __m256d yz = _mm256_unpackhi_pd(xy13, (__m256d) z);            // y1 z1 y3 z3
+    double* to = reinterpret_cast<double*>(out);
+    _mm256_storeu_pd(to, _mm256_permute2f128_pd(xy02, zx, 0x20));
+    _mm256_storeu_pd(to + 4, _mm256_permute2f128_pd(yz, xy02, 0x30));
+    _mm256_storeu_pd(to + 8, _mm256_permute2f128_pd(zx, yz, 0x31));
+}
+
+/** v_i - v_j of four pairs as x, y, z lanes, with j moving as its image does where sheared. */
+__attribute__((target("avx2"), always_inline)) inline void relativeVelocities(const DPDBatchPairs& pairs, int k, const Vec3* v,
+                                                                              Lane4& x, Lane4& y, Lane4& z) {
+    const __m256i xyz = _mm256_set_epi64x(0, -1, -1, -1);  // a Vec3's three doubles, not the next one's x
+    __m256d row[4];
+    for (int l = 0; l < 4; l++)
+        row[l] = _mm256_sub_pd(_mm256_maskload_pd(components(v[pairs.slotP[k + l]]), xyz), _mm256_maskload_pd(components(v[pairs.slotQ[k + l]]), xyz));
+    Lane4 unused;
+    transpose(row[0], row[1], row[2], row[3], x, y, z, unused);
+    if (pairs.sheared) {
+        const PairGeometry* g = pairs.geometry + k;
+        x -= Lane4{g[0].imageVx, g[1].imageVx, g[2].imageVx, g[3].imageVx};
+    }
+}
+
+__attribute__((target("avx2"))) int pairForceRowsAVX2(const DPDBatchPairs& pairs, int n, const Vec3* v, double invSqrtDt, Vec3* forces,
+                                                      Vec3* dissipative) {
+    const int rows = n & ~3;
+    for (int k = 0; k < rows; k += 4) {
+        const PairGeometry* g = pairs.geometry + k;
+        Lane4 ex, ey, ez, wR;
+        transpose(_mm256_loadu_pd(components(g[0].e)), _mm256_loadu_pd(components(g[1].e)), _mm256_loadu_pd(components(g[2].e)), _mm256_loadu_pd(components(g[3].e)),
+                  ex, ey, ez, wR);
+        const __m256d frictionNoise02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(&g[0].gammaWD)), _mm_loadu_pd(&g[2].gammaWD), 1);
+        const __m256d frictionNoise13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(&g[1].gammaWD)), _mm_loadu_pd(&g[3].gammaWD), 1);
+        const Lane4 gammaWD = (Lane4) _mm256_unpacklo_pd(frictionNoise02, frictionNoise13);
+        const Lane4 sigmaWR = (Lane4) _mm256_unpackhi_pd(frictionNoise02, frictionNoise13);
+        Lane4 vx, vy, vz;
+        relativeVelocities(pairs, k, v, vx, vy, vz);
+        const Lane4 fd = DPDPairForce::dissipativeAlongE(gammaWD, ex * vx + ey * vy + ez * vz);
+        const Lane4 fr = DPDPairForce::randomAlongE(sigmaWR, (Lane4) _mm256_loadu_pd(pairs.xi + k), invSqrtDt);
+        Lane4 fx = ex * fr, fy = ey * fr, fz = ez * fr;
+        if (dissipative != nullptr)
+            storeVec3s(ex * fd, ey * fd, ez * fd, dissipative + k);
+        else {
+            fx = ex * fd + fx;
+            fy = ey * fd + fy;
+            fz = ez * fd + fz;
+        }
+        if (pairs.softAlongE != nullptr) {
+            const Lane4 soft = (Lane4) _mm256_loadu_pd(pairs.softAlongE + k);
+            fx += ex * soft;
+            fy += ey * soft;
+            fz += ez * soft;
+        }
+        storeVec3s(fx, fy, fz, forces + k);
+    }
+    return rows;
+}
+
+} // namespace
+#endif
+
+int DPDPlugin::dpdPairForceRows(const DPDBatchPairs& pairs, int n, const Vec3* velocities, double invSqrtDt, Vec3* forces,
+                                Vec3* dissipative) {
+#ifdef OPENMMDPD_X86_VECTORS
+    if (haveAVX2())
+        return pairForceRowsAVX2(pairs, n, velocities, invSqrtDt, forces, dissipative);
+#endif
+    return 0;
+}
