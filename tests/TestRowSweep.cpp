@@ -173,7 +173,8 @@ TEST(RowSweep, UniformPairsGiveThePairGeometryOnes) {
 /**
  * A thermostat batch's forces in rows (dpdPairForceRows) against DPDPairForce pair by pair,
  * summed as DPDSlotForces sums them: (FD + FR) + e soft in one output, or FD and FR + e soft
- * apart.  For every batch size to 13 and each way of asking.
+ * apart with the pairs kept (as DPD-VV's first pass asks), and the kept pairs' FD
+ * (dpdKeptDissipativeRows).  For every batch size to 13 and each way of asking.
  */
 static void expectPairForceRowsEqualPairByPair(int n, bool separate, bool soft, bool sheared) {
     const IndependentCells cells(n + 1, sheared);
@@ -188,7 +189,9 @@ static void expectPairForceRowsEqualPairByPair(int n, bool separate, bool soft, 
         softAlongE.push_back(25 * (1 - cells.list[k].wR) - 3);
     }
     std::vector<double> xi(cells.xi.begin(), cells.xi.begin() + n);
-    const DPDBatchPairs pairs{g.data(), slotP.data(), slotQ.data(), xi.data(), soft ? softAlongE.data() : nullptr, sheared};
+    std::vector<DPDThermostatForces::KeptPair> kept(n);
+    const DPDBatchPairs pairs{g.data(), slotP.data(), slotQ.data(), xi.data(), soft ? softAlongE.data() : nullptr, sheared,
+                              separate ? kept.data() : nullptr};
     const double invSqrtDt = 1 / std::sqrt(0.05);
     std::vector<Vec3> forces(n), dissipative(n);
     const int made = dpdPairForceRows(pairs, n, cells.v.data(), invSqrtDt, forces.data(), separate ? dissipative.data() : nullptr);
@@ -204,8 +207,25 @@ static void expectPairForceRowsEqualPairByPair(int n, bool separate, bool soft, 
         ASSERT_EQ(forces[k], expected) << where;
         if (separate) {
             ASSERT_EQ(dissipative[k], fd) << where;
+            ASSERT_EQ(kept[k].p, slotP[k]) << where;
+            ASSERT_EQ(kept[k].q, slotQ[k]) << where;
+            ASSERT_EQ(kept[k].e, g[k].e) << where;
+            ASSERT_EQ(kept[k].gammaWD, g[k].gammaWD) << where;
         }
     }
+    if (!separate)
+        return;
+    // The kept pairs' FD again, as DPD-VV's second pass makes it (all n kept, the rows' and the rest).
+    for (int k = made; k < n; k++)
+        kept[k] = {slotP[k], slotQ[k], g[k].e, g[k].gammaWD};
+    std::vector<double> imageVx;
+    for (const PairGeometry& pair : g)
+        imageVx.push_back(pair.imageVx);
+    std::vector<Vec3> keptFD(n);
+    ASSERT_EQ(dpdKeptDissipativeRows(kept.data(), sheared ? imageVx.data() : nullptr, n, cells.v.data(), keptFD.data()), made);
+    for (int k = 0; k < made; k++)
+        ASSERT_EQ(keptFD[k], DPDPairForce::dissipative(g[k], g[k].relativeVelocity(cells.v[slotP[k]], cells.v[slotQ[k]])))
+                << "kept pairs, n " << n << (sheared ? " sheared" : "") << ", pair " << k;
 }
 
 TEST(DPDPairRows, RowsEqualDPDPairForceBitForBit) {

@@ -23,9 +23,15 @@ typedef double Lane4 __attribute__((vector_size(4 * sizeof(double))));
 static_assert(offsetof(PairGeometry, wR) == offsetof(PairGeometry, e) + 3 * sizeof(double), "e is followed by wR");
 static_assert(offsetof(PairGeometry, sigmaWR) == offsetof(PairGeometry, gammaWD) + sizeof(double), "gammaWD by sigmaWR");
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "a Vec3 is its three doubles");
+static_assert(offsetof(DPDThermostatForces::KeptPair, gammaWD) == offsetof(DPDThermostatForces::KeptPair, e) + sizeof(Vec3),
+              "a kept pair's e is followed by gammaWD");
 
 inline const double* components(const Vec3& v) {
     return reinterpret_cast<const double*>(&v);
+}
+
+inline double* components(Vec3& v) {
+    return reinterpret_cast<double*>(&v);
 }
 
 /** Four rows of four as four columns: column c lane l is row l's element c. */
@@ -51,18 +57,24 @@ __attribute__((target("avx2"), always_inline)) inline void storeVec3s(const Lane
     _mm256_storeu_pd(to + 8, _mm256_permute2f128_pd(zx, yz, 0x31));
 }
 
-/** v_i - v_j of four pairs as x, y, z lanes, with j moving as its image does where sheared. */
-__attribute__((target("avx2"), always_inline)) inline void relativeVelocities(const DPDBatchPairs& pairs, int k, const Vec3* v,
-                                                                              Lane4& x, Lane4& y, Lane4& z) {
+/** v_p - v_q of four pairs of slots (p[l], q[l]) as x, y, z lanes. */
+__attribute__((target("avx2"), always_inline)) inline void relativeVelocities(const Vec3* v, const int* p, const int* q, Lane4& x,
+                                                                              Lane4& y, Lane4& z) {
     const __m256i xyz = _mm256_set_epi64x(0, -1, -1, -1);  // a Vec3's three doubles, not the next one's x
     __m256d row[4];
     for (int l = 0; l < 4; l++)
-        row[l] = _mm256_sub_pd(_mm256_maskload_pd(components(v[pairs.slotP[k + l]]), xyz), _mm256_maskload_pd(components(v[pairs.slotQ[k + l]]), xyz));
+        row[l] = _mm256_sub_pd(_mm256_maskload_pd(components(v[p[l]]), xyz), _mm256_maskload_pd(components(v[q[l]]), xyz));
     Lane4 unused;
     transpose(row[0], row[1], row[2], row[3], x, y, z, unused);
-    if (pairs.sheared) {
-        const PairGeometry* g = pairs.geometry + k;
-        x -= Lane4{g[0].imageVx, g[1].imageVx, g[2].imageVx, g[3].imageVx};
+}
+
+/** Pairs k to k + 3 to kept (e with gammaWD where wR was). */
+__attribute__((target("avx2"), always_inline)) inline void keep(const DPDBatchPairs& pairs, int k, const __m256d* eAndWR) {
+    for (int l = 0; l < 4; l++) {
+        DPDThermostatForces::KeptPair& kept = pairs.kept[k + l];
+        kept.p = pairs.slotP[k + l];
+        kept.q = pairs.slotQ[k + l];
+        _mm256_storeu_pd(components(kept.e), _mm256_blend_pd(eAndWR[l], _mm256_broadcast_sd(&pairs.geometry[k + l].gammaWD), 0x8));
     }
 }
 
@@ -71,15 +83,21 @@ __attribute__((target("avx2"))) int pairForceRowsAVX2(const DPDBatchPairs& pairs
     const int rows = n & ~3;
     for (int k = 0; k < rows; k += 4) {
         const PairGeometry* g = pairs.geometry + k;
+        __m256d eAndWR[4];
+        for (int l = 0; l < 4; l++)
+            eAndWR[l] = _mm256_loadu_pd(components(g[l].e));
         Lane4 ex, ey, ez, wR;
-        transpose(_mm256_loadu_pd(components(g[0].e)), _mm256_loadu_pd(components(g[1].e)), _mm256_loadu_pd(components(g[2].e)), _mm256_loadu_pd(components(g[3].e)),
-                  ex, ey, ez, wR);
+        transpose(eAndWR[0], eAndWR[1], eAndWR[2], eAndWR[3], ex, ey, ez, wR);
+        if (pairs.kept != nullptr)
+            keep(pairs, k, eAndWR);
         const __m256d frictionNoise02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(&g[0].gammaWD)), _mm_loadu_pd(&g[2].gammaWD), 1);
         const __m256d frictionNoise13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(&g[1].gammaWD)), _mm_loadu_pd(&g[3].gammaWD), 1);
         const Lane4 gammaWD = (Lane4) _mm256_unpacklo_pd(frictionNoise02, frictionNoise13);
         const Lane4 sigmaWR = (Lane4) _mm256_unpackhi_pd(frictionNoise02, frictionNoise13);
         Lane4 vx, vy, vz;
-        relativeVelocities(pairs, k, v, vx, vy, vz);
+        relativeVelocities(v, pairs.slotP + k, pairs.slotQ + k, vx, vy, vz);
+        if (pairs.sheared)  // j moves as its image does
+            vx -= Lane4{g[0].imageVx, g[1].imageVx, g[2].imageVx, g[3].imageVx};
         const Lane4 fd = DPDPairForce::dissipativeAlongE(gammaWD, ex * vx + ey * vy + ez * vz);
         const Lane4 fr = DPDPairForce::randomAlongE(sigmaWR, (Lane4) _mm256_loadu_pd(pairs.xi + k), invSqrtDt);
         Lane4 fx = ex * fr, fy = ey * fr, fz = ez * fr;
@@ -101,6 +119,25 @@ __attribute__((target("avx2"))) int pairForceRowsAVX2(const DPDBatchPairs& pairs
     return rows;
 }
 
+__attribute__((target("avx2"))) int keptDissipativeRowsAVX2(const DPDThermostatForces::KeptPair* kept, const double* imageVx, int n,
+                                                            const Vec3* v, Vec3* forces) {
+    const int rows = n & ~3;
+    for (int k = 0; k < rows; k += 4) {
+        const DPDThermostatForces::KeptPair* pair = kept + k;
+        Lane4 ex, ey, ez, gammaWD;
+        transpose(_mm256_loadu_pd(components(pair[0].e)), _mm256_loadu_pd(components(pair[1].e)), _mm256_loadu_pd(components(pair[2].e)),
+                  _mm256_loadu_pd(components(pair[3].e)), ex, ey, ez, gammaWD);
+        const int p[4] = {pair[0].p, pair[1].p, pair[2].p, pair[3].p}, q[4] = {pair[0].q, pair[1].q, pair[2].q, pair[3].q};
+        Lane4 vx, vy, vz;
+        relativeVelocities(v, p, q, vx, vy, vz);
+        if (imageVx != nullptr)
+            vx -= (Lane4) _mm256_loadu_pd(imageVx + k);
+        const Lane4 fd = DPDPairForce::dissipativeAlongE(gammaWD, ex * vx + ey * vy + ez * vz);
+        storeVec3s(ex * fd, ey * fd, ez * fd, forces + k);
+    }
+    return rows;
+}
+
 } // namespace
 #endif
 
@@ -109,6 +146,15 @@ int DPDPlugin::dpdPairForceRows(const DPDBatchPairs& pairs, int n, const Vec3* v
 #ifdef OPENMMDPD_X86_VECTORS
     if (haveAVX2())
         return pairForceRowsAVX2(pairs, n, velocities, invSqrtDt, forces, dissipative);
+#endif
+    return 0;
+}
+
+int DPDPlugin::dpdKeptDissipativeRows(const DPDThermostatForces::KeptPair* kept, const double* imageVx, int n, const Vec3* velocities,
+                                      Vec3* forces) {
+#ifdef OPENMMDPD_X86_VECTORS
+    if (haveAVX2())
+        return keptDissipativeRowsAVX2(kept, imageVx, n, velocities, forces);
 #endif
     return 0;
 }

@@ -530,11 +530,14 @@ struct DPDSlotForces {
                 const int t = soft->getTable().indexOfTypes(sortedSoftTypes[slotP[k]], sortedSoftTypes[slots[k]]);
                 softOnPair[k] = soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
             }
+        DPDThermostatForces::KeptPair* kept = (keep != nullptr ? keptSpace(n) : nullptr);
         int k = 0;
         if (terms == (DissipativeTerm | RandomTerm)) {
-            const DPDBatchPairs pairs{g, slotP, slots, xi, soft != nullptr ? softOnPair : nullptr, sortedHeights != nullptr};
+            const DPDBatchPairs pairs{g, slotP, slots, xi, soft != nullptr ? softOnPair : nullptr, sortedHeights != nullptr, kept};
             k = dpdPairForceRows(pairs, n, sortedVelocities.data(), invSqrtDt, forces, separate ? dissipative : nullptr);
         }
+        if (kept != nullptr)
+            keepPairs(k, n, slots, kept);
         for (; k < n; k++) {
             forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
             const Vec3 fd = (terms & DissipativeTerm ? DPDPairForce::dissipative(
@@ -544,14 +547,12 @@ struct DPDSlotForces {
             if (soft != nullptr)
                 forces[k] += g[k].e * softOnPair[k];
         }
-        if (keep != nullptr)
-            keepPairs(n, slots);
         batchSize = 0;
     }
 
-    void keepPairs(int n, const int* slots) {
-        DPDThermostatForces::KeptPair* kept = keptSpace(n);
-        for (int k = 0; k < n; k++) {
+    /** Pairs [from, n) of the batch to kept[from, n) (the rows copy those before), and every pair's image velocity. */
+    void keepPairs(int from, int n, const int* slots, DPDThermostatForces::KeptPair* kept) {
+        for (int k = from; k < n; k++) {
             kept[k].p = slotP[k];
             kept[k].q = slots[k];
             kept[k].e = g[k].e;
@@ -605,28 +606,42 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
 void DPDThermostatForces::sumKeptDissipative(int w) {
     std::vector<Vec3>& out = workerDissipative[w];
     std::fill(out.begin(), out.begin() + search.getSortedIndex().size(), Vec3());
-    const std::vector<KeptPair>& kept = keptPairs[w];
-    const std::vector<double>& imageVx = keptImageVx[w];
-    const bool sheared = !sortedHeights.empty();  // as in the pass that kept them
-    const std::vector<Vec3>& v = *slotVelocities;
+    const KeptPair* kept = keptPairs[w].data();
+    const double* imageVx = (sortedHeights.empty() ? nullptr : keptImageVx[w].data());  // sheared as in the pass that kept them
+    const Vec3* v = slotVelocities->data();
     const size_t count = keptPairCount[w];
-    PairGeometry g;
-    // The pairs come in runs of one slot p (as they were found): the run's forces on p are
-    // summed in a register, which keeps the loop free of a store-load chain through out[p].
-    for (size_t k = 0; k < count;) {
-        const int p = kept[k].p;
-        Vec3 forceP;
-        for (; k < count && kept[k].p == p; k++) {
-            const KeptPair& pair = kept[k];
-            g.e = pair.e;
-            g.gammaWD = pair.gammaWD;
-            g.imageVx = (sheared ? imageVx[k] : 0.0);
-            const Vec3 f = DPDPairForce::dissipative(g, g.relativeVelocity(v[p], v[pair.q]));
-            forceP += f;
-            out[pair.q] -= f;
+    // The forces a chunk at a time (four pairs at a time where the rows run); the pairs come
+    // in runs of one slot p (as they were found), whose forces on p are summed in a
+    // register, which keeps the loop free of a store-load chain through out[p].
+    const int chunk = 64;
+    Vec3 f[chunk], forceP;
+    int p = (count > 0 ? kept[0].p : 0);
+    for (size_t start = 0; start < count; start += chunk) {
+        const int n = (int) std::min<size_t>(chunk, count - start);
+        const double* chunkImageVx = (imageVx != nullptr ? imageVx + start : nullptr);
+        for (int k = dpdKeptDissipativeRows(kept + start, chunkImageVx, n, v, f); k < n; k++)
+            f[k] = keptDissipative(kept[start + k], chunkImageVx != nullptr ? chunkImageVx[k] : 0.0, v);
+        for (int k = 0; k < n; k++) {
+            const KeptPair& pair = kept[start + k];
+            if (pair.p != p) {
+                out[p] += forceP;
+                forceP = Vec3();
+                p = pair.p;
+            }
+            forceP += f[k];
+            out[pair.q] -= f[k];
         }
-        out[p] += forceP;
     }
+    if (count > 0)
+        out[p] += forceP;
+}
+
+Vec3 DPDThermostatForces::keptDissipative(const KeptPair& pair, double imageVx, const Vec3* v) {
+    PairGeometry g;
+    g.e = pair.e;
+    g.gammaWD = pair.gammaWD;
+    g.imageVx = imageVx;
+    return DPDPairForce::dissipative(g, g.relativeVelocity(v[pair.p], v[pair.q]));
 }
 
 void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {
