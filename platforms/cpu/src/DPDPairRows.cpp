@@ -57,6 +57,11 @@ __attribute__((target("avx2"), always_inline)) inline void storeVec3s(const Lane
     _mm256_storeu_pd(to + 8, _mm256_permute2f128_pd(zx, yz, 0x31));
 }
 
+/** Two doubles from each of a and b, as a0 a1 b0 b1. */
+__attribute__((target("avx2"), always_inline)) inline __m256d twoPairs(const double* a, const double* b) {
+    return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(a)), _mm_loadu_pd(b), 1);
+}
+
 /** v_p - v_q of four pairs of slots (p[l], q[l]) as x, y, z lanes. */
 __attribute__((target("avx2"), always_inline)) inline void relativeVelocities(const Vec3* v, const int* p, const int* q, Lane4& x,
                                                                               Lane4& y, Lane4& z) {
@@ -68,8 +73,13 @@ __attribute__((target("avx2"), always_inline)) inline void relativeVelocities(co
     transpose(row[0], row[1], row[2], row[3], x, y, z, unused);
 }
 
-/** Pairs k to k + 3 to kept (e with gammaWD where wR was). */
-__attribute__((target("avx2"), always_inline)) inline void keep(const DPDBatchPairs& pairs, int k, const __m256d* eAndWR) {
+/**
+ * Pairs k to k + 3 to kept (e with gammaWD where wR was), each line of the list fetched for
+ * writing 64 pairs ahead (a processor without PREFETCHW runs it as a no-op).
+ */
+__attribute__((target("avx2,prfchw"), always_inline)) inline void keep(const DPDBatchPairs& pairs, int k, const __m256d* eAndWR) {
+    for (int line = 0; line < 3; line++)
+        __builtin_prefetch((const char*) (pairs.kept + k + 64) + 64 * line, 1);
     for (int l = 0; l < 4; l++) {
         DPDThermostatForces::KeptPair& kept = pairs.kept[k + l];
         kept.p = pairs.slotP[k + l];
@@ -78,8 +88,8 @@ __attribute__((target("avx2"), always_inline)) inline void keep(const DPDBatchPa
     }
 }
 
-__attribute__((target("avx2"))) int pairForceRowsAVX2(const DPDBatchPairs& pairs, int n, const Vec3* v, double invSqrtDt, Vec3* forces,
-                                                      Vec3* dissipative) {
+__attribute__((target("avx2,prfchw"))) int pairForceRowsAVX2(const DPDBatchPairs& pairs, int n, const Vec3* v, double invSqrtDt,
+                                                             Vec3* forces, Vec3* dissipative) {
     const int rows = n & ~3;
     for (int k = 0; k < rows; k += 4) {
         const PairGeometry* g = pairs.geometry + k;
@@ -90,8 +100,7 @@ __attribute__((target("avx2"))) int pairForceRowsAVX2(const DPDBatchPairs& pairs
         transpose(eAndWR[0], eAndWR[1], eAndWR[2], eAndWR[3], ex, ey, ez, wR);
         if (pairs.kept != nullptr)
             keep(pairs, k, eAndWR);
-        const __m256d frictionNoise02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(&g[0].gammaWD)), _mm_loadu_pd(&g[2].gammaWD), 1);
-        const __m256d frictionNoise13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(&g[1].gammaWD)), _mm_loadu_pd(&g[3].gammaWD), 1);
+        const __m256d frictionNoise02 = twoPairs(&g[0].gammaWD, &g[2].gammaWD), frictionNoise13 = twoPairs(&g[1].gammaWD, &g[3].gammaWD);
         const Lane4 gammaWD = (Lane4) _mm256_unpacklo_pd(frictionNoise02, frictionNoise13);
         const Lane4 sigmaWR = (Lane4) _mm256_unpackhi_pd(frictionNoise02, frictionNoise13);
         Lane4 vx, vy, vz;
@@ -124,6 +133,8 @@ __attribute__((target("avx2"))) int keptDissipativeRowsAVX2(const DPDThermostatF
     const int rows = n & ~3;
     for (int k = 0; k < rows; k += 4) {
         const DPDThermostatForces::KeptPair* pair = kept + k;
+        for (int line = 0; line < 3; line++)  // the four pairs' 160 bytes, 64 pairs ahead
+            _mm_prefetch((const char*) (pair + 64) + 64 * line, _MM_HINT_T0);
         Lane4 ex, ey, ez, gammaWD;
         transpose(_mm256_loadu_pd(components(pair[0].e)), _mm256_loadu_pd(components(pair[1].e)), _mm256_loadu_pd(components(pair[2].e)),
                   _mm256_loadu_pd(components(pair[3].e)), ex, ey, ez, gammaWD);

@@ -539,10 +539,9 @@ struct DPDSlotForces {
         if (kept != nullptr)
             keepPairs(k, n, slots, kept);
         for (; k < n; k++) {
+            const Vec3 vij = g[k].relativeVelocity(sortedVelocities[slotP[k]], sortedVelocities[slots[k]]);
             forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
-            const Vec3 fd = (terms & DissipativeTerm ? DPDPairForce::dissipative(
-                                                               g[k], g[k].relativeVelocity(sortedVelocities[slotP[k]], sortedVelocities[slots[k]]))
-                                                     : Vec3());
+            const Vec3 fd = (terms & DissipativeTerm ? DPDPairForce::dissipative(g[k], vij) : Vec3());
             dissipative[k] = (separate ? fd : fd + forces[k]);
             if (soft != nullptr)
                 forces[k] += g[k].e * softOnPair[k];
