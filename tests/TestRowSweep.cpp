@@ -8,6 +8,7 @@
 #include <memory>
 #include <gtest/gtest.h>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
 
@@ -170,65 +171,79 @@ TEST(RowSweep, UniformPairsGiveThePairGeometryOnes) {
         }
 }
 
+namespace {
+
+/** The same bits (== takes -0 for +0). */
+bool sameBits(const Vec3& a, const Vec3& b) {
+    return std::memcmp(&a, &b, sizeof(Vec3)) == 0;
+}
+
+const Vec3 UNTOUCHED(12345, -6789, 42);  // what the rows must leave past the pairs they make
+
+/** A batch of n pairs from IndependentCells, as DPDSlotForces holds it. */
+struct RowBatch {
+    IndependentCells cells;
+    std::vector<PairGeometry> g;
+    std::vector<int> slotP, slotQ;
+    std::vector<double> xi, softAlongE, imageVx;
+
+    RowBatch(int n, bool sheared) : cells(n + 1, sheared) {
+        for (size_t k = 0; g.size() < (size_t) n && !cells.list.empty(); k = (k + 1) % cells.list.size()) {
+            g.push_back(cells.list[k]);
+            slotP.push_back(cells.list[k].i);
+            slotQ.push_back(cells.list[k].j);
+            xi.push_back(cells.xi[k]);
+            softAlongE.push_back(25 * (1 - cells.list[k].wR) - 3);
+            imageVx.push_back(cells.list[k].imageVx);
+        }
+    }
+    Vec3 fd(int k) const { return DPDPairForce::dissipative(g[k], g[k].relativeVelocity(cells.v[slotP[k]], cells.v[slotQ[k]])); }
+};
+
+} // namespace
+
 /**
  * A thermostat batch's forces in rows (dpdPairForceRows) against DPDPairForce pair by pair,
  * summed as DPDSlotForces sums them: (FD + FR) + e soft in one output, or FD and FR + e soft
  * apart with the pairs kept (as DPD-VV's first pass asks), and the kept pairs' FD
- * (dpdKeptDissipativeRows).  For every batch size to 13 and each way of asking.
+ * (dpdKeptDissipativeRows): bit for bit, and nothing written past the pairs made.
  */
 static void expectPairForceRowsEqualPairByPair(int n, bool separate, bool soft, bool sheared) {
-    const IndependentCells cells(n + 1, sheared);
-    std::vector<PairGeometry> g;
-    std::vector<int> slotP, slotQ;
-    std::vector<double> softAlongE;
-    ASSERT_FALSE(cells.list.empty());
-    for (size_t k = 0; g.size() < (size_t) n; k = (k + 1) % cells.list.size()) {
-        g.push_back(cells.list[k]);
-        slotP.push_back(cells.list[k].i);
-        slotQ.push_back(cells.list[k].j);
-        softAlongE.push_back(25 * (1 - cells.list[k].wR) - 3);
-    }
-    std::vector<double> xi(cells.xi.begin(), cells.xi.begin() + n);
-    std::vector<DPDThermostatForces::KeptPair> kept(n);
-    const DPDBatchPairs pairs{g.data(), slotP.data(), slotQ.data(), xi.data(), soft ? softAlongE.data() : nullptr, sheared,
-                              separate ? kept.data() : nullptr};
+    const RowBatch batch(n, sheared);
+    ASSERT_EQ(batch.g.size(), (size_t) n);
+    std::vector<DPDThermostatForces::KeptPair> kept(n, {-1, -1, UNTOUCHED, 0.0});
+    const DPDBatchPairs pairs{batch.g.data(), batch.slotP.data(), batch.slotQ.data(), batch.xi.data(),
+                              soft ? batch.softAlongE.data() : nullptr, sheared, separate ? kept.data() : nullptr};
     const double invSqrtDt = 1 / std::sqrt(0.05);
-    std::vector<Vec3> forces(n), dissipative(n);
-    const int made = dpdPairForceRows(pairs, n, cells.v.data(), invSqrtDt, forces.data(), separate ? dissipative.data() : nullptr);
-    ASSERT_EQ(made, canRunUniformPairBlock() ? n / 4 * 4 : 0);
+    std::vector<Vec3> forces(n, UNTOUCHED), dissipative(n, UNTOUCHED), keptFD(n, UNTOUCHED);
+    const int made = dpdPairForceRows(pairs, n, batch.cells.v.data(), invSqrtDt, forces.data(), separate ? dissipative.data() : nullptr);
+    ASSERT_EQ(made, n / 4 * 4);
+    const std::string where = "n " + std::to_string(n) + (separate ? " separate" : "") + (soft ? " soft" : "") + (sheared ? " sheared" : "");
     for (int k = 0; k < made; k++) {
-        const Vec3 fd = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(cells.v[slotP[k]], cells.v[slotQ[k]]));
-        const Vec3 fr = DPDPairForce::random(g[k], xi[k], invSqrtDt);
+        const Vec3 fd = batch.fd(k), fr = DPDPairForce::random(batch.g[k], batch.xi[k], invSqrtDt);
         Vec3 expected = (separate ? fr : fd + fr);
         if (soft)
-            expected += g[k].e * softAlongE[k];
-        const std::string where = "n " + std::to_string(n) + (separate ? " separate" : "") + (soft ? " soft" : "") +
-                                  (sheared ? " sheared" : "") + ", pair " + std::to_string(k);
-        ASSERT_EQ(forces[k], expected) << where;
-        if (separate) {
-            ASSERT_EQ(dissipative[k], fd) << where;
-            ASSERT_EQ(kept[k].p, slotP[k]) << where;
-            ASSERT_EQ(kept[k].q, slotQ[k]) << where;
-            ASSERT_EQ(kept[k].e, g[k].e) << where;
-            ASSERT_EQ(kept[k].gammaWD, g[k].gammaWD) << where;
-        }
+            expected += batch.g[k].e * batch.softAlongE[k];
+        ASSERT_TRUE(sameBits(forces[k], expected)) << where << ", pair " << k << ": " << forces[k] << " against " << expected;
+        ASSERT_TRUE(!separate || sameBits(dissipative[k], fd)) << where << ", pair " << k;
+        ASSERT_TRUE(!separate || (kept[k].p == batch.slotP[k] && kept[k].q == batch.slotQ[k] && sameBits(kept[k].e, batch.g[k].e) &&
+                                  kept[k].gammaWD == batch.g[k].gammaWD))
+                << where << ", kept pair " << k;
     }
+    for (int k = made; k < n; k++)
+        ASSERT_TRUE(forces[k] == UNTOUCHED && dissipative[k] == UNTOUCHED && kept[k].p == -1) << where << ", pair " << k << " written";
     if (!separate)
         return;
-    // The kept pairs' FD again, as DPD-VV's second pass makes it (all n kept, the rows' and the rest).
-    for (int k = made; k < n; k++)
-        kept[k] = {slotP[k], slotQ[k], g[k].e, g[k].gammaWD};
-    std::vector<double> imageVx;
-    for (const PairGeometry& pair : g)
-        imageVx.push_back(pair.imageVx);
-    std::vector<Vec3> keptFD(n);
-    ASSERT_EQ(dpdKeptDissipativeRows(kept.data(), sheared ? imageVx.data() : nullptr, n, cells.v.data(), keptFD.data()), made);
-    for (int k = 0; k < made; k++)
-        ASSERT_EQ(keptFD[k], DPDPairForce::dissipative(g[k], g[k].relativeVelocity(cells.v[slotP[k]], cells.v[slotQ[k]])))
-                << "kept pairs, n " << n << (sheared ? " sheared" : "") << ", pair " << k;
+    for (int k = made; k < n; k++)  // as DPD-VV's first pass keeps the rest
+        kept[k] = {batch.slotP[k], batch.slotQ[k], batch.g[k].e, batch.g[k].gammaWD};
+    ASSERT_EQ(dpdKeptDissipativeRows(kept.data(), sheared ? batch.imageVx.data() : nullptr, n, batch.cells.v.data(), keptFD.data()), made);
+    for (int k = 0; k < n; k++)
+        ASSERT_TRUE(k < made ? sameBits(keptFD[k], batch.fd(k)) : keptFD[k] == UNTOUCHED) << "kept pairs, " << where << ", pair " << k;
 }
 
 TEST(DPDPairRows, RowsEqualDPDPairForceBitForBit) {
+    if (!canRunUniformPairBlock())
+        GTEST_SKIP() << "no AVX2: the rows make no pairs, the batch goes pair by pair";
     for (int n = 0; n <= 13; n++)
         for (bool separate : {false, true})
             for (bool soft : {false, true})

@@ -1,11 +1,13 @@
 // A Lane4 passed or returned by value is passed differently by code built for different
-// vector units (the compiler warns of it); none crosses a call between such code here.
+// vector units (the compiler warns of it); none crosses a call between such code here (the
+// helpers and DPDPairForce's along-e forms are always inlined).
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 #include "openmmdpd/DPDPairRows.h"
 #include "openmmdpd/CpuFeatures.h"
 #include "openmmdpd/PairEvaluators.h"
 #include <cstddef>
+#include <cstdint>
 
 #ifdef OPENMMDPD_X86_VECTORS
 #include <immintrin.h>
@@ -32,6 +34,17 @@ inline const double* components(const Vec3& v) {
 
 inline double* components(Vec3& v) {
     return reinterpret_cast<double*>(&v);
+}
+
+/** How far ahead (in pairs) the kept pairs' list is fetched. */
+const int PREFETCH_PAIRS = 64;
+
+/** The 160 bytes of four kept pairs PREFETCH_PAIRS ahead, as three lines (maybe past the list: a prefetch does not fault). */
+template <bool ForWriting>
+__attribute__((target("avx2,prfchw"), always_inline)) inline void prefetchFourPairsAhead(const DPDThermostatForces::KeptPair* pairs) {
+    const uintptr_t ahead = reinterpret_cast<uintptr_t>(pairs) + PREFETCH_PAIRS * sizeof(*pairs);
+    for (int line = 0; line < 3; line++)
+        __builtin_prefetch(reinterpret_cast<const void*>(ahead + 64 * line), ForWriting ? 1 : 0);
 }
 
 /** Four rows of four as four columns: column c lane l is row l's element c. */
@@ -75,11 +88,10 @@ __attribute__((target("avx2"), always_inline)) inline void relativeVelocities(co
 
 /**
  * Pairs k to k + 3 to kept (e with gammaWD where wR was), each line of the list fetched for
- * writing 64 pairs ahead (a processor without PREFETCHW runs it as a no-op).
+ * writing ahead (a processor without PREFETCHW runs it as a no-op).
  */
 __attribute__((target("avx2,prfchw"), always_inline)) inline void keep(const DPDBatchPairs& pairs, int k, const __m256d* eAndWR) {
-    for (int line = 0; line < 3; line++)
-        __builtin_prefetch((const char*) (pairs.kept + k + 64) + 64 * line, 1);
+    prefetchFourPairsAhead<true>(pairs.kept + k);
     for (int l = 0; l < 4; l++) {
         DPDThermostatForces::KeptPair& kept = pairs.kept[k + l];
         kept.p = pairs.slotP[k + l];
@@ -96,8 +108,8 @@ __attribute__((target("avx2,prfchw"))) int pairForceRowsAVX2(const DPDBatchPairs
         __m256d eAndWR[4];
         for (int l = 0; l < 4; l++)
             eAndWR[l] = _mm256_loadu_pd(components(g[l].e));
-        Lane4 ex, ey, ez, wR;
-        transpose(eAndWR[0], eAndWR[1], eAndWR[2], eAndWR[3], ex, ey, ez, wR);
+        Lane4 ex, ey, ez, unused;
+        transpose(eAndWR[0], eAndWR[1], eAndWR[2], eAndWR[3], ex, ey, ez, unused);
         if (pairs.kept != nullptr)
             keep(pairs, k, eAndWR);
         const __m256d frictionNoise02 = twoPairs(&g[0].gammaWD, &g[2].gammaWD), frictionNoise13 = twoPairs(&g[1].gammaWD, &g[3].gammaWD);
@@ -128,13 +140,12 @@ __attribute__((target("avx2,prfchw"))) int pairForceRowsAVX2(const DPDBatchPairs
     return rows;
 }
 
-__attribute__((target("avx2"))) int keptDissipativeRowsAVX2(const DPDThermostatForces::KeptPair* kept, const double* imageVx, int n,
-                                                            const Vec3* v, Vec3* forces) {
+__attribute__((target("avx2,prfchw"))) int keptDissipativeRowsAVX2(const DPDThermostatForces::KeptPair* kept, const double* imageVx,
+                                                                   int n, const Vec3* v, Vec3* forces) {
     const int rows = n & ~3;
     for (int k = 0; k < rows; k += 4) {
         const DPDThermostatForces::KeptPair* pair = kept + k;
-        for (int line = 0; line < 3; line++)  // the four pairs' 160 bytes, 64 pairs ahead
-            _mm_prefetch((const char*) (pair + 64) + 64 * line, _MM_HINT_T0);
+        prefetchFourPairsAhead<false>(pair);
         Lane4 ex, ey, ez, gammaWD;
         transpose(_mm256_loadu_pd(components(pair[0].e)), _mm256_loadu_pd(components(pair[1].e)), _mm256_loadu_pd(components(pair[2].e)),
                   _mm256_loadu_pd(components(pair[3].e)), ex, ey, ez, gammaWD);

@@ -524,12 +524,8 @@ struct DPDSlotForces {
         if (terms & RandomTerm)  // the same numbers as random.gaussian(), drawn for the whole batch at once
             PairRandomBatch::normals(random, PairRandom::RandomForce, step, first, second, n, xi);
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
-        const bool softFromRows = (soft != nullptr && uniform != nullptr && uniform->soft);
-        if (soft != nullptr && !softFromRows)
-            for (int k = 0; k < n; k++) {
-                const int t = soft->getTable().indexOfTypes(sortedSoftTypes[slotP[k]], sortedSoftTypes[slots[k]]);
-                softOnPair[k] = soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
-            }
+        if (soft != nullptr && !(uniform != nullptr && uniform->soft))  // else the rows made them
+            softForcesAlongE(n, slots);
         DPDThermostatForces::KeptPair* kept = (keep != nullptr ? keptSpace(n) : nullptr);
         int k = 0;
         if (terms == (DissipativeTerm | RandomTerm)) {
@@ -539,14 +535,23 @@ struct DPDSlotForces {
         if (kept != nullptr)
             keepPairs(k, n, slots, kept);
         for (; k < n; k++) {
-            const Vec3 vij = g[k].relativeVelocity(sortedVelocities[slotP[k]], sortedVelocities[slots[k]]);
             forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
-            const Vec3 fd = (terms & DissipativeTerm ? DPDPairForce::dissipative(g[k], vij) : Vec3());
+            Vec3 fd;
+            if (terms & DissipativeTerm)
+                fd = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[slotP[k]], sortedVelocities[slots[k]]));
             dissipative[k] = (separate ? fd : fd + forces[k]);
             if (soft != nullptr)
                 forces[k] += g[k].e * softOnPair[k];
         }
         batchSize = 0;
+    }
+
+    /** softOnPair[0, n) pair by pair, from the soft force's table. */
+    void softForcesAlongE(int n, const int* slots) {
+        for (int k = 0; k < n; k++) {
+            const int t = soft->getTable().indexOfTypes(sortedSoftTypes[slotP[k]], sortedSoftTypes[slots[k]]);
+            softOnPair[k] = soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
+        }
     }
 
     /** Pairs [from, n) of the batch to kept[from, n) (the rows copy those before), and every pair's image velocity. */
@@ -602,6 +607,19 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
     keptPairCount[w] = evaluate->keptCount;
 }
 
+namespace {
+
+/** FD of one kept pair, its j image moving with imageVx. */
+Vec3 keptDissipative(const DPDThermostatForces::KeptPair& pair, double imageVx, const Vec3* v) {
+    PairGeometry g;
+    g.e = pair.e;
+    g.gammaWD = pair.gammaWD;
+    g.imageVx = imageVx;
+    return DPDPairForce::dissipative(g, g.relativeVelocity(v[pair.p], v[pair.q]));
+}
+
+} // namespace
+
 void DPDThermostatForces::sumKeptDissipative(int w) {
     std::vector<Vec3>& out = workerDissipative[w];
     std::fill(out.begin(), out.begin() + search.getSortedIndex().size(), Vec3());
@@ -633,14 +651,6 @@ void DPDThermostatForces::sumKeptDissipative(int w) {
     }
     if (count > 0)
         out[p] += forceP;
-}
-
-Vec3 DPDThermostatForces::keptDissipative(const KeptPair& pair, double imageVx, const Vec3* v) {
-    PairGeometry g;
-    g.e = pair.e;
-    g.gammaWD = pair.gammaWD;
-    g.imageVx = imageVx;
-    return DPDPairForce::dissipative(g, g.relativeVelocity(v[pair.p], v[pair.q]));
 }
 
 void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi) {

@@ -7,6 +7,12 @@
 #include <cmath>
 #include <vector>
 
+#if defined(__GNUC__) || defined(__clang__)
+#define OPENMMDPD_ALWAYS_INLINE __attribute__((always_inline)) inline
+#else
+#define OPENMMDPD_ALWAYS_INLINE inline
+#endif
+
 namespace DPDPlugin {
 
 /*
@@ -25,13 +31,17 @@ struct DPDPairForce {
     static OpenMM::Vec3 random(const PairGeometry& p, double xi, double invSqrtDt) {
         return p.e * randomAlongE(p.sigmaWR, xi, invSqrtDt);
     }
-    /** The two forces along e, of one pair or of a row of pairs' lanes (Real: double or a vector of doubles). */
+    /**
+     * The two forces along e, of one pair or of a row of pairs' lanes (Real: double or a
+     * vector of doubles).  Always inlined: a vector returned by value crosses a call between
+     * code built for different vector units differently on each side.
+     */
     template <class Real>
-    static Real dissipativeAlongE(const Real& gammaWD, const Real& eDotVij) {
+    OPENMMDPD_ALWAYS_INLINE static Real dissipativeAlongE(const Real& gammaWD, const Real& eDotVij) {
         return -gammaWD * eDotVij;
     }
     template <class Real>
-    static Real randomAlongE(const Real& sigmaWR, const Real& xi, double invSqrtDt) {
+    OPENMMDPD_ALWAYS_INLINE static Real randomAlongE(const Real& sigmaWR, const Real& xi, double invSqrtDt) {
         return sigmaWR * xi * invSqrtDt;
     }
 };

@@ -235,8 +235,6 @@ private:
                              bool keep);
     /** The KeptPairs pass: FD of worker w's kept pairs into its buffer, by slot. */
     void sumKeptDissipative(int w);
-    /** FD of one kept pair, its j image moving with imageVx. */
-    static OpenMM::Vec3 keptDissipative(const KeptPair& pair, double imageVx, const OpenMM::Vec3* v);
     std::string name;  // the integrator's class, for error messages
     DPDPairParameters parameters;
     ParallelExecutor& executor;
