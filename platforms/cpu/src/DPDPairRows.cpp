@@ -19,8 +19,6 @@ using OpenMM::Vec3;
 #ifdef OPENMMDPD_X86_VECTORS
 namespace {
 
-typedef double Lane4 __attribute__((vector_size(4 * sizeof(double))));
-
 // The rows read e and wR, and gammaWD and sigmaWR, as one load each per pair.
 static_assert(offsetof(PairGeometry, wR) == offsetof(PairGeometry, e) + 3 * sizeof(double), "e is followed by wR");
 static_assert(offsetof(PairGeometry, sigmaWR) == offsetof(PairGeometry, gammaWD) + sizeof(double), "gammaWD by sigmaWR");

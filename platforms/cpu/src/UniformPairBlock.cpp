@@ -15,8 +15,6 @@ using OpenMM::Vec3;
 #ifdef OPENMMDPD_X86_VECTORS
 namespace {
 
-typedef double Lane4 __attribute__((vector_size(4 * sizeof(double))));
-
 /** Four hits' geometry, lane by lane as pairGeometry computes it (no FMA: the target has none). */
 struct HitRow {
     Lane4 dx, dy, dz, r2, wR, ex, ey, ez, gammaWD, sigmaWR, softForce;

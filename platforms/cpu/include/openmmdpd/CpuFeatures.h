@@ -20,6 +20,14 @@ inline bool haveAVX512() {
     return have;
 }
 
+/**
+ * Four doubles as one AVX2 register, with C's arithmetic lane by lane: what the AVX2 code
+ * computes with.  Passed or returned by value, it crosses a call between code built for
+ * different vector units differently on each side (-Wpsabi), so its users keep it in
+ * inlined functions.
+ */
+typedef double Lane4 __attribute__((vector_size(4 * sizeof(double))));
+
 } // namespace DPDPlugin
 
 #endif
