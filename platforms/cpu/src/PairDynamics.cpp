@@ -126,9 +126,11 @@ void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int
     computeConservative(context, forceGroups);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    softForce.resize(conservative.size());
-    thermostat.updatePairs(*data.positions, box, softForceFromPairs, &softForce, wantsPairsBySlot());
-    if (softForceFromPairs != nullptr)
+    // The soft force alone is the whole conservative force: its pair sums go straight there.
+    std::vector<Vec3>& softOut = (conservativeIsZero ? conservative : softForce);
+    softOut.resize(conservative.size());
+    thermostat.updatePairs(*data.positions, box, softForceFromPairs, &softOut, wantsPairsBySlot());
+    if (softForceFromPairs != nullptr && !conservativeIsZero)
         forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += softForce[i]; });
     checkFinite(conservative, "conservative force", step);
 }

@@ -178,7 +178,7 @@ private:
     SoftRepulsionKernel* softForceFromPairs = nullptr;  // deferred by this step's computeConservative
     int fusedForceGroups = 0, fusedVersion = -1;
     bool fusedIsAlone = false;        // the fused force is the only force in fusedForceGroups
-    bool conservativeIsZero = false;  // this step's computeConservative had nothing to add
+    bool conservativeIsZero = false;  // this step's computeConservative had nothing to add (and left `conservative` unset)
     std::vector<OpenMM::Vec3> softForce;
 };
 
