@@ -1,6 +1,7 @@
 #include "openmmdpd/SweepDynamics.h"
 #include "openmmdpd/PairEvaluators.h"
 #include <type_traits>
+#include <utility>
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
@@ -55,7 +56,8 @@ void SweepDynamics::velocityVerlet(OpenMM::ContextImpl& context, int forceGroups
 
 void SweepDynamics::carryForce(OpenMM::ContextImpl& context, int forceGroups, long long step) {
     findPairs(step, [&] { computeConservativeAndPairs(context, forceGroups, step); });
-    forEachParticle(force.size(), [&](size_t i) { force[i] = conservative[i]; });
+    // Swapped, not copied: `conservative` is made anew before it is next read.
+    std::swap(force, conservative);
 }
 
 const std::vector<double>& SweepDynamics::normals(PairRandom::Stream stream, long long step) {
