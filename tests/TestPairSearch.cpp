@@ -196,3 +196,39 @@ TEST(PairSearch, CellOrderIndependentOfTheNumberOfWorkers) {
     EXPECT_EQ(sorted(&two), serial);
     EXPECT_EQ(sorted(&three), serial);
 }
+
+TEST(PairSearch, EveryWorkersPairsLieWithinItsSlotReach) {
+    // Workers' buffers by slot are zeroed and read only in their reach: a pair outside it
+    // would lose its force.  Periodic grids of at least 3 cells a side (the half shell,
+    // which wraps behind along x and y), thinner ones, a triclinic box and an open one.
+    const Vec3 cube[3] = {Vec3(7, 0, 0), Vec3(0, 6, 0), Vec3(0, 0, 8)};
+    const Vec3 thin[3] = {Vec3(7, 0, 0), Vec3(0, 2.5, 0), Vec3(0, 0, 8)};
+    const Vec3 triclinic[3] = {Vec3(6, 0, 0), Vec3(1.5, 5.5, 0), Vec3(-2.0, 1.2, 5.2)};
+    for (const Vec3* box : {cube, thin, triclinic})
+        for (bool periodic : {true, false}) {
+            const std::vector<Vec3> pos = randomPositions(box, 1500, 12);
+            PairSearch search(std::vector<bool>(pos.size(), true), 1.0, periodic);
+            search.build(pos, box);
+            const size_t slots = search.getSortedIndex().size();
+            for (int workers : {1, 2, 3, 5}) {
+                size_t reached = 0;
+                for (int w = 0; w < workers; w++) {
+                    const PairSearch::SlotReach reach = search.workerSlotReach(w, workers);
+                    reached += reach.count;
+                    EXPECT_LE(reach.count, slots);
+                    size_t begin, end, pairs = 0;
+                    search.workerCells(w, workers, begin, end);
+                    search.forEachSortedPair((int) begin, (int) end, [&](int p, int q, const Vec3&) {
+                        pairs++;
+                        EXPECT_TRUE(reach.contains(p) && reach.contains(q))
+                            << "worker " << w << " of " << workers << ": pair of slots " << p << ", " << q << " outside ["
+                            << reach.first << ", +" << reach.count << ") of " << slots;
+                    });
+                    EXPECT_GT(pairs, 0u);
+                }
+                // Each reach is the worker's own share and a few planes, not every slot.
+                if (periodic && box == cube && workers == 5)
+                    EXPECT_LT(reached, 4 * slots);
+            }
+        }
+}

@@ -55,6 +55,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     checkCutoffFitsBox(box);
     pairsBySlot = bySlot;
     search.build(positions, box, &executor);
+    findWorkerReach();
     searched = &positions;
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
@@ -104,7 +105,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
             placeWorkerCells(w);
             for (size_t k = begin; soft != nullptr && k < end; k++) {
                 prefetchSlotParticle(softOut->data(), sortedIndex, k);
-                (*softOut)[sortedIndex[k]] = sumOverWorkers(workerDissipative, k);
+                (*softOut)[sortedIndex[k]] = sumSlotOverWorkers(workerDissipative, k);
             }
         }
     });
@@ -159,7 +160,7 @@ void DPDThermostatForces::fillWorkerList(int w, const SoftRepulsionKernel* soft,
     size_t count = 0;
     std::vector<Vec3>& softForce = workerDissipative[w];
     if (soft != nullptr)
-        std::fill(softForce.begin(), softForce.begin() + search.getSortedIndex().size(), Vec3());
+        workerReach[w].zero(softForce);
     // Each cell's pairs start at a local offset, made global (and pointed to) by placeWorkerCells.
     const auto startCell = [&](int cell) { cellPairStart[cell] = (int) count; };
     search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* qs, const Vec3* ds, int hits) {
@@ -367,9 +368,17 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
 void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const Vec3* box) {
     checkCutoffFitsBox(box);
     search.build(positions, box, &executor);
+    findWorkerReach();
     searched = &positions;
     searchedHeight = box[1][1];
     slotsSorted = softSorted = false;
+}
+
+void DPDThermostatForces::findWorkerReach() {
+    const int workers = executor.getNumWorkers();
+    workerReach.resize(workers);
+    for (int v = 0; v < workers; v++)
+        workerReach[v] = search.workerSlotReach(v, workers);
 }
 
 void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
@@ -429,9 +438,9 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
                     prefetchSlotParticle(base->data(), sortedIndex, k);
                 const int i = sortedIndex[k];
                 const size_t to = (bySlot ? k : i);
-                out[to] = sumOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[i] : Vec3());
+                out[to] = sumSlotOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[i] : Vec3());
                 if (dissipativeOut != nullptr)
-                    (*dissipativeOut)[to] = sumOverWorkers(workerRandom, k);
+                    (*dissipativeOut)[to] = sumSlotOverWorkers(workerRandom, k);
             }
     });
 }
@@ -622,7 +631,7 @@ Vec3 keptDissipative(const DPDThermostatForces::KeptPair& pair, double imageVx, 
 
 void DPDThermostatForces::sumKeptDissipative(int w) {
     std::vector<Vec3>& out = workerDissipative[w];
-    std::fill(out.begin(), out.begin() + search.getSortedIndex().size(), Vec3());
+    workerReach[w].zero(out);
     const KeptPair* kept = keptPairs[w].data();
     const double* imageVx = (sortedHeights.empty() ? nullptr : keptImageVx[w].data());  // sheared as in the pass that kept them
     const Vec3* v = slotVelocities->data();

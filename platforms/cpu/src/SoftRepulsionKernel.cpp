@@ -86,13 +86,17 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
     });
     if (includeForces) {
         std::vector<Vec3>& forces = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData())->forces;
+        std::vector<PairSearch::SlotReach> reach(workers);
+        for (int v = 0; v < workers; v++)
+            reach[v] = pairSearch->workerSlotReach(v, workers);
         executor->execute([&](int w) {
             size_t begin, end;
             executor->range(w, slots, begin, end);
             for (size_t k = begin; k < end; k++) {
                 Vec3 f;
                 for (int v = 0; v < workers; v++)
-                    f += workerForces[v][k];
+                    if (reach[v].contains(k))  // (accumulateBySlot wrote only there)
+                        f += workerForces[v][k];
                 prefetchSlotParticle(forces.data(), sortedIndex, k);
                 forces[sortedIndex[k]] += f;
             }

@@ -192,6 +192,19 @@ private:
         return f;
     }
     /**
+     * The same for buffers by slot, each read only within its worker's reach (workerReach):
+     * the same bits, as a sum from +0 is unchanged by adding the +0 found elsewhere.
+     */
+    OpenMM::Vec3 sumSlotOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const {
+        OpenMM::Vec3 f;
+        for (size_t v = 0; v < buffers.size(); v++)
+            if (workerReach[v].contains(k))
+                f += buffers[v][k];
+        return f;
+    }
+    /** workerReach for the last search. */
+    void findWorkerReach();
+    /**
      * updatePairs' steps: worker w's pairs (and their particles), worker 0's into the list
      * itself; by particle, the list sized for all workers', and w's share of the other
      * workers' parts copied in.
@@ -259,6 +272,7 @@ private:
     std::vector<PairParticles> pairParticles;
     std::vector<std::vector<PairParticles>> workerPairParticles;
     std::vector<std::vector<OpenMM::Vec3>> workerDissipative, workerRandom;
+    std::vector<PairSearch::SlotReach> workerReach;  // of each worker's buffers by slot, for the last search
     std::vector<OpenMM::Vec3> sortedVelocities;             // the velocities by particle, copied into slot order
     const std::vector<OpenMM::Vec3>* slotVelocities = nullptr;  // sortedVelocities, or those given by slot
     std::vector<double> sortedHeights;  // y of each slot's particle as stored (under shear only)

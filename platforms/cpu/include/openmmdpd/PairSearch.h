@@ -85,6 +85,39 @@ public:
         begin = (w == 0 ? 0 : boundary(w));
         end = (w == workers - 1 ? (size_t) getNumCells() : boundary(w + 1));
     }
+    /**
+     * Slots [first, first + count) taken cyclically among `slots`: a worker's reach (see
+     * workerSlotReach).
+     */
+    struct SlotReach {
+        size_t first, count, slots;
+        bool contains(size_t k) const { return (k >= first ? k - first : k + slots - first) < count; }
+        /** buffer[k] = 0 for the slots k of the reach. */
+        void zero(std::vector<OpenMM::Vec3>& buffer) const {
+            const size_t end = first + count;
+            std::fill(buffer.begin() + first, buffer.begin() + std::min(end, slots), OpenMM::Vec3());
+            if (end > slots)
+                std::fill(buffer.begin(), buffer.begin() + (end - slots), OpenMM::Vec3());
+        }
+    };
+    /**
+     * The slots that the pairs found from worker w's cells (workerCells) can touch: those of
+     * its cells, of the plane of cells before them and of the two after, cyclically (a
+     * cell's neighbours lie less than two planes ahead of it, or, across the box's edge along
+     * x or y, up to a plane behind; past the last plane they are in the first).  A worker's
+     * buffer by slot need be zeroed and read only there: every worker's everywhere would be
+     * work that does not shrink with more workers.
+     */
+    SlotReach workerSlotReach(int w, int workers) const {
+        size_t begin, end;
+        workerCells(w, workers, begin, end);
+        const size_t total = getNumCells(), plane = (size_t) numCells[0] * numCells[1];
+        const size_t cells = std::min(total, end - begin + 3 * plane);
+        const size_t start = (cells == total ? 0 : (begin + total - plane) % total), last = start + cells;
+        const size_t first = cellStart[start];
+        const size_t count = (last <= total ? cellStart[last] - first : cellStart[total] - first + cellStart[last - total]);
+        return SlotReach{first, count, (size_t) cellStart[total]};
+    }
     bool isPeriodic() const { return periodic; }
     /**
      * Whether candidates are tested four at a time (AVX2; on by default where the processor

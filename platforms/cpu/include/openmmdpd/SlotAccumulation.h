@@ -36,7 +36,8 @@ void addBatchBySlot(std::vector<OpenMM::Vec3>* const* slotForce, const OpenMM::V
  * pair blocks of its cells (PairSearch::workerCells) and adds each accepted pair's force f
  * to slot p and -f to slot q of its own buffer, by cell-sorted slot (neighbouring pairs
  * touch neighbouring memory); the caller adds the buffers in worker order, so the result
- * does not depend on scheduling.
+ * does not depend on scheduling.  Only the worker's reach (PairSearch::workerSlotReach) of
+ * its buffer is zeroed and written.
  *
  * The evaluator sees a block of candidate pairs of slot p, keeps those within range and
  * may write their forces on p at once:  int operator()(int p, const int* q, const
@@ -55,8 +56,9 @@ void addBatchBySlot(std::vector<OpenMM::Vec3>* const* slotForce, const OpenMM::V
 template <class Evaluator>
 void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& evaluate, std::vector<OpenMM::Vec3>* const* slotForce,
                       int outputs = 1) {
+    const PairSearch::SlotReach reach = search.workerSlotReach(w, workers);
     for (int t = 0; t < outputs; t++)
-        std::fill(slotForce[t]->begin(), slotForce[t]->begin() + search.getSortedIndex().size(), OpenMM::Vec3());
+        reach.zero(*slotForce[t]);
     size_t begin, end;
     search.workerCells(w, workers, begin, end);
     int slots[PairSearch::MAX_BLOCK], blockSlot[PairSearch::MAX_BLOCK], blockEnd[PairSearch::MAX_BLOCK];
