@@ -29,7 +29,8 @@ integrator adds to the resident memory (each in a fresh process):
 
 --thread-scaling instead measures each integrator's speed-up with threads on model B (default:
 GW, S1 and Langevin at N = 256000, 1 and 2 threads), its Contexts at each thread count timed
-interleaved in a process of their own:
+interleaved in a process of their own; then, as the ceiling for that speed-up, as many
+one-thread copies in processes of their own, all at once against one alone:
 
     /usr/bin/python3 -m openmmdpd.bench --thread-scaling [--sizes 256000] [--threads 1 2]
 
@@ -46,8 +47,10 @@ from concurrent.futures.process import BrokenProcessPool
 import gc
 import multiprocessing
 import os
+import queue
 import statistics
 import sys
+import threading
 import time
 
 import openmm
@@ -64,6 +67,7 @@ MEMORY_INTEGRATORS = SCALE_INTEGRATORS + ["EDPD"]
 SCALE_SIZES = [4000, 32000, 256000, 1000000]
 THREAD_SCALING_INTEGRATORS = ["GW", "S1", "Langevin"]
 THREAD_SCALING_SIZES = [256000]
+COPY_TIMEOUT = 600.0  # s: the longest one copy may wait for the others (their setup at a million particles included)
 SCALE_DT = 0.05  # model B's step (issue 16)
 # A step at a million particles takes most of a second: blocks of 1 s (2 steps) read GW's
 # rate there anywhere from 1.2 to 2.5 steps/s.
@@ -308,6 +312,90 @@ def measure_thread_scaling(names, args):
     return rows
 
 
+def measure_copies(names, args):
+    """Rows (N, integrator, copies, speed-up) for --thread-scaling: as many one-thread copies as
+    the most threads, in processes of their own, their steps/s summed while all run, against
+    one copy alone (the median over the rounds, alternated): what the host gives work that
+    shares no memory and never waits, the ceiling for the threads' speed-up."""
+    copies = max(args.threads)
+    rows = []
+    for n in args.sizes:
+        for name in names:
+            print(f"measuring N={n} {name} {copies} one-thread copies ...", file=sys.stderr, flush=True)
+            rows.append((n, name, copies, copies_speedup(n, name, copies, args)))
+    return rows
+
+
+def copies_speedup(n, name, copies, args):
+    """The median over rounds of the copies' summed steps/s at once / copy 0's alone, or the error."""
+    return combine_copy_rounds(run_copies(n, name, copies, args), copies)
+
+
+def run_copies(n, name, copies, args):
+    """{index: copy_rounds's result} of the copies that reported."""
+    context = multiprocessing.get_context("spawn")
+    barrier, results = context.Barrier(copies), context.Queue()
+    processes = [context.Process(target=copy_rounds, args=(n, name, index, barrier, results, args)) for index in range(copies)]
+    for process in processes:
+        process.start()
+    rounds = {}
+    try:
+        for _ in processes:
+            index, result = results.get(timeout=COPY_TIMEOUT)
+            rounds[index] = result
+    except queue.Empty:
+        pass
+    for process in processes:
+        process.join(timeout=COPY_TIMEOUT)
+        if process.is_alive():
+            process.kill()
+    return rounds
+
+
+def combine_copy_rounds(rounds, copies):
+    """copies_speedup from each copy's ([steps/s alone], [steps/s at once]) (alone: copy 0's only), or the error."""
+    failed = [result for result in rounds.values() if isinstance(result, str)]
+    if failed or len(rounds) < copies:
+        return failed[0] if failed else "failed: a copy stopped"
+    alone = rounds[0][0]
+    together = [sum(rounds[index][1][k] for index in range(copies)) for k in range(len(alone))]
+    return median_ratio(together, alone)
+
+
+def copy_rounds(n, name, index, barrier, results, args):
+    """Copy `index` of copies_speedup: a one-thread Context of `name` on model B; each round, a
+    block of copy 0 alone while the others wait, then a block of every copy at once.  Puts
+    (index, ([steps/s alone], [steps/s at once])), or (index, the error)."""
+    try:
+        scene = soft_scene(num_particles=n)
+        context = make_context(scene.system, factory(name, args.edpd_alpha)(args.dt), 1, args)
+        context.setPositions(scene.positions)
+        context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+        integrator = context.getIntegrator()
+        warm_up(integrator, args)
+        alone, together = [], []
+        for _ in range(args.repeats):
+            barrier.wait(COPY_TIMEOUT)
+            if index == 0:
+                alone.append(steps_for_seconds(integrator, args.seconds))
+            barrier.wait(COPY_TIMEOUT)
+            together.append(steps_for_seconds(integrator, args.seconds))
+        results.put((index, (alone, together)))
+    except (openmm.OpenMMException, threading.BrokenBarrierError) as error:
+        barrier.abort()
+        results.put((index, f"failed: {error}"))
+
+
+def steps_for_seconds(integrator, seconds):
+    """Steps/s over steps taken one at a time until `seconds` have passed: copies that start
+    together are then timed over the same spell, however their speeds differ."""
+    steps, start = 0, time.perf_counter()
+    while steps == 0 or time.perf_counter() - start < seconds:
+        integrator.step(1)
+        steps += 1
+    return steps / (time.perf_counter() - start)
+
+
 def thread_rates(n, name, args):
     """{threads: steps/s of each round} of integrator `name` on model B with n particles."""
     make = factory(name, args.edpd_alpha)
@@ -327,6 +415,15 @@ def print_thread_scaling_table(rows, args):
                 print(f"{n:>8}  {name:<10} {threads:>7} {rate}")
                 continue
             print(f"{n:>8}  {name:<10} {threads:>7} {rate:>9.2f} {two_places(speedup[threads]):>8}")
+
+
+def print_copies_table(rows, args):
+    print(f"one-thread copies in processes of their own, alone and all at once, alternated, {args.repeats} rounds of "
+          f"{args.seconds:g} s blocks; speed-up: median over the rounds of the copies' summed steps/s / one copy's "
+          f"alone (what the host gives work that shares nothing: the threads' ceiling)")
+    print(f"{'N':>8}  {'integrator':<10} {'copies':>7} {'speed-up':>8}")
+    for n, name, copies, speedup in rows:
+        print(f"{n:>8}  {name:<10} {copies:>7} {two_places(speedup) if not isinstance(speedup, str) else speedup:>8}")
 
 
 def in_fresh_process(function, *arguments):
@@ -602,7 +699,10 @@ def main(argv=None):
         args.threads = args.threads or [1, 2]
         args.dt = args.dt or SCALE_DT
         args.seconds = args.seconds or SCALE_SECONDS
-        print_thread_scaling_table(measure_thread_scaling(args.integrators or THREAD_SCALING_INTEGRATORS, args), args)
+        names = args.integrators or THREAD_SCALING_INTEGRATORS
+        print_thread_scaling_table(measure_thread_scaling(names, args), args)
+        if max(args.threads) > 1:
+            print_copies_table(measure_copies(names, args), args)
         return
     at_scale = args.scale or args.memory
     gpu = args.platform != "CPU"

@@ -71,9 +71,26 @@ def test_thread_scaling_prints_each_thread_count(capsys):
                 "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
     lines = capsys.readouterr().out.splitlines()
     assert lines[1].split() == ["N", "integrator", "threads", "steps/s", "speed-up"]
-    rows = [line.split() for line in lines[2:]]
+    rows = [line.split() for line in lines[2:6]]
     assert [row[:3] for row in rows] == [["500", name, threads] for name in ("GW", "S1") for threads in ("1", "2")]
     assert all(float(row[3]) > 0 for row in rows) and {row[4] for row in rows if row[2] == "1"} == {"1.00"}
+    # Then two one-thread copies of each, in processes of their own, against one alone.
+    assert lines[7].split() == ["N", "integrator", "copies", "speed-up"]
+    copies = [line.split() for line in lines[8:]]
+    assert [row[:3] for row in copies] == [["500", name, "2"] for name in ("GW", "S1")]
+    assert all(0 < float(row[3]) < 10 for row in copies)
+
+
+def test_copies_speedup_sums_the_copies_of_each_round():
+    """Copy 0 alone at 100, 50, 90 steps/s; the two at once 80 + 90, 50 + 45, 85 + 90: ratios
+    1.7, 1.9, 1.94, median 1.9."""
+    rounds = {0: ([100.0, 50.0, 90.0], [80.0, 50.0, 85.0]), 1: ([], [90.0, 45.0, 90.0])}
+    assert bench.combine_copy_rounds(rounds, 2) == approx(1.9)
+
+
+def test_copies_speedup_reports_a_copy_that_failed_or_stopped():
+    assert bench.combine_copy_rounds({0: ([1.0], [1.0]), 1: "failed: no memory"}, 2) == "failed: no memory"
+    assert bench.combine_copy_rounds({0: ([1.0], [1.0])}, 2) == "failed: a copy stopped"
 
 
 def test_thread_speedup_is_the_median_of_each_rounds_ratio(capsys, monkeypatch):
@@ -81,8 +98,9 @@ def test_thread_speedup_is_the_median_of_each_rounds_ratio(capsys, monkeypatch):
     (170) would give 1.70; the rounds' ratios are 1.5, 1.9 and 1.89."""
     monkeypatch.setattr(bench, "in_fresh_process", lambda function, *arguments: function(*arguments))
     monkeypatch.setattr(bench, "thread_rates", lambda n, name, args: {1: [100.0, 50.0, 90.0], 2: [150.0, 95.0, 170.0]})
+    monkeypatch.setattr(bench, "copies_speedup", lambda n, name, copies, args: 1.95)
     bench.main(["--thread-scaling", "--integrators", "S1"])
-    rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:]]
+    rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:4]]
     assert rows == [["256000", "S1", "1", "100.00", "1.00"], ["256000", "S1", "2", "170.00", "1.89"]]
 
 
