@@ -227,8 +227,9 @@ TEST(PairSearch, EveryWorkersPairsLieWithinItsSlotReach) {
                     EXPECT_GT(pairs, 0u);
                 }
                 // Each reach is the worker's own share and a few planes, not every slot.
-                if (periodic && box == cube && workers == 5)
+                if (periodic && box == cube && workers == 5) {
                     EXPECT_LT(reached, 4 * slots);
+                }
             }
         }
 }

@@ -55,7 +55,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     checkCutoffFitsBox(box);
     pairsBySlot = bySlot;
     search.build(positions, box, &executor);
-    findWorkerReach();
+    workerReach = search.workerSlotReaches(executor.getNumWorkers());
     searched = &positions;
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
@@ -105,7 +105,7 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
             placeWorkerCells(w);
             for (size_t k = begin; soft != nullptr && k < end; k++) {
                 prefetchSlotParticle(softOut->data(), sortedIndex, k);
-                (*softOut)[sortedIndex[k]] = sumSlotOverWorkers(workerDissipative, k);
+                (*softOut)[sortedIndex[k]] = sumWithinReach(workerDissipative, workerReach, k);
             }
         }
     });
@@ -368,17 +368,10 @@ void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, c
 void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const Vec3* box) {
     checkCutoffFitsBox(box);
     search.build(positions, box, &executor);
-    findWorkerReach();
+    workerReach = search.workerSlotReaches(executor.getNumWorkers());
     searched = &positions;
     searchedHeight = box[1][1];
     slotsSorted = softSorted = false;
-}
-
-void DPDThermostatForces::findWorkerReach() {
-    const int workers = executor.getNumWorkers();
-    workerReach.resize(workers);
-    for (int v = 0; v < workers; v++)
-        workerReach[v] = search.workerSlotReach(v, workers);
 }
 
 void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
@@ -438,9 +431,9 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
                     prefetchSlotParticle(base->data(), sortedIndex, k);
                 const int i = sortedIndex[k];
                 const size_t to = (bySlot ? k : i);
-                out[to] = sumSlotOverWorkers(workerDissipative, k) + (base != nullptr ? (*base)[i] : Vec3());
+                out[to] = sumWithinReach(workerDissipative, workerReach, k) + (base != nullptr ? (*base)[i] : Vec3());
                 if (dissipativeOut != nullptr)
-                    (*dissipativeOut)[to] = sumSlotOverWorkers(workerRandom, k);
+                    (*dissipativeOut)[to] = sumWithinReach(workerRandom, workerReach, k);
             }
     });
 }

@@ -86,17 +86,12 @@ double SoftRepulsionKernel::execute(OpenMM::ContextImpl& context, bool includeFo
     });
     if (includeForces) {
         std::vector<Vec3>& forces = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData())->forces;
-        std::vector<PairSearch::SlotReach> reach(workers);
-        for (int v = 0; v < workers; v++)
-            reach[v] = pairSearch->workerSlotReach(v, workers);
+        const std::vector<PairSearch::SlotReach> reach = pairSearch->workerSlotReaches(workers);
         executor->execute([&](int w) {
             size_t begin, end;
             executor->range(w, slots, begin, end);
             for (size_t k = begin; k < end; k++) {
-                Vec3 f;
-                for (int v = 0; v < workers; v++)
-                    if (reach[v].contains(k))  // (accumulateBySlot wrote only there)
-                        f += workerForces[v][k];
+                const Vec3 f = sumWithinReach(workerForces, reach, k);
                 prefetchSlotParticle(forces.data(), sortedIndex, k);
                 forces[sortedIndex[k]] += f;
             }

@@ -123,6 +123,14 @@ def make_context(system, integrator, threads, args):
     return openmm.Context(system, integrator, platform, properties)
 
 
+def started_context(scene, make, threads, args):
+    """make_context for make(args.dt) on the scene, at its positions and velocities drawn at kT (seed 1)."""
+    context = make_context(scene.system, make(args.dt), threads, args)
+    context.setPositions(scene.positions)
+    context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+    return context
+
+
 def measure(scene, factories, threads, args):
     """{label: best steps/s, or the error that stopped it} for one system and thread count."""
     return {label: best_round(rates)
@@ -140,9 +148,7 @@ def measure_repeats(scene, factories, args):
     runs, results = {}, {}
     for label, make, threads in factories:
         try:
-            context = make_context(scene.system, make(args.dt), threads, args)
-            context.setPositions(scene.positions)
-            context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+            context = started_context(scene, make, threads, args)
             rate = warm_up(context.getIntegrator(), args, waiter(context, args))
         except openmm.OpenMMException as error:
             results[label] = f"failed: {error}"
@@ -367,10 +373,7 @@ def copy_rounds(n, name, index, barrier, results, args):
     block of copy 0 alone while the others wait, then a block of every copy at once.  Puts
     (index, ([steps/s alone], [steps/s at once])), or (index, the error)."""
     try:
-        scene = soft_scene(num_particles=n)
-        context = make_context(scene.system, factory(name, args.edpd_alpha)(args.dt), 1, args)
-        context.setPositions(scene.positions)
-        context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+        context = started_context(soft_scene(num_particles=n), factory(name, args.edpd_alpha), 1, args)
         integrator = context.getIntegrator()
         warm_up(integrator, args)
         alone, together = [], []

@@ -192,19 +192,6 @@ private:
         return f;
     }
     /**
-     * The same for buffers by slot, each read only within its worker's reach (workerReach):
-     * the same bits, as a sum from +0 is unchanged by adding the +0 found elsewhere.
-     */
-    OpenMM::Vec3 sumSlotOverWorkers(const std::vector<std::vector<OpenMM::Vec3>>& buffers, size_t k) const {
-        OpenMM::Vec3 f;
-        for (size_t v = 0; v < buffers.size(); v++)
-            if (workerReach[v].contains(k))
-                f += buffers[v][k];
-        return f;
-    }
-    /** workerReach for the last search. */
-    void findWorkerReach();
-    /**
      * updatePairs' steps: worker w's pairs (and their particles), worker 0's into the list
      * itself; by particle, the list sized for all workers', and w's share of the other
      * workers' parts copied in.

@@ -118,6 +118,13 @@ public:
         const size_t count = (last <= total ? cellStart[last] - first : cellStart[total] - first + cellStart[last - total]);
         return SlotReach{first, count, (size_t) cellStart[total]};
     }
+    /** workerSlotReach of every worker of `workers`. */
+    std::vector<SlotReach> workerSlotReaches(int workers) const {
+        std::vector<SlotReach> reaches;
+        for (int w = 0; w < workers; w++)
+            reaches.push_back(workerSlotReach(w, workers));
+        return reaches;
+    }
     bool isPeriodic() const { return periodic; }
     /**
      * Whether candidates are tested four at a time (AVX2; on by default where the processor

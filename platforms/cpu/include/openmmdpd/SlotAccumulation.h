@@ -85,6 +85,20 @@ void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& e
     addBatch();
 }
 
+/**
+ * The workers' buffers by slot summed at slot k, in worker order, each read only within its
+ * reach (where accumulateBySlot zeroed and wrote it): the same bits as summing them all, as
+ * a sum from +0 is unchanged by adding the +0 found elsewhere.
+ */
+inline OpenMM::Vec3 sumWithinReach(const std::vector<std::vector<OpenMM::Vec3>>& buffers,
+                                   const std::vector<PairSearch::SlotReach>& reach, size_t k) {
+    OpenMM::Vec3 f;
+    for (size_t v = 0; v < buffers.size(); v++)
+        if (reach[v].contains(k))
+            f += buffers[v][k];
+    return f;
+}
+
 /** An evaluator that writes every force as it keeps the pair, with nothing to finish. */
 template <class Function>
 struct ImmediateForces {
