@@ -157,34 +157,60 @@ void PairSearch::chooseGrid(const double* reach) {
 
 void PairSearch::sortIntoCells(ParallelExecutor& executor) {
     // Counting sort of the active particles by cell; within a cell, by particle index.  Each
-    // worker counts, then places, a consecutive range of particles, and a cell's share of
-    // worker w follows those of the workers before it: the same order for any number of
-    // workers (done serially, it kept the other threads waiting at every step).
+    // worker counts a consecutive range of particles, then places the particles of a
+    // consecutive range of cells: the same order for any number of workers, and each worker
+    // writes only its own part of sortedIndex (placing its own particles, every worker wrote
+    // into every cache line of it, and two took as long as one).
     const int n = (int) frac.size(), total = numCells[0] * numCells[1] * numCells[2];
     SerialExecutor serial;
     ParallelExecutor& workers = (n < (int) ParallelExecutor::SERIAL_LOOP_LIMIT ? serial : executor);
-    cellOf.resize(n);
+    const int numWorkers = workers.getNumWorkers();
     cellStart.resize(total + 1);
-    workerFill.resize(workers.getNumWorkers());
+    workerFill.resize(numWorkers);
+    cellOf.resize(n);
     workers.executePhases(3, [&](int w, int phase) {
-        size_t begin, end;
-        workers.range(w, n, begin, end);
-        std::vector<int>& fill = workerFill[w];
         if (phase == 0) {
-            fill.assign(total, 0);
+            size_t begin, end;
+            workers.range(w, n, begin, end);
+            std::vector<int>& count = workerFill[w];
+            count.assign(total, 0);
             for (size_t i = begin; i < end; i++) {
                 cellOf[i] = (active[i] ? cellIndex(frac[i]) : -1);
                 if (cellOf[i] >= 0)
-                    fill[cellOf[i]]++;
+                    count[cellOf[i]]++;
             }
         }
         else if (phase == 1 && w == 0)
             startCells();
         else if (phase == 2)
-            for (size_t i = begin; i < end; i++)
-                if (cellOf[i] >= 0)
-                    sortedIndex[fill[cellOf[i]]++] = (int) i;
+            placeInCells(w, numWorkers);
     });
+}
+
+void PairSearch::placeInCells(int w, int workers) {
+    // Worker w's cells are those whose first slots fall in its share of the slots.  Every
+    // particle is looked at; a chunk's particles in those cells are picked out without a
+    // branch (taken at random, it cost more than placing them), then placed.
+    const int total = (int) cellStart.size() - 1;
+    const auto firstCellOf = [&](int v) {
+        const long long slot = (long long) cellStart[total] * v / workers;
+        return v == workers ? total : (int) (std::lower_bound(cellStart.begin(), cellStart.end(), slot) - cellStart.begin());
+    };
+    const int first = firstCellOf(w), cells = firstCellOf(w + 1) - first;
+    std::vector<int>& next = workerFill[w];
+    std::copy(cellStart.begin() + first, cellStart.begin() + first + cells, next.begin() + first);
+    constexpr int CHUNK = 256;
+    int picked[CHUNK];
+    const int n = (int) cellOf.size();
+    for (int start = 0; start < n; start += CHUNK) {
+        int count = 0;
+        for (int i = start; i < std::min(n, start + CHUNK); i++) {
+            picked[count] = i;
+            count += ((unsigned) (cellOf[i] - first) < (unsigned) cells);
+        }
+        for (int k = 0; k < count; k++)
+            sortedIndex[next[cellOf[picked[k]]]++] = picked[k];
+    }
 }
 
 int PairSearch::cellIndex(const Vec3& s) const {
@@ -195,16 +221,12 @@ int PairSearch::cellIndex(const Vec3& s) const {
 }
 
 void PairSearch::startCells() {
-    // workerFill: each worker's count per cell in, where its first particle of the cell goes out.
     const int total = numCells[0] * numCells[1] * numCells[2];
     int slots = 0;
     for (int c = 0; c < total; c++) {
         cellStart[c] = slots;
-        for (std::vector<int>& fill : workerFill) {
-            const int count = fill[c];
-            fill[c] = slots;
-            slots += count;
-        }
+        for (const std::vector<int>& count : workerFill)
+            slots += count[c];
     }
     cellStart[total] = slots;
     sortedIndex.resize(slots);

@@ -206,8 +206,10 @@ private:
     void sortIntoCells(ParallelExecutor& executor);
     /** The cell of fractional coordinates s. */
     int cellIndex(const OpenMM::Vec3& s) const;
-    /** sortIntoCells' serial step: cellStart from the workers' counts (workerFill), and where each worker's share of a cell starts. */
+    /** sortIntoCells' serial step: cellStart from the workers' counts per cell (workerFill). */
     void startCells();
+    /** sortIntoCells' last step for worker w of `workers`: the particles of its cells into sortedIndex, in index order. */
+    void placeInCells(int w, int workers);
     void storeSortedPositions(const std::vector<OpenMM::Vec3>& positions, ParallelExecutor& executor);
     /**
      * The neighbour cells of every cell, for the current grid: rebuilt when the grid changes;
@@ -222,7 +224,7 @@ private:
     std::vector<int> cellStart, sortedIndex;
     std::vector<OpenMM::Vec3> frac;   // build()'s work space, kept to save allocations
     std::vector<int> cellOf;
-    std::vector<std::vector<int>> workerFill;  // sortIntoCells' counts, then fill positions, per worker and cell
+    std::vector<std::vector<int>> workerFill;  // sortIntoCells' counts per cell, then the next slot of each cell placed, per worker
     std::vector<OpenMM::Vec3> sortedPositions;
     std::vector<double> sortedX, sortedY, sortedZ;  // the same, by coordinate (read four at a time)
     /**
