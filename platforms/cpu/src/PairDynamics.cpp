@@ -160,8 +160,8 @@ void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGr
     SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
     if (soft != nullptr && fusedIsAlone) {
         // Nothing else to evaluate: skip the Context's force evaluation (zeroing and summing
-        // its buffers cost 5 % of a GW step at N = 32000).
-        forEachParticle(conservative.size(), [&](size_t i) { conservative[i] = Vec3(); });
+        // its buffers cost 5 % of a GW step at N = 32000), and leave `conservative` unset:
+        // the pair pass writes the soft force over all of it, or it is not read.
         conservativeIsZero = true;
         softForceFromPairs = soft;
         return;
