@@ -188,15 +188,12 @@ void PairSearch::sortIntoCells(ParallelExecutor& executor) {
 }
 
 void PairSearch::placeInCells(int w, int workers) {
-    // Worker w's cells are those whose first slots fall in its share of the slots.  Every
-    // particle is looked at; a chunk's particles in those cells are picked out without a
-    // branch (taken at random, it cost more than placing them), then placed.
-    const int total = (int) cellStart.size() - 1;
-    const auto firstCellOf = [&](int v) {
-        const long long slot = (long long) cellStart[total] * v / workers;
-        return v == workers ? total : (int) (std::lower_bound(cellStart.begin(), cellStart.end(), slot) - cellStart.begin());
-    };
-    const int first = firstCellOf(w), cells = firstCellOf(w + 1) - first;
+    // Worker w's cells are those of the pair passes (workerCells).  Every particle is looked
+    // at; a chunk's particles in those cells are picked out without a branch (taken at
+    // random, it cost more than placing them), then placed.
+    size_t begin, end;
+    workerCells(w, workers, begin, end);
+    const int first = (int) begin, cells = (int) (end - begin);
     std::vector<int>& next = workerFill[w];
     std::copy(cellStart.begin() + first, cellStart.begin() + first + cells, next.begin() + first);
     constexpr int CHUNK = 256;
