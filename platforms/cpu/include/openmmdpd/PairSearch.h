@@ -139,10 +139,8 @@ public:
      * of 3 cells.
      */
     bool isColourable() const { return colourable; }
-    /** The colour of a cell, in [0, 27), when isColourable(). */
-    int getColour(int cell) const {
-        return cell % numCells[0] % 3 + 3 * (cell / numCells[0] % numCells[1] % 3) + 9 * (cell / (numCells[0] * numCells[1]) % 3);
-    }
+    /** The colour, in [0, 27), of the cell at (x, y, z) along the axes, when isColourable(). */
+    static int getColour(int x, int y, int z) { return x % 3 + 3 * (y % 3) + 9 * (z % 3); }
     /**
      * Call visit(i, j, d) for every pair closer than the cutoff whose lower cell is in
      * [begin, end); d = r_i - r_j for the nearest image.  Thread safe.

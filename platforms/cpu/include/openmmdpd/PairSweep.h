@@ -71,8 +71,10 @@ private:
      * before each item (`before`, one longer than the items): equal shares of the pairs.
      */
     void workerShare(const std::vector<int>& before, int w, size_t& begin, size_t& end) const;
-    /** prepare()'s second half: where each strip of each plane starts in each colour's cells, and the pairs before each plane. */
-    void preparePlanes(const PairSearch& search);
+    /** prepare()'s first part: each colour's cells with pairs, in cell order, and where each strip of each plane starts among them. */
+    void placeCells(const PairSearch& search, const std::vector<int>& start);
+    /** The planes of cells in group g (z mod 3 = g). */
+    static int groupPlanes(const PairSearch& search, int g) { return (search.getNumCellsAlong(2) - g + 2) / 3; }
     ParallelExecutor& executor;
     const bool oneThread;
     const int stripCells;
@@ -89,11 +91,8 @@ inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
     const PairSearch& search = pairs.getSearch();
     independentCells = !oneThread && search.isColourable();
     const int colours = search.isColourable() ? 27 : 1;
-    colourCells.assign(colours, std::vector<int>());
     const std::vector<int>& start = pairs.getCellPairStart();
-    for (int cell = 0; cell < search.getNumCells(); cell++)
-        if (start[cell + 1] > start[cell])
-            colourCells[colours == 27 ? search.getColour(cell) : 0].push_back(cell);
+    placeCells(search, start);
     colourPairsBefore.resize(colours);
     for (int c = 0; c < colours; c++) {
         std::vector<int>& before = colourPairsBefore[c];
@@ -101,42 +100,44 @@ inline void PairSweep::prepare(const DPDThermostatForces& pairs) {
         for (int cell : colourCells[c])
             before.push_back(before.back() + start[cell + 1] - start[cell]);
     }
-    preparePlanes(search);
-}
-
-inline void PairSweep::preparePlanes(const PairSearch& search) {
-    // Plane k of group g (z mod 3) is z = g + 3k; row y of a plane is row m = y / 3 of the
-    // rows of its y mod 3, and strip s holds the rows m * strips / rows = s (strips as equal as can be).
-    const int colours = (int) colourCells.size();
-    colourStripStart.assign(colours == 27 ? colours : 0, std::vector<int>());
     groupPairsBefore.assign(colours == 27 ? GROUPS : 0, std::vector<int>());
-    if (colours != 27)
-        return;
-    const int nx = search.getNumCellsAlong(0), ny = search.getNumCellsAlong(1), planes = search.getNumCellsAlong(2);
-    const auto rows = [&](int y) { return (ny - y % 3 + 2) / 3; };  // of the y mod 3 of row y
-    const auto groupPlanes = [&](int g) { return (planes - g + 2) / 3; };
-    const int stripRows = std::max(1, stripCells / (3 * nx));
-    strips = (rows(0) + stripRows - 1) / stripRows;
-    const auto stripOf = [&](int cell) {
-        const int y = cell / nx % ny;
-        return cell / (nx * ny) / 3 * strips + y / 3 * strips / rows(y);
-    };
-    for (int c = 0; c < colours; c++) {
-        const std::vector<int>& cells = colourCells[c];
-        std::vector<int>& stripStart = colourStripStart[c];
-        stripStart.assign(groupPlanes(c / GROUP_COLOURS) * strips + 1, (int) cells.size());
-        for (int strip = 0, index = 0; strip + 1 < (int) stripStart.size(); strip++) {
-            while (index < (int) cells.size() && stripOf(cells[index]) < strip)
-                index++;
-            stripStart[strip] = index;
-        }
-    }
-    for (int g = 0; g < GROUPS; g++) {
-        groupPairsBefore[g].assign(groupPlanes(g) + 1, 0);
-        for (int k = 0; k <= groupPlanes(g); k++)
+    for (int g = 0; g < (int) groupPairsBefore.size(); g++) {
+        groupPairsBefore[g].assign(groupPlanes(search, g) + 1, 0);
+        for (int k = 0; k <= groupPlanes(search, g); k++)
             for (int c = g * GROUP_COLOURS; c < (g + 1) * GROUP_COLOURS; c++)
                 groupPairsBefore[g][k] += colourPairsBefore[c][colourStripStart[c][k * strips]];
     }
+}
+
+inline void PairSweep::placeCells(const PairSearch& search, const std::vector<int>& start) {
+    // Plane k of group g (z mod 3) is z = g + 3k; row y of a plane is row m = y / 3 of the
+    // rows of its y mod 3, and strip s holds the rows m * strips / rows = s (strips as equal
+    // as can be).  A cell's colour and strip come from where it lies along the axes (found
+    // by dividing its number, they took most of prepare's time).
+    const bool coloured = search.isColourable();
+    const int nx = search.getNumCellsAlong(0), ny = search.getNumCellsAlong(1), nz = search.getNumCellsAlong(2);
+    const auto rows = [&](int y) { return (ny - y % 3 + 2) / 3; };  // of the y mod 3 of row y
+    const int stripRows = (coloured ? std::max(1, stripCells / (3 * nx)) : 1);
+    strips = (coloured ? (rows(0) + stripRows - 1) / stripRows : 1);
+    colourCells.assign(coloured ? 27 : 1, std::vector<int>());
+    colourStripStart.assign(coloured ? 27 : 0, std::vector<int>());
+    for (int c = 0; c < (int) colourStripStart.size(); c++)
+        colourStripStart[c].assign(groupPlanes(search, c / GROUP_COLOURS) * strips + 1, 0);
+    for (int z = 0, cell = 0; z < nz; z++)
+        for (int y = 0; y < ny; y++) {
+            const int strip = z / 3 * strips + y / 3 * strips / rows(y);
+            for (int x = 0; x < nx; x++, cell++) {
+                if (start[cell + 1] == start[cell])
+                    continue;
+                const int c = (coloured ? PairSearch::getColour(x, y, z) : 0);
+                colourCells[c].push_back(cell);
+                if (coloured)
+                    colourStripStart[c][strip + 1]++;  // made where the strips start below
+            }
+        }
+    for (std::vector<int>& stripStart : colourStripStart)
+        for (size_t k = 1; k < stripStart.size(); k++)
+            stripStart[k] += stripStart[k - 1];
 }
 
 inline void PairSweep::workerShare(const std::vector<int>& before, int w, size_t& begin, size_t& end) const {
