@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs (idempotently) every Debian package the project needs to build and test.
+# Installs (idempotently) every Debian package the project needs to build, test and document.
 # Runs `apt-get update` at most once per machine, and only when something is missing.
 set -euo pipefail
 
@@ -10,6 +10,7 @@ PACKAGES=(
   python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib python3-tqdm
   python3-pymbar python3-mdanalysis
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers
+  python3-sphinx python3-myst-parser python3-sphinx-rtd-theme doxygen python3-breathe libjs-mathjax
 )
 
 missing=()
