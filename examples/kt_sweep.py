@@ -1,4 +1,4 @@
-"""<kT> against the time step on a scene, for any of the integrators (paper 000 Fig. 1/4).
+"""<kT> against the time step on a scene, for any of the integrators (Nikunen et al. 2003, Figs. 1 and 4).
 
 Each run: equilibrate, then sample the kinetic temperature every 5 steps over a simulated
 time that shrinks the standard error to ~0.001; block averages give the error."""

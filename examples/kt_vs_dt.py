@@ -1,7 +1,7 @@
 """Kinetic and configurational kT against the time step on model A (scene `ideal`) or model B
 (scene `soft`: rho 4, a 25, gamma 4.5): GW-1/2, S1, Lowe, pair OU, both pair thermostats in
 the middle splitting (LoweAndersenIntegrator.setSplitting(Middle)) and den Otter-Clarke with
-paper 000's Table III averages, all in one run; a markdown table on stdout.
+the averages of Nikunen et al. 2003, Table III, all in one run; a markdown table on stdout.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/kt_vs_dt.py [--scene soft] [--particles 4000] [--time 30] [--quick]
 

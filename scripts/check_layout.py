@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The layout rules anyone can check (issue 12): no platform code finds out which integrator
+"""The layout rules anyone can check: no platform code finds out which integrator
 it was given by casting, and no function in platforms/ is longer than 70 lines.
 
     /usr/bin/python3 scripts/check_layout.py        # exit status 1 and a list if broken

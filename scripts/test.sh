@@ -2,8 +2,8 @@
 # Sets up, builds, and runs the whole fast test suite (the C++ tests, GoogleTest, and the
 # Python tests, pytest, both through ctest) twice: against Debian's OpenMM 7.7 in build/, and
 # against OpenMM 8 in build-openmm8/.  OpenMM 8 is $OPENMM8_DIR, else ../shared/openmm-8.5
-# next to the repository, else /work/shared/openmm-8.5; without one the second run is skipped,
-# saying so.  Long statistical runs are marked `slow` and are left to the benchmark tool.
+# next to the repository; without one the second run is skipped, saying so.  Long statistical
+# runs are marked `slow` and are left to the benchmark tool.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,7 +24,7 @@ run_suite() {
 
 find_openmm8() {
   local d
-  for d in "${OPENMM8_DIR:-}" ../shared/openmm-8.5 /work/shared/openmm-8.5; do
+  for d in "${OPENMM8_DIR:-}" ../shared/openmm-8.5; do
     if [ -n "$d" ] && [ -f "$d/lib/libOpenMM.so" ]; then (cd "$d" && pwd); return; fi
   done
 }
@@ -41,7 +41,7 @@ if [ -n "$omm8" ]; then
   unset OPENMM_PLUGIN_DIR
   run_suite "OpenMM 8 ($omm8)" build-openmm8
 else
-  summary+=("OpenMM 8: SKIPPED: none found in \$OPENMM8_DIR, ../shared/openmm-8.5 or /work/shared/openmm-8.5")
+  summary+=("OpenMM 8: SKIPPED: none found in \$OPENMM8_DIR or ../shared/openmm-8.5")
 fi
 
 echo "=== summary ==="

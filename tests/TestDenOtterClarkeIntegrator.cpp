@@ -1,6 +1,6 @@
 // DenOtterClarkeIntegrator: two steps of a bonded pair against Table II written out by hand,
 // the prefactors against eqs. 6-7, bad input, checkpoints.  The physics (calibration against
-// the ideal gas's closed forms and paper 000 Table III, <kT>) is in the Python tests.
+// the ideal gas's closed forms and Nikunen et al. 2003, Table III, <kT>) is in the Python tests.
 
 #include "TestHelpers.h"
 #include "openmmdpd/DenOtterClarkeIntegrator.h"
@@ -12,7 +12,7 @@ using namespace DPDPlugin;
 
 namespace {
 
-// Model B (paper 000 Table III), reduced units = OpenMM units with kT = 1 kJ/mol.
+// Model B (Nikunen et al. 2003, Table III), reduced units = OpenMM units with kT = 1 kJ/mol.
 constexpr double FD_DOT_V = -4.985245, FD_DOT_FD = 14.507340, FR_DOT_FR = 9.976453;
 // KT_KELVIN's kT, 1 kJ/mol to 4e-8.
 const double KT = BOLTZMANN_KJ_PER_MOL_K * KT_KELVIN;

@@ -143,8 +143,8 @@ TEST(EDPDIntegrator, XmlRoundTrip) {
 }
 
 // The recurrence with h constant, stepped explicitly (pairs at their cutoff, wR = 0) and
-// caught up in closed form after absences, keeps the stationary variance algorithms.md
-// gives: kT lambda (symmetric) and kT lambda / (1 + alpha dt/2) (one-sided).
+// caught up in closed form after absences, keeps the stationary variance
+// docs/theory/edpd.md gives: kT lambda (symmetric) and kT lambda / (1 + alpha dt/2) (one-sided).
 TEST(EDPDIntegrator, PairVariablesHeldOutOfRangeKeepTheirStationaryVariance) {
     const int numPairs = 1000;
     const double alpha = 20, dt = 0.01, friction = 4.5;

@@ -1,5 +1,5 @@
 // The CPU platform (fast: threads, SIMD, fused passes, cell-sorted slots) against the
-// Reference platform (plain loops that read like algorithms.md): the same trajectory to
+// Reference platform (plain loops that read like docs/theory/): the same trajectory to
 // 1e-10 relative after 1, 3 and 20 steps, for every integrator and variant, with one and
 // two threads.  The systems are made to reach the corners: mixed masses, two particle types
 // with their own type-pair parameters, and a triclinic box.

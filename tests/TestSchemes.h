@@ -53,7 +53,7 @@ inline std::vector<Scheme> schemesAt(double dt) {
         return (DPDThermostatIntegrator*) integrator;
     };
     auto denOtterClarke = [dt] {
-        // Model B's averages (paper 000 Table III)
+        // Model B's averages (Nikunen et al. 2003, Table III)
         DenOtterClarkeIntegrator* integrator = new DenOtterClarkeIntegrator(KT_KELVIN, 4.5, 1.0, dt);
         integrator->setAverageFDDotV(-4.985245);
         integrator->setAverageFDDotFD(14.507340);
@@ -79,8 +79,8 @@ inline std::vector<Scheme> schemesAt(double dt) {
 }
 
 /**
- * StaggeredDPDIntegrator with both bases at K = 1 and 3, paper 002's recommended parameters
- * (weighted); gamma (vV) or Gamma (Lowe) 4.5, rc 1, kT 1.  The System needs a force in
+ * StaggeredDPDIntegrator with both bases at K = 1 and 3, the parameters Symeonidis and
+ * Karniadakis 2006 recommend (weighted); gamma (vV) or Gamma (Lowe) 4.5, rc 1, kT 1.  The System needs a force in
  * group 1, the default fast group.
  */
 inline std::vector<Scheme> staggeredSchemesAt(double dt) {

@@ -118,7 +118,8 @@ TEST(StaggeredIntegrator, InvalidParametersNameThemselves) {
     expectErrorNaming([&] { integrator.setFastForceGroups(0); }, "fastForceGroups");
     expectErrorNaming([&] { integrator.setBaseScheme((StaggeredDPDIntegrator::BaseScheme) 4); }, "baseScheme");
     expectErrorNaming([&] { integrator.addPolymerParticle(-1); }, "polymer particle");
-    // Nothing changed; the defaults are paper 002's recommendation for the vV base.
+    // Nothing changed; the defaults are Symeonidis and Karniadakis' (2006)
+    // recommendation for the vV base.
     EXPECT_EQ(integrator.getNumSubSteps(), 5);
     EXPECT_EQ(integrator.getMu(), 0.0);
     EXPECT_EQ(integrator.getA(), 0.6);
@@ -237,7 +238,8 @@ TEST(StaggeredIntegrator, PolymerParticlesDerivedFromFastForces) {
 namespace {
 
 /**
- * Issue 13's case: beads 0-4 a chain of HarmonicBondForce (group 1, force 1) at its rest
+ * A chain at rest, where only a check of the bonds' particles finds beads left out of the
+ * polymer list: beads 0-4 a chain of HarmonicBondForce (group 1, force 1) at its rest
  * length 0.7, so that the fast force on every bead is zero at the start, in a soft fluid of
  * n particles.
  */

@@ -9,8 +9,8 @@ using namespace DPDPlugin;
 
 namespace {
 
-const std::string NOT_SET = " (set the averages with setAverageFDDotV/FDDotFD/FRDotFR, e.g. from paper 000 Table III, or "
-                            "measure them with openmmdpd.calibrate_den_otter_clarke)";
+const std::string NOT_SET = " (set the averages with setAverageFDDotV/FDDotFD/FRDotFR, e.g. from "
+                            "Nikunen et al. 2003, Table III, or measure them with openmmdpd.calibrate_den_otter_clarke)";
 
 } // namespace
 

@@ -6,8 +6,8 @@
 namespace DPDPlugin {
 
 /**
- * den Otter and Clarke's leap-frog (OC; algorithms.md section 4, paper 000 Table II and
- * eqs. 6-7), with two prefactors fitted to the system:
+ * den Otter and Clarke's leap-frog (OC; docs/theory/den-otter-clarke.md, Nikunen et al.
+ * 2003, Table II and eqs. 6-7), with two prefactors fitted to the system:
  *
  *     v <- v + alpha dt/m (FC + FD) + beta dt/m FR        (FR with its 1/sqrt(dt))
  *     r <- r + dt v
@@ -27,11 +27,12 @@ namespace DPDPlugin {
  * <v.v> stationary: |v + alpha dt FD/m + beta sqrt(dt) FR/m|^2 averages to |v|^2.
  *
  * The averages are given with setAverageFDDotV(), setAverageFDDotFD() and
- * setAverageFRDotFR() (paper 000 Table III has them for its models), or measured on the
+ * setAverageFRDotFR() (Nikunen et al. 2003, Table III, has them for its models), or measured on the
  * System in a short run at a small step (openmmdpd.calibrate_den_otter_clarke, which uses
  * getMeasuredSums()).  They belong to the temperature, friction, cutoffs and density they were
  * measured at: measure them again after changing any of these.  The prefactors are one pair
- * for all particles (paper 000 §II.C), so every particle with mass must have the same mass.
+ * for all particles (Nikunen et al. 2003, §II.C), so every particle with mass must have the
+ * same mass.
  */
 class DenOtterClarkeIntegrator : public DPDThermostatIntegrator {
 public:

@@ -6,7 +6,7 @@
 namespace DPDPlugin {
 
 /**
- * Extended dissipative particle dynamics (Cotter and Reich; algorithms.md section 5): each
+ * Extended dissipative particle dynamics (Cotter and Reich 2003; docs/theory/edpd.md): each
  * pair k = (i, j) carries an auxiliary force s_k, an Ornstein-Uhlenbeck process driven by
  * the pair's motion, that replaces the dissipative and random forces of DPD:
  *

@@ -7,7 +7,7 @@ namespace DPDPlugin {
 
 /**
  * Pairwise thermostats with a velocity-Verlet step of the conservative forces only
- * (algorithms.md section 3), pair by pair in an order fixed by the geometry:
+ * (docs/theory/lowe-andersen.md), pair by pair in an order fixed by the geometry:
  *
  * - Lowe (default): with probability Gamma dt, a pair within its cutoff gets a new
  *   relative normal velocity drawn from the Maxwell distribution (Lowe-Andersen).  The
@@ -21,8 +21,8 @@ namespace DPDPlugin {
  *
  * Where the thermostat O sits in the step (B: half kick, A: half drift):
  * - AfterVerlet (default): B A A B O, O over the pairs at the end-of-step positions
- *   (paper 000 Table V).
- * - Middle: B A O A B (algorithms.md section 11), O between the half drifts over the pairs
+ *   (Nikunen et al. 2003, Table V).
+ * - Middle: B A O A B (docs/theory/lowe-andersen.md), O between the half drifts over the pairs
  *   found there, as a Langevin "middle" scheme puts its friction; still one force
  *   evaluation per step.  The ideal gas stays exact at any dt.  As in OpenMM's
  *   LangevinMiddleIntegrator, the Context's velocities are those at O, half a kick from

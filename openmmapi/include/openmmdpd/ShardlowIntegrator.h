@@ -6,7 +6,7 @@
 namespace DPDPlugin {
 
 /**
- * DPD by Shardlow's splitting (algorithms.md section 2): the fluctuation-dissipation part
+ * DPD by Shardlow's splitting (docs/theory/shardlow.md): the fluctuation-dissipation part
  * is solved pair by pair, sequentially (each pair sees the velocities the pairs before it
  * changed), and the conservative part by velocity Verlet.
  *

@@ -1,5 +1,5 @@
 /*
- * The DPD thermostat's pair forces (algorithms.md, Notation), gathered per particle: each
+ * The DPD thermostat's pair forces (docs/theory/dpd.md), gathered per particle: each
  * particle slot sums over its neighbours.  A pair is always evaluated as (lo, hi) by atom
  * index, so both of its particles compute the same numbers and add exactly opposite fixed
  * point values: F_ij = -F_ji to the bit, and the sums do not depend on any order.

@@ -1,5 +1,5 @@
 /*
- * DPDSoftRepulsionForce (algorithms.md section 7), gathered per particle slot over the cell
+ * DPDSoftRepulsionForce (docs/theory/forces.md), gathered per particle slot over the cell
  * list: F = a (1 - r/rc) e on lo, the exact opposite fixed-point value on hi (see
  * dpdPairs.cc), added to OpenMM's force buffer; each pair's energy counted once (by its lo
  * particle) in the energy buffer of the thread.  typeParams: (a, rc, 1/rc, rc^2).

@@ -123,7 +123,7 @@ void StaggeredDynamics::computeInitialForce(OpenMM::ContextImpl& context, const 
     setCarriedForceValid();
 }
 
-// Notation of algorithms.md section 6: s solvent, p polymer, Dt the outer step, dt = Dt/K
+// Notation of docs/theory/staggered.md: s solvent, p polymer, Dt the outer step, dt = Dt/K
 // the sub-step; `force` holds F, the slow force of the last outer step, `newForce` F^, the
 // one of this step, and fastForce Fp (per polymer particle k of polymer[k]).
 void StaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
@@ -281,8 +281,8 @@ void StaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPD
 }
 
 // Lowe base: the pair thermalisation, once per outer step, over the pairs at the end-of-step
-// positions.  Paper 002 Table 2 thermalises, after the sub-cycle, "N_p distinct pairs i, j
-// such that r_ij < r_c" (section 4.2: "The thermalization is done once at the end of the Dt
+// positions.  Symeonidis and Karniadakis 2006, Table 2, thermalises, after the sub-cycle,
+// "N_p distinct pairs i, j such that r_ij < r_c" (section 4.2: "The thermalization is done once at the end of the Dt
 // cycle"), with the unhatted r_ij: the corrected positions, not the provisional r^^_p at which
 // F^ was evaluated ("we use provisional values not only for the velocity of the solvent and
 // the polymer, but also the position of the polymer ... The velocity and the position of the

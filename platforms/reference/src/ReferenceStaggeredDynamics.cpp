@@ -7,7 +7,7 @@
 using namespace DPDPlugin;
 using OpenMM::Vec3;
 
-// Notation of algorithms.md section 6: s solvent, p polymer (the particles the fast forces
+// Notation of docs/theory/staggered.md: s solvent, p polymer (the particles the fast forces
 // act on), Dt the outer step, dt = Dt/K the sub-step, F the slow force carried from the last
 // outer step, F^ the one evaluated in this one, Fp the fast force.
 
@@ -179,8 +179,8 @@ void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const Sta
     Fp = newFp;
 }
 
-// Paper 002, Table 2, after the sub-cycle: "for all N_p distinct pairs i, j such that
-// r_ij < r_c (solvent, polymer) ... if w < Gamma Dt: Delta_ij = ... ; u_i <- u_i + Delta_ij,
+// Symeonidis and Karniadakis 2006, Table 2, after the sub-cycle: "for all N_p distinct pairs
+// i, j such that r_ij < r_c (solvent, polymer) ... if w < Gamma Dt: Delta_ij = ... ; u_i <- u_i + Delta_ij,
 // u_j <- u_j - Delta_ij", and section 4.2: "The thermalization is done once at the end of the
 // Dt cycle".  r_ij there is the unhatted position, which at that point is the corrected one:
 // the hatted r^^_p are "provisional values" (section 4.1) used only for the one force

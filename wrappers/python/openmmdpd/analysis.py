@@ -1,4 +1,4 @@
-"""Observables of the DPD papers (algorithms.md §9) in reduced units: plain numpy, and MDAnalysis
+"""Observables of the DPD papers (docs/theory/observables.md) in reduced units: plain numpy, and MDAnalysis
 for g(r) and the mean squared displacement.
 
 Arguments may be OpenMM Quantities (converted to nm, nm/ps, amu) or plain arrays

@@ -68,7 +68,7 @@ SCALE_SIZES = [4000, 32000, 256000, 1000000]
 THREAD_SCALING_INTEGRATORS = ["GW", "S1", "Langevin"]
 THREAD_SCALING_SIZES = [256000]
 COPY_TIMEOUT = 600.0  # s: the longest one copy may wait for the others (their setup at a million particles included)
-SCALE_DT = 0.05  # model B's step (issue 16)
+SCALE_DT = 0.05  # model B's step
 # A step at a million particles takes most of a second: blocks of 1 s (2 steps) read GW's
 # rate there anywhere from 1.2 to 2.5 steps/s.
 SCALE_SECONDS = 3.0
@@ -445,8 +445,7 @@ def two_places(x):
 
 def print_scale_table(rows, args):
     """Particle-steps/s (best round); speed against GW and cost against Langevin at the same N,
-    from the rounds interleaved with it (as issue 16's definition of done states them); cost
-    per particle-step against the first N's."""
+    from the rounds interleaved with it; cost per particle-step against the first N's."""
     print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), {args.platform} platform, dt={args.dt:g}, "
           f"gamma=4.5, {args.repeats} rounds of {args.seconds:g} s blocks, each integrator interleaved with GW and "
           f"Langevin; steps/s: best round; speed/GW = steps/s / GW's, cost/Langevin = time per step / Langevin's: "
@@ -630,7 +629,7 @@ def print_paired(args, title, names, columns, change):
 
 def print_staggered_table(rows, args):
     print(f"scene fene-chains (4 chains x M beads, 4000 particles), StaggeredDPDIntegrator base {args.base} "
-          f"(paper 002 recommended parameters), CPU platform, {args.threads[0]} thread(s), inner dt={args.inner_dt:g}; "
+          f"(Symeonidis and Karniadakis' recommended parameters), CPU platform, {args.threads[0]} thread(s), inner dt={args.inner_dt:g}; "
           f"speed-up at equal simulated time against K={args.sub_steps[0]} (best of {args.repeats}); "
           f"<kT> - 1 over {args.sample_time:g} time units (+- standard error)")
     print("(row GW: DPDVVIntegrator Groot-Warren, lambda 0.65, at dt on the same System; 'vs GW' is the "
@@ -739,7 +738,7 @@ def main(argv=None):
                      ("steps/s", "steps/s sheared"), lambda i: i.setShearRate(args.shear))
         return
 
-    catalog = integrators("soft")  # with den Otter-Clarke ("OC") at paper 000's model B averages
+    catalog = integrators("soft")  # with den Otter-Clarke ("OC") at model B's averages from Nikunen et al. 2003
     rows = measure_sizes([(name, catalog[name]) for name in args.integrators], args)
     print(f"scene soft (rho=4, a=25, DPDSoftRepulsionForce), {args.platform} platform, dt={args.dt:g}, "
           f"gamma=4.5, best of {args.repeats}")

@@ -1,4 +1,4 @@
-"""The averages den Otter and Clarke's integrator needs (paper 000 eqs. 6-7, Table III).
+"""The averages den Otter and Clarke's integrator needs (Nikunen et al. 2003, eqs. 6-7, Table III).
 
 DenOtterClarkeIntegrator takes its prefactors alpha(dt) and beta(dt) from three per-particle
 averages of an equilibrium ensemble at the target temperature: <FD.v>, <FD.FD> and <FR.FR>
@@ -19,7 +19,7 @@ from .units import MOLAR_GAS_CONSTANT, strip_units
 
 __all__ = ["Averages", "PAPER_000_TABLE_III", "calibrate_den_otter_clarke", "ideal_gas_averages"]
 
-# Paper 000 Table III: <FD.v>, <FD.FD>, <FR.FR> of its models in reduced units (= OpenMM units
+# Nikunen et al. 2003, Table III: <FD.v>, <FD.FD>, <FR.FR> of its models in reduced units (= OpenMM units
 # for kT = 1 kJ/mol, unit masses, rc = 1 nm), by the scene that builds each model here.
 PAPER_000_TABLE_III = {
     "ideal": (-7.528088, 38.254933, 15.072610),    # model A

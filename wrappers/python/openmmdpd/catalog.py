@@ -53,7 +53,7 @@ def _den_otter_clarke(averages):
 
 def integrators(scene=None):
     """{name: factory(dt) -> Integrator}, in the order the tools report them.  With the name
-    of a scene paper 000 calibrated (ideal, soft, polymer), also den Otter-Clarke ("OC") with
+    of a scene Nikunen et al. 2003 calibrated (ideal, soft, polymer), also den Otter-Clarke ("OC") with
     the paper's Table III averages."""
     factories = {
         "Langevin": lambda dt: openmm.LangevinMiddleIntegrator(KT_TEMPERATURE, FRICTION, dt),

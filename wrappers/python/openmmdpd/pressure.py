@@ -1,4 +1,4 @@
-"""The DPD pressure tensor (algorithms.md §10) from a DPD integrator, as numbers and as an
+"""The DPD pressure tensor (docs/theory/pressure-tensor.md) from a DPD integrator, as numbers and as an
 OpenMM reporter.
 
 Every DPD integrator (`DPDThermostatIntegrator`) accumulates, once enabled with

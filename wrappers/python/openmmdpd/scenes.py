@@ -1,4 +1,4 @@
-"""The standard DPD scenes (design/scenes.md), built from OpenMM's own Forces.
+"""The standard DPD scenes (docs/guide/scenes.md), built from OpenMM's own Forces.
 
 Everything is in reduced units (rc = 1 nm, m = 1 amu, kT = 1 kJ/mol; see units.py).
 A scene carries no thermostat: the integrator supplies the dissipative and random forces.
@@ -75,7 +75,7 @@ def _native_soft_repulsion(table, types, cutoff):
 
 
 def harmonic_bond_force(bonds, k=7.0, length=0.0):
-    """Harmonic springs k/2 (r - length)^2 (paper 000: k = 7, rest length 0)."""
+    """Harmonic springs k/2 (r - length)^2 (Nikunen et al. 2003: k = 7, rest length 0)."""
     force = openmm.HarmonicBondForce()
     force.setName("HarmonicBond")
     for i, j in bonds:
@@ -102,7 +102,7 @@ def wca_force(num_particles, particles, bonds=(), epsilon=1.0):
 
 
 def fene_bond_force(bonds, k=7.0, rmax=3.0):
-    """FENE springs -k/2 rmax^2 ln(1 - r^2/rmax^2) (paper 002: k = 7, rmax = 3).
+    """FENE springs -k/2 rmax^2 ln(1 - r^2/rmax^2) (Symeonidis and Karniadakis 2006: k = 7, rmax = 3).
 
     Written with log(sqrt(...)) so that r >= rmax gives NaN energy and forces, which an
     integrator can detect, rather than the finite wrong force of ln|1 - r^2/rmax^2|.
@@ -223,7 +223,7 @@ def _make_scene(name, num_particles, density, positions, chains, box_lengths=Non
 
 
 def ideal_scene(num_particles=4000, density=4.0, seed=1):
-    """Model A: no conservative force (paper 000 §II.C.1)."""
+    """Model A: no conservative force (Nikunen et al. 2003, §II.C.1)."""
     rng = np.random.default_rng(seed)
     positions = random_positions(rng, num_particles, _box_length(num_particles, density))
     scene = _make_scene("ideal", num_particles, density, positions, ())
@@ -232,7 +232,7 @@ def ideal_scene(num_particles=4000, density=4.0, seed=1):
 
 
 def soft_scene(num_particles=4000, density=4.0, a=25.0, seed=1, soft_repulsion_types=None, native_force=True):
-    """Model B: soft repulsion a (paper 000 §II.C.2).
+    """Model B: soft repulsion a (Nikunen et al. 2003, §II.C.2).
 
     a may be an n x n a_ij matrix, with soft_repulsion_types the per-particle type indices.
     native_force=False builds the repulsion as a CustomNonbondedForce instead.
@@ -246,7 +246,7 @@ def soft_scene(num_particles=4000, density=4.0, a=25.0, seed=1, soft_repulsion_t
 
 def polymer_scene(num_particles=4000, density=4.0, chain_length=20, a=0.0, seed=1,
                   soft_repulsion_types=None, native_force=True):
-    """Ideal solvent plus one chain (paper 000 §II.C.3): harmonic bonds k = 7, rest length 0,
+    """Ideal solvent plus one chain (Nikunen et al. 2003, §II.C.3): harmonic bonds k = 7, rest length 0,
     WCA between beads. Particles 0..chain_length-1 are the chain.
 
     a = 0 (the paper's case) adds no soft repulsion; otherwise it is added to all particles
@@ -273,8 +273,8 @@ def polymer_scene(num_particles=4000, density=4.0, chain_length=20, a=0.0, seed=
 
 def fene_chains_scene(chain_length=20, num_chains=4, num_particles=4000, density=4.0, a=18.75, seed=1,
                       native_force=True):
-    """Polymers in a soft DPD solvent (paper 002 §5.1): num_chains chains of chain_length
-    beads, FENE bonds k = 7, rmax = 3, WCA between all beads (bonded pairs included), soft
+    """Polymers in a soft DPD solvent (Symeonidis and Karniadakis 2006, §5.1): num_chains chains
+    of chain_length beads, FENE bonds k = 7, rmax = 3, WCA between all beads (bonded pairs included), soft
     repulsion a = 75 kT/rho = 18.75 between all particles. Particles 0..num_chains*chain_length-1
     are the chains, chain c being c*chain_length .. (c+1)*chain_length-1.
 
@@ -315,7 +315,7 @@ def fene_chains_scene(chain_length=20, num_chains=4, num_particles=4000, density
     beads = list(range(num_beads))
     # WCA acts between all bead pairs, bonded ones included (as in Kremer-Grest chains):
     # with FENE k = 7, rmax = 3 the bonds then sit near 0.97 and 5-bead chains have
-    # <Rg> ~ 1, as in paper 002 Table 4.
+    # <Rg> ~ 1, as in Symeonidis and Karniadakis 2006, Table 4.
     for fast in (fene_bond_force(bonds), wca_force(num_particles, beads)):
         fast.setForceGroup(FAST_FORCE_GROUP)
         system.addForce(fast)
@@ -323,14 +323,14 @@ def fene_chains_scene(chain_length=20, num_chains=4, num_particles=4000, density
     return scene
 
 
-# lambda-phage DNA as paper 002 §3 models it (after Underhill and Doyle): contour length and
-# persistence length in micrometres.
+# lambda-phage DNA as Symeonidis and Karniadakis 2006, §3, model it (after Underhill and Doyle):
+# contour length and persistence length in micrometres.
 LAMBDA_DNA = {"contour_length": 21.1, "persistence_length": 0.053}
 
 
 def underhill_doyle_ratio(extension, num_beads):
-    """Paper 002 §3's linear fit to Underhill and Doyle's correction for M-bead Marko–Siggia
-    chains: lp_effective / lp_true = (1 - z) c (M - 1) + 1, c = 0.022 (M <= 20) or 0.025,
+    """Symeonidis and Karniadakis' (2006, §3) linear fit to Underhill and Doyle's correction for
+    M-bead Marko–Siggia chains: lp_effective / lp_true = (1 - z) c (M - 1) + 1, c = 0.022 (M <= 20) or 0.025,
     z in [0, 1] the fractional extension of the whole molecule (1 for a dumbbell, M = 2:
     no correction)."""
     if num_beads <= 2:
@@ -341,7 +341,8 @@ def underhill_doyle_ratio(extension, num_beads):
 
 def fractional_extension(chain_positions, contour_length, axis=0):
     """The chain's largest extent along `axis` (max - min of its beads, unwrapped as the
-    integrators keep molecules), over its contour length: paper 002 §8's <x>/L per frame."""
+    integrators keep molecules), over its contour length: the <x>/L per frame of Symeonidis and
+    Karniadakis 2006, §8."""
     x = np.asarray(chain_positions, dtype=float)[:, axis]
     return float((x.max() - x.min()) / contour_length)
 
@@ -349,7 +350,7 @@ def fractional_extension(chain_positions, contour_length, axis=0):
 def update_persistence_ratio(context, chain_positions, contour_length, axis=0):
     """Set the WLC force's WLC_LP_RATIO from the chain's current extension (Underhill–Doyle).
 
-    Paper 002 applies the correction at every step; calling this every few steps applies it
+    Symeonidis and Karniadakis apply the correction at every step; calling this every few steps applies it
     with that lag. Returns the ratio set."""
     ratio = underhill_doyle_ratio(fractional_extension(chain_positions, contour_length, axis), len(chain_positions))
     context.setParameter(WLC_LP_RATIO, ratio)
@@ -359,22 +360,22 @@ def update_persistence_ratio(context, chain_positions, contour_length, axis=0):
 def wlc_shear_scene(num_particles=4000, box=(10.0, 20.0, 5.0), a=18.75, num_beads=5, l_spring=8.0, seed=1,
                     native_force=True):
     """One worm-like chain (λ-phage DNA) in a soft DPD solvent, for Lees–Edwards shear along x
-    with its gradient along y (paper 002 §8): num_particles in a box Lx x Ly x Lz (4000 in
-    10 x 20 x 5, density 4), soft repulsion a = 75 kT/rho = 18.75 between all particles
-    (solvent–solvent, bead–solvent and bead–bead: paper 002 models beads and solvent alike but
-    for the springs; no LJ between beads), the thermostat (the integrator's) on all pairs.
+    with its gradient along y (Symeonidis and Karniadakis 2006, §8): num_particles in a box
+    Lx x Ly x Lz (4000 in 10 x 20 x 5, density 4), soft repulsion a = 75 kT/rho = 18.75 between all particles
+    (solvent–solvent, bead–solvent and bead–bead: Symeonidis and Karniadakis model beads and
+    solvent alike but for the springs; no LJ between beads), the thermostat (the integrator's) on all pairs.
     Particles 0..num_beads-1 are the chain.
 
     The chain: num_beads beads joined by Marko–Siggia springs (wlc_bond_force) in force group
     FAST_FORCE_GROUP, not periodic (a spring may be longer than half the box; the
-    integrators wrap molecules whole). λ-DNA as paper 002 takes it: contour length
+    integrators wrap molecules whole). λ-DNA as Symeonidis and Karniadakis take it: contour length
     L = 21.1 µm, persistence length lp = 0.053 µm, so each of the M - 1 springs has
-    Lspring/lp = 21.1/(0.053 (M - 1)) (99.5 for M = 5). Paper 002 does not say how it maps
+    Lspring/lp = 21.1/(0.053 (M - 1)) (99.5 for M = 5). Symeonidis and Karniadakis do not say how they map
     µm to DPD lengths; here Lspring = l_spring (default 8 rc: L = 32 rc, lp = 0.0804 rc), chosen
     so that the relaxation time is a few DPD time units, long enough for Weissenberg numbers
     of a few at shear rates the DPD fluid takes. The Underhill–Doyle correction for M > 2
-    (paper 002 §3): lp_effective = lp (1 + 0.022 (M - 1)(1 - z)) (M <= 20), z the chain's
-    instantaneous fractional extension, enters as the global parameter WLC_LP_RATIO, set here
+    (Symeonidis and Karniadakis 2006, §3): lp_effective = lp (1 + 0.022 (M - 1)(1 - z))
+    (M <= 20), z the chain's instantaneous fractional extension, enters as the global parameter WLC_LP_RATIO, set here
     for the start and refreshed by update_persistence_ratio() during a run.
 
     The chain starts as a random walk of steps sqrt(2 lp Lspring) (its rms spring length) from

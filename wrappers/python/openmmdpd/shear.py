@@ -1,4 +1,4 @@
-"""Observables of a sheared DPD fluid (algorithms.md §8): peculiar velocities, the
+"""Observables of a sheared DPD fluid (docs/theory/lees-edwards.md): peculiar velocities, the
 temperature from them, and the velocity profile, in reduced units.
 
 Under Lees–Edwards shear (`DPDThermostatIntegrator.setShearRate`) the flow is along x and

@@ -1,4 +1,4 @@
-"""Runs of the time-staggered integrator on the `fene-chains` scene (paper 002 §5).
+"""Runs of the time-staggered integrator on the `fene-chains` scene (Symeonidis and Karniadakis 2006, §5).
 
 Everything in reduced units (see units.py). `run_fene_chains` is what the benchmark
 (`python3 -m openmmdpd.bench --staggered`) and the statistical tests share: it times the
@@ -21,8 +21,8 @@ CUTOFF = 1.0
 
 
 def staggered_integrator(num_sub_steps, inner_dt, base="vv", weighted=True, relaxation=None, lam=None, seed=1):
-    """StaggeredDPDIntegrator with outer step Dt = K dt and paper 002's recommended
-    parameters for the base ("vv" or "lowe") unless relaxation=(mu, a, b) / lam are given."""
+    """StaggeredDPDIntegrator with outer step Dt = K dt and Symeonidis and Karniadakis'
+    recommended parameters for the base ("vv" or "lowe") unless relaxation=(mu, a, b) / lam are given."""
     integrator = StaggeredDPDIntegrator(KT_TEMPERATURE, FRICTION, CUTOFF, num_sub_steps * inner_dt, num_sub_steps)
     integrator.setBaseScheme(StaggeredDPDIntegrator.LoweAndersen if base == "lowe" else StaggeredDPDIntegrator.VelocityVerlet)
     integrator.useRecommendedParameters()
@@ -60,7 +60,7 @@ def run_fene_chains(scene, state, num_sub_steps, inner_dt, sample_time, base="vv
     Returns a dict: seconds (wall time of the sampled run's steps alone), simulated_time,
     seconds_per_time (wall time per unit of simulated time), chain_kT and total_kT
     ((mean, standard error) from 10 block averages; kT = sum m v^2 / (3N - 3) over all
-    particles, and m v^2 / 3 per bead over the chain beads, paper 002 §5.1), and with
+    particles, and m v^2 / 3 per bead over the chain beads, Symeonidis and Karniadakis 2006, §5.1), and with
     rg=True, rg ((mean, standard error) of the chains' radius of gyration).
     """
     integrator = staggered_integrator(num_sub_steps, inner_dt, base, weighted, relaxation, seed=seed)

@@ -5,7 +5,7 @@ shear rates, Green–Kubo from an equilibrium run, and Groot–Warren's kinetic-
 
 Everything is in reduced units (kT = 1 kJ/mol, rc = 1 nm, m = 1 amu: time in ps, pressure in
 kJ/mol/nm^3 = kT/rc^3, viscosity in kT ps/nm^3).  The pressure tensor is the integrator's own
-(`setPressureTensorEnabled`, algorithms.md §10), read as block averages over --block time
+(`setPressureTensorEnabled`, docs/theory/pressure-tensor.md), read as block averages over --block time
 units (`openmmdpd.pressure`), in four parts: total, kinetic (peculiar velocities), conservative,
 thermostat (dissipative + random).
 
@@ -59,7 +59,7 @@ GK_COLUMNS = ["scene", "integrator", "dt", "series", "time", "block", "plateau_t
 # --- Green–Kubo ----------------------------------------------------------------------------------
 
 def groot_warren_estimate(density, gamma=FRICTION, kT=1.0, rc=1.0):
-    """Groot–Warren's kinetic-theory viscosity (algorithms.md §10, w_D = (1 - r/rc)^2, unit
+    """Groot–Warren's kinetic-theory viscosity (docs/theory/pressure-tensor.md, w_D = (1 - r/rc)^2, unit
     masses, no conservative force): rho D/2 + 2 pi gamma rho^2 rc^5/1575 with
     D = 45 kT/(2 pi gamma rho rc^3).  A rough guide, not a target."""
     diffusion = 45 * kT / (2 * math.pi * gamma * density * rc**3)

@@ -125,7 +125,8 @@ def _difference(a, a_err, b, b_err):
 
 
 def _checks(rows, results):
-    """The two comparisons the issue asks for, as report lines."""
+    """The report's two checks, as lines: NEMD at the lowest rate against Green–Kubo, and the
+    thermostat part of the stress present in Green–Kubo."""
     lines = []
     if rows and results:
         low, total = rows[0], results["total"]
@@ -161,7 +162,7 @@ def _scene_section(scene, rows, results):
     return lines + ["### Checks", ""] + _checks(rows, results) + [""]
 
 
-METHODS = """Methods (see `openmmdpd/viscosity.py`): the integrator's pressure tensor (algorithms.md §10),
+METHODS = """Methods (see `openmmdpd/viscosity.py`): the integrator's pressure tensor (docs/theory/pressure-tensor.md),
 read as block averages over Delta. NEMD errors: standard error of the block series of P_xy
 from its statistical inefficiency (pymbar). Green–Kubo: eta = V/kT Delta [C(0)/2 + sum_k C(k)],
 C averaged over xy, xz, yz; block averaging leaves this integral unchanged (the zero-frequency

@@ -1,4 +1,4 @@
-"""Bad arguments (issue 13): a wrong unit or type names the class, method and parameter, and
+"""Bad arguments: a wrong unit or type names the class, method and parameter, and
 range errors print numbers as they were written ("ClassName: parameter must be ..., got X")."""
 import openmm
 import pytest

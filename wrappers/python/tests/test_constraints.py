@@ -1,4 +1,4 @@
-"""<kT> of a fluid of rigid dimers counts 3N - N_constraints - 3 degrees of freedom (issue 18).
+"""<kT> of a fluid of rigid dimers counts 3N - N_constraints - 3 degrees of freedom.
 
 An ideal gas (no conservative force) of 500 dimers (N = 1000 unit-mass particles, bond 0.5
 constrained) at rho = 3, gamma = 4.5, rc = 1, kT = 1.  The thermostats act on the pairs;

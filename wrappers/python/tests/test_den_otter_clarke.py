@@ -1,7 +1,7 @@
-"""DenOtterClarkeIntegrator and its calibration (paper 000 Table II, eqs. 6-7, Table III).
+"""DenOtterClarkeIntegrator and its calibration (Nikunen et al. 2003, Table II, eqs. 6-7, Table III).
 
 The calibration is checked against the ideal gas's closed forms (openmmdpd.calibration.
-ideal_gas_averages, derived there) and, in a slow test, against paper 000 Table III for
+ideal_gas_averages, derived there) and, in a slow test, against Nikunen et al. 2003, Table III, for
 models A, B and the polymer; the integrator's <kT> on the ideal gas with the calibrated prefactors."""
 import copy
 import math
@@ -116,7 +116,7 @@ def test_calibration_on_the_ideal_gas_matches_the_closed_forms():
 
 def test_ideal_gas_temperature_with_the_calibrated_prefactors():
     # With averages measured on this System, OC's <kT> on the ideal gas falls slowly with dt
-    # (paper 000 Fig. 1, model A; measured here with the closed-form averages, N = 500:
+    # (Nikunen et al. 2003, Fig. 1, model A; measured here with the closed-form averages, N = 500:
     # 0.995, 0.989, 0.974, 0.962 +- 0.004 at dt = 0.01, 0.02, 0.05, 0.1).  At dt = 0.02 it must
     # lie in [0.98, 1 + 3 sigma]; without beta (beta = 1, alpha kept) it would be ~8 % hot, with
     # alpha = beta = 1 ~3 % hot.  sigma: 40 blocks of 50 samples 5 steps apart (~0.002).

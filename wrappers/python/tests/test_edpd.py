@@ -1,5 +1,5 @@
 """EDPDIntegrator from Python: the DPD limit against DPDVVIntegrator, <kT> at finite alpha
-(paper 001), the symmetric scheme's failure far beyond alpha dt = 1, units and copies."""
+(Cotter and Reich 2003), the symmetric scheme's failure far beyond alpha dt = 1, units and copies."""
 import copy
 import pickle
 
@@ -96,7 +96,7 @@ def test_dpd_limit_matches_dpd_vv_on_the_ideal_gas():
 
 
 def test_symmetric_scheme_fails_far_beyond_alpha_dt_of_one():
-    """algorithms.md: the symmetric recurrence is unstable for alpha dt >> 1 (here 100),
+    """docs/theory/edpd.md: the symmetric recurrence is unstable for alpha dt >> 1 (here 100),
     where the one-sided one is the DPD limit (previous test)."""
     scene = scenes.build_scene("ideal", num_particles=1000)
     integrator = make(1e4, 0.01, EDPD.Symmetric)

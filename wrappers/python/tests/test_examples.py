@@ -78,7 +78,7 @@ def test_edpd_memory(capsys):
 
 
 def test_paper000_quick(tmp_path):
-    # docs/results/paper000: Nc(1.16) of DPD-VV at dt 0.05 is 25.44 (paper 000: 25.74 to its r1).
+    # docs/results/paper000: Nc(1.16) of DPD-VV at dt 0.05 is 25.44 (Nikunen et al. 2003: 25.74 to its r1).
     out = str(tmp_path / "paper000")
     module = example("paper000")
     module.main(["--quick", "--scenes", "soft", "--integrators", "DPD-VV", "GW", "--dts", "0.05", "--particles", "500",

@@ -1,4 +1,4 @@
-"""The OpenCL platform's kernels from Python (issue 17): <kT> against the CPU platform's.
+"""The OpenCL platform's kernels from Python: <kT> against the CPU platform's.
 
 The trajectories on OpenCL follow the Reference platform's to float rounding for a few steps
 (tests/TestGpuPlatform.cpp); over a long run they part ways, so what must agree is the

@@ -445,7 +445,7 @@ def test_simulation_checkpoint_runs_on_cpu_with_soft_forces(tmp_path):
 #   soft   DPD-VV   0.9980 +- 0.0022 1.0018 +- 0.0025 1.000
 #   soft   SC-VV    0.9918 +- 0.0017 0.9941 +- 0.0017 0.993
 #
-# They are not all 1: each scheme has a time-step error of its own (paper 000, Figs. 1, 4).
+# They are not all 1: each scheme has a time-step error of its own (Nikunen et al. 2003, Figs. 1, 4).
 #  * GW lambda = 0.5 runs warm; the slow sweep (test_slow.py) has 1.006 on `soft` here.
 #  * SC-VV runs cold by an O(dt) amount.  With the random force of step n reused in the
 #    first half kick of step n+1 and the dissipative force solved trapezoidally (the fixed

@@ -1,4 +1,4 @@
-"""setTemperature on a live Context (issue 13, point 3): every integrator, started at kT = 1,
+"""setTemperature on a live Context: every integrator, started at kT = 1,
 reaches the <kT> it has when its Context is made at kT = 2, to within 3 sigma, with sigma
 small enough (<= 0.0067) to see a 1 % error.
 
@@ -40,7 +40,7 @@ Staggered = openmmdpd.StaggeredDPDIntegrator
 def make_integrator(name, kT):
     """The integrator `name` at temperature kT; the staggered ones sub-cycle half the particles (K = 2)
     with the forces of their fast group (a force acting on nothing: the thermostat is what
-    is tested here) and paper 002's recommended parameters for their base."""
+    is tested here) and Symeonidis and Karniadakis' recommended parameters for their base."""
     if name.startswith("EDPD"):
         integrator = openmmdpd.EDPDIntegrator(kT, FRICTION, CUTOFF, 100.0, DT)  # alpha dt = 1
         integrator.setScheme(getattr(openmmdpd.EDPDIntegrator, name.split("-")[1]))

@@ -1,5 +1,5 @@
 """OpenMM's own DPDIntegrator test cases (OpenMM 8.5, tests/TestDPDIntegrator.h), written anew
-for this plugin and run against every integrator it has (issue 18).
+for this plugin and run against every integrator it has.
 
 Each case keeps OpenMM's System, parameters and assertion; where one of our schemes reads a
 parameter differently, the case says so and maps it:
@@ -15,7 +15,7 @@ parameter differently, the case says so and maps it:
   where a case needs "the same amount of thermostat" (diffusion) it uses that rate, where it
   needs "some thermostat in a few steps" (seed, type pairs) it uses a larger one.
 - EDPD: the same friction with the auxiliary variables' decay rate alpha = 5/dt (a memory of
-  a fifth of a step: the DPD limit, algorithms.md section 5); friction 0 makes lambda 0 and the
+  a fifth of a step: the DPD limit, docs/theory/edpd.md); friction 0 makes lambda 0 and the
   auxiliary forces vanish, so the conservation case holds as for DPD.
 - Staggered (StaggeredDPDIntegrator, K = 2, velocity-Verlet base) needs a force in a fast
   group: where OpenMM's System has none, an empty HarmonicBondForce goes into group 1 with

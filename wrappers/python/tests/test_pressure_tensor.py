@@ -1,4 +1,4 @@
-"""The pressure tensor of the DPD integrators (algorithms.md §10) against numpy: one step's
+"""The pressure tensor of the DPD integrators (docs/theory/pressure-tensor.md) against numpy: one step's
 sample equals the kinetic part from the State's velocities (peculiar under shear) and the
 pair virial of the soft repulsion computed here from the State's positions; Quantities out;
 clear errors."""

@@ -138,7 +138,8 @@ def test_wlc_shear_scene_sizes_and_parameters():
 
 
 def test_underhill_doyle_ratio():
-    # paper 002 §3: (1 - z) 0.022 (M - 1) + 1 up to 20 beads, 0.025 beyond; dumbbells uncorrected
+    # Symeonidis and Karniadakis 2006, §3: (1 - z) 0.022 (M - 1) + 1 up to 20 beads, 0.025 beyond;
+    # dumbbells uncorrected
     assert scenes.underhill_doyle_ratio(0.0, 5) == pytest.approx(1.088)
     assert scenes.underhill_doyle_ratio(0.5, 5) == pytest.approx(1.044)
     assert scenes.underhill_doyle_ratio(1.0, 5) == 1.0 == scenes.underhill_doyle_ratio(0.3, 2)

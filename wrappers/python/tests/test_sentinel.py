@@ -1,5 +1,5 @@
 """The instability sentinel (setInstabilityThreshold) on the polymer scene's transient blow-ups
-at dt = 0.03 (issue 13), and its silence on a normal run."""
+at dt = 0.03, and its silence on a normal run."""
 import re
 
 import numpy as np

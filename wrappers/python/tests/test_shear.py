@@ -1,4 +1,4 @@
-"""Lees–Edwards shear of model B (rho 4, a 25, gamma 4.5, N = 4000 in a 10^3 box), issue 14.
+"""Lees–Edwards shear of model B (rho 4, a 25, gamma 4.5, N = 4000 in a 10^3 box).
 
 The imposed flow v_x = rate (y - Ly/2) is set at the start, so the steady state needs no
 start-up.  Every `EVERY` steps a frame gives the velocity profile over 10 bins of y, its

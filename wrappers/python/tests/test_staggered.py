@@ -1,5 +1,6 @@
-"""StaggeredDPDIntegrator (issue 5): API, the fene-chains scene, K = 1 against the base
-integrators, errors, and the statistics of paper 002 (short here; full length under `slow`)."""
+"""StaggeredDPDIntegrator: API, the fene-chains scene, K = 1 against the base integrators,
+errors, and the statistics of Symeonidis and Karniadakis 2006 (short here; full length under
+`slow`)."""
 import copy
 import os
 import pickle
@@ -174,11 +175,11 @@ def test_radius_of_gyration_at_k6_short_run(small_chains):
     scene, state = small_chains
     one = staggered.run_fene_chains(scene, state, 1, 0.01, 10.0, rg=True, equilibration_time=0.5)["rg"]
     six = staggered.run_fene_chains(scene, state, 6, 0.01, 10.0, rg=True, equilibration_time=0.5)["rg"]
-    assert 0.9 < one[0] < 1.2  # paper 002 Table 4: 1.04
+    assert 0.9 < one[0] < 1.2  # Symeonidis and Karniadakis 2006, Table 4: 1.04
     assert abs(six[0] / one[0] - 1) < max(0.06, 4 * np.hypot(one[1], six[1]) / one[0])
 
 
-# --- the definition of done at full length (pytest -m slow) ---
+# --- the required accuracy, checked at full length (pytest -m slow) ---
 
 THREADS = os.environ.get("OPENMMDPD_TEST_THREADS", "1")
 
@@ -197,7 +198,8 @@ def test_chain_temperature_error_at_k5_below_7e_3():
 
 @pytest.mark.slow
 def test_radius_of_gyration_of_5_bead_chains_at_k6_within_2_percent():
-    """Paper 002 Table 4 (dt = 0.01): <Rg> at K = 6 within 2 % of K = 1; 40 chains of 5 beads."""
+    """Symeonidis and Karniadakis 2006, Table 4 (dt = 0.01): <Rg> at K = 6 within 2 % of K = 1;
+    40 chains of 5 beads."""
     scene, state = staggered.equilibrated_fene_chains(chain_length=5, num_chains=40, threads=THREADS)
     one = staggered.run_fene_chains(scene, state, 1, 0.01, 100.0, rg=True, threads=THREADS)["rg"]
     six = staggered.run_fene_chains(scene, state, 6, 0.01, 100.0, rg=True, threads=THREADS)["rg"]

@@ -1,5 +1,5 @@
-"""ShardlowIntegrator and LoweAndersenIntegrator from Python: the papers' physics (paper 000
-Fig. 1: Lowe exact at every dt on model A, S1 within 0.5 % up to dt = 0.2), checkpoints,
+"""ShardlowIntegrator and LoweAndersenIntegrator from Python: the papers' physics (Nikunen et al.
+2003, Fig. 1: Lowe exact at every dt on model A, S1 within 0.5 % up to dt = 0.2), checkpoints,
 copies and parameter checks."""
 import copy
 import math

@@ -1,4 +1,4 @@
-"""<kT> of every integrator against targets that do not come from this plugin (issue 12.6).
+"""<kT> of every integrator against targets that do not come from this plugin.
 
 Scenes: `ideal` (model A) and `soft` (model B, a = 25), N = 4000 in a 10^3 box, rho = 4,
 gamma = 4.5, rc = 1, kT = 1, unit masses.  Each case runs long enough that its combined

@@ -1,4 +1,4 @@
-"""Viscosity tools (issue 14, points 3-4): the Green–Kubo integral against series whose
+"""Viscosity tools: the Green–Kubo integral against series whose
 integral is known exactly, Groot–Warren's estimate, the pressure-tensor reporter's block
 averages, and a smoke run of `python3 -m openmmdpd.viscosity --quick`."""
 import csv
@@ -109,7 +109,7 @@ def test_autocorrelation_against_a_direct_sum():
 
 
 def test_groot_warren_estimate():
-    """algorithms.md §10: 45 kT/(4 pi gamma rc^3) + 2 pi gamma rho^2 rc^5/1575, 1.08 at rho 4,
+    """docs/theory/pressure-tensor.md: 45 kT/(4 pi gamma rc^3) + 2 pi gamma rho^2 rc^5/1575, 1.08 at rho 4,
     gamma 4.5 (1.0830); 0.9573 for Groot–Warren's own fluid at rho 3."""
     assert viscosity.groot_warren_estimate(4.0, 4.5) == pytest.approx(45 / (4 * math.pi * 4.5) + 2 * math.pi * 4.5 * 16 / 1575)
     assert round(viscosity.groot_warren_estimate(4.0, 4.5), 2) == 1.08

@@ -16,12 +16,12 @@
 namespace DPDPlugin {
 
 /*
- * The formulas of one pair, shared by every platform (algorithms.md).  Each is a small
+ * The formulas of one pair, shared by every platform (docs/theory/).  Each is a small
  * struct of pure functions of the pair's geometry, velocities and random number; the
  * platforms differ only in how they find the pairs and loop over them.
  */
 
-/** The DPD pair forces (algorithms.md, Notation): the force on i (j gets the opposite). */
+/** The DPD pair forces (docs/theory/dpd.md): the force on i (j gets the opposite). */
 struct DPDPairForce {
     /** FD_ij = -gamma wD(r) (e . v_ij) e, wD = wR^2. */
     static OpenMM::Vec3 dissipative(const PairGeometry& p, const OpenMM::Vec3& vij) {
@@ -46,7 +46,7 @@ struct DPDPairForce {
     }
 };
 
-/** The soft repulsion of DPDSoftRepulsionForce (algorithms.md section 7), for r < rc. */
+/** The soft repulsion of DPDSoftRepulsionForce (docs/theory/forces.md), for r < rc. */
 struct SoftRepulsionPair {
     /** The force on i along e = r_ij / r: a (1 - r/rc) (kJ/mol/nm). */
     static double force(double a, double inverseCutoff, double r) {
@@ -60,7 +60,7 @@ struct SoftRepulsionPair {
 };
 
 /**
- * One step of an EDPD pair variable's recurrence (algorithms.md section 5), for a pair with
+ * One step of an EDPD pair variable's recurrence (docs/theory/edpd.md), for a pair with
  * coupling lambda:  s' = rho s + (lambda dh + sqrt(2 kT lambda alpha dt) w) / d,
  * with d = 1 + alpha dt, rho = 1/d (one-sided) or d = 1 + alpha dt/2,
  * rho = (1 - alpha dt/2)/d (symmetric).  With h constant its stationary variance is
@@ -104,7 +104,8 @@ struct AuxiliaryRecurrence {
 };
 
 /*
- * Pairwise-sequential velocity updates (algorithms.md sections 2 and 3): each acts on one
+ * Pairwise-sequential velocity updates (docs/theory/shardlow.md and
+ * docs/theory/lowe-andersen.md): each acts on one
  * pair in place, with an impulse J along e, so momentum is conserved pair by pair.  A sweep
  * applies one of them to every pair in a fixed order, giving each pair its random input of
  * the sweep (DrawnNormals, DrawnPartnerNormals or DrawnBits, or the same numbers drawn ahead
@@ -171,7 +172,7 @@ struct PairVelocities {
 };
 
 /**
- * How ShardlowPairUpdate adds its halves.  TwoHalves: as algorithms.md writes them, the
+ * How ShardlowPairUpdate adds its halves.  TwoHalves: as docs/theory/shardlow.md writes them, the
  * explicit half, u found again, the implicit half.  OneKick: as the one impulse they add up
  * to.  With s the noise, f the friction and c = f / 2mu, the explicit half J1 = (s - f u) / 2
  * leaves u1 = u + J1 / mu, so the implicit half is J2 = (s - f u1) / (2 (1 + c)) =

@@ -88,7 +88,7 @@ public:
     double getShearRate() const { return shearRate; }
     /**
      * Under shear, the x velocity of the image of j at r_i - d relative to j: n U, with n =
-     * (y_ij - d_y) / Ly the boundary crossings between the two (algorithms.md section 8: from
+     * (y_ij - d_y) / Ly the boundary crossings between the two (docs/theory/lees-edwards.md: from
      * the same image the distance came from) and U = rate Ly.
      *
      * @param yij  y_i - y_j of the positions as stored

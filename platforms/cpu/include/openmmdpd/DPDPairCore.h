@@ -55,7 +55,7 @@ void addVirialAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, s
 }
 
 /**
- * FD(v) and/or FR of each pair (algorithms.md, Notation): one output with the terms asked
+ * FD(v) and/or FR of each pair (docs/theory/dpd.md): one output with the terms asked
  * for (summed if both), or two (FD, FR) when Separate.  The normal numbers are drawn a
  * chunk of pairs at a time (PairRandomBatch), keyed by `step`.
  */

@@ -7,7 +7,7 @@
 namespace DPDPlugin {
 
 /**
- * The DPD velocity-Verlet family (algorithms.md section 1).  The carried force is the
+ * The DPD velocity-Verlet family (docs/theory/velocity-verlet.md).  The carried force is the
  * total force F = FC + FD + FR at the current state.
  */
 class DPDVVDynamics : public PairDynamics {

@@ -8,7 +8,7 @@
 namespace DPDPlugin {
 
 /**
- * den Otter and Clarke's leap-frog (algorithms.md section 4).  As on the Reference
+ * den Otter and Clarke's leap-frog (docs/theory/den-otter-clarke.md).  As on the Reference
  * platform, nothing is carried: the forces of Table II's step (3) are evaluated at the
  * start of the next step.
  */

@@ -8,7 +8,7 @@
 namespace DPDPlugin {
 
 /**
- * Extended DPD (algorithms.md section 5): Störmer-Verlet with the pair variables s_k of a
+ * Extended DPD (docs/theory/edpd.md): Störmer-Verlet with the pair variables s_k of a
  * PairMemory.  The carried force is FC - sum_k wR e s_k at the current state.
  */
 class EDPDDynamics : public PairDynamics {

@@ -13,7 +13,7 @@
 namespace DPDPlugin {
 
 /**
- * The time-staggered schemes (algorithms.md section 6): one slow-force evaluation (and one
+ * The time-staggered schemes (docs/theory/staggered.md): one slow-force evaluation (and one
  * pair search; the Lowe base a second one, for its thermalisation at the end-of-step
  * positions) per outer step Dt for every particle, K sub-steps of the polymer alone with
  * only the fast forces re-evaluated.
@@ -56,7 +56,7 @@ private:
     /** force <- the slow force, fastForce <- the fast one, at the current state. */
     void computeInitialForce(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
 
-    // The steps of step(), in order (algorithms.md section 6).
+    // The steps of step(), in order (docs/theory/staggered.md).
     /** Checks, the polymer and side Contexts for the integrator's settings, F and Fp if stale. */
     void prepareStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator);
     /** K > 1: try the Contexts of the polymer alone and of the slow forces (once). */

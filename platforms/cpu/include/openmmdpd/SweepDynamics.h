@@ -10,8 +10,8 @@ namespace DPDPlugin {
 
 /**
  * Velocity Verlet with the conservative forces, split with pairwise-sequential sweeps
- * (algorithms.md sections 2 and 3).  The carried force is the conservative force at the
- * current positions; the pair list (and the sweep's colouring) is kept for the positions
+ * (docs/theory/shardlow.md, docs/theory/lowe-andersen.md).  The carried force is the
+ * conservative force at the current positions; the pair list (and the sweep's colouring) is kept for the positions
  * it was found at.
  */
 class SweepDynamics : public PairDynamics {

@@ -7,7 +7,7 @@
 namespace DPDPlugin {
 
 /**
- * The DPD velocity-Verlet family (algorithms.md section 1): Groot-Warren with lambda,
+ * The DPD velocity-Verlet family (docs/theory/velocity-verlet.md): Groot-Warren with lambda,
  * DPD-VV and SC-VV.  The carried force is F = FC + FD + FR of the last evaluation.
  */
 class ReferenceDPDVVDynamics : public ReferenceDynamics {

@@ -8,7 +8,7 @@
 namespace DPDPlugin {
 
 /**
- * den Otter and Clarke's leap-frog (algorithms.md section 4).  Nothing is carried from one
+ * den Otter and Clarke's leap-frog (docs/theory/den-otter-clarke.md).  Nothing is carried from one
  * step to the next: the forces of Table II's step (3) are evaluated at the start of the
  * next step instead, from the same positions, velocities and random numbers.
  */

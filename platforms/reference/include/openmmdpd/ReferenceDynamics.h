@@ -22,7 +22,7 @@ namespace DPDPlugin {
  * What the Reference platform's update rules share: the thermostat parameters, the pair
  * random numbers, the pairs at the current positions, the conservative force from the
  * Context, the force carried from one step to the next and its checkpoint.  Plain loops,
- * written to be read next to algorithms.md; a subclass writes one update rule in
+ * written to be read next to docs/theory/; a subclass writes one update rule in
  * step(context, integrator) of its integrator class.
  */
 class ReferenceDynamics {

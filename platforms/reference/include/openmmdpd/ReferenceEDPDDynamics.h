@@ -8,7 +8,7 @@
 namespace DPDPlugin {
 
 /**
- * Extended DPD (algorithms.md section 5, Cotter-Reich), both schemes: Störmer-Verlet with
+ * Extended DPD (docs/theory/edpd.md, Cotter and Reich 2003), both schemes: Störmer-Verlet with
  * one force evaluation per step and the pair variables s_k of a ReferencePairMemory.  The
  * carried force is F = FC - sum_k wR e s_k over the pairs in range at the current state.
  */

@@ -13,7 +13,7 @@
 namespace DPDPlugin {
 
 /**
- * The auxiliary variables s_k of EDPD (algorithms.md section 5), one per pair k = (i, j),
+ * The auxiliary variables s_k of EDPD (docs/theory/edpd.md), one per pair k = (i, j),
  * as state that outlives a step: two plain maps keyed by (min(i, j), max(i, j)).
  *
  *   inRange:  the pairs within their cutoff at step inRangeStep, each with s and wR^2 there

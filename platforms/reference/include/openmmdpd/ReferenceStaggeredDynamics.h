@@ -8,7 +8,8 @@
 namespace DPDPlugin {
 
 /**
- * The time-staggered schemes (algorithms.md section 6; paper 002 Tables 1 and 2), written
+ * The time-staggered schemes (docs/theory/staggered.md; Symeonidis and
+ * Karniadakis 2006, Tables 1 and 2), written
  * plainly: every force comes from the Context itself (the fast force groups for Fp, the
  * other integration groups for the slow conservative force), the thermostat pairs from
  * findPairs() wherever they are used.

@@ -9,8 +9,8 @@ namespace DPDPlugin {
 
 /**
  * Velocity Verlet with the conservative force, split with pairwise-sequential sweeps
- * (algorithms.md sections 2 and 3).  The carried force is the conservative force FC at the
- * current positions.  The sweeps visit the pairs in ReferencePairList's order (cellMultiple
+ * (docs/theory/shardlow.md, docs/theory/lowe-andersen.md).  The carried force is the
+ * conservative force FC at the current positions.  The sweeps visit the pairs in ReferencePairList's order (cellMultiple
  * 3), the order every platform sweeps in, so that all of them follow the same trajectory.
  */
 class ReferenceSweepDynamics : public ReferenceDynamics {
@@ -35,7 +35,7 @@ private:
     PairImpulseRecord impulses;
 };
 
-/** Shardlow's S1 and S2 (ShardlowIntegrator, algorithms.md section 2). */
+/** Shardlow's S1 and S2 (ShardlowIntegrator, docs/theory/shardlow.md). */
 class ReferenceShardlowDynamics : public ReferenceSweepDynamics {
 public:
     ReferenceShardlowDynamics(const OpenMM::System& system, const ShardlowIntegrator& integrator) :
