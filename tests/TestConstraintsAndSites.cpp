@@ -3,10 +3,12 @@
 // constraints hold within the tolerance and the relative velocity along each bond vanishes
 // (RATTLE), momentum is conserved, every virtual site sits where its definition puts it
 // (computed here from its parents), the CPU platform follows the Reference trajectory, and
-// the staggered scheme refuses both at Context creation.
+// the staggered scheme refuses both at Context creation.  A new integrator's constraint
+// tolerance is 1e-5, as OpenMM's, with or without a round trip through XML.
 
 #include "TestHelpers.h"
 #include "openmm/VirtualSite.h"
+#include "openmm/serialization/XmlSerializer.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/DenOtterClarkeIntegrator.h"
@@ -123,7 +125,7 @@ const std::vector<Scheme> SCHEMES = {
     {"PairOU", maker<LoweAndersenIntegrator>(
                    [](LoweAndersenIntegrator& i) { i.setMethod(LoweAndersenIntegrator::PairOrnsteinUhlenbeck); })},
     {"OC", maker<DenOtterClarkeIntegrator>([](DenOtterClarkeIntegrator& i) {
-         i.setAverageFDDotV(-4.985245);  // model B (paper 000 Table III)
+         i.setAverageFDDotV(-4.985245);  // model B (Nikunen et al. 2003, Table III)
          i.setAverageFDDotFD(14.507340);
          i.setAverageFRDotFR(9.976453);
      })},
@@ -219,6 +221,62 @@ TEST_P(ConstraintsAndSites, ConstraintsHoldMomentumIsConservedSitesArePlaced) {
         EXPECT_LT(worstSite, 1e-10) << scheme.name << " on " << platform;
         // Constraint forces are pairwise; the CPU platform's float forces leave ~1e-5 per particle.
         EXPECT_LT(worstMomentum, platform == "CPU" ? 1e-3 : 1e-10) << scheme.name << " on " << platform;
+    }
+}
+
+/** One integrator of each class that takes constraints, as constructed: no tolerance set. */
+std::vector<std::unique_ptr<DPDThermostatIntegrator>> constructedIntegrators() {
+    std::vector<std::unique_ptr<DPDThermostatIntegrator>> integrators;
+    integrators.emplace_back(new DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, DT));
+    integrators.emplace_back(new ShardlowIntegrator(KT_KELVIN, 4.5, 1.0, DT));
+    integrators.emplace_back(new LoweAndersenIntegrator(KT_KELVIN, 4.5, 1.0, DT));
+    integrators.emplace_back(new EDPDIntegrator(KT_KELVIN, 4.5, 1.0, 10.0, DT));
+    DenOtterClarkeIntegrator* denOtterClarke = new DenOtterClarkeIntegrator(KT_KELVIN, 4.5, 1.0, DT);
+    denOtterClarke->setAverageFDDotV(-4.985245);  // model B (Nikunen et al. 2003, Table III)
+    denOtterClarke->setAverageFDDotFD(14.507340);
+    denOtterClarke->setAverageFRDotFR(9.976453);
+    integrators.emplace_back(denOtterClarke);
+    return integrators;
+}
+
+TEST(ConstraintTolerance, TheDefaultHoldsTheConstraints) {
+    for (const std::string& platform : platforms())
+        for (auto& integrator : constructedIntegrators()) {
+            Dimers d = makeDimers(NUM_DIMERS_REFERENCE);
+            Context context(*d.system, *integrator, Platform::getPlatformByName(platform));
+            context.setPositions(d.positions);
+            context.setVelocities(d.velocities);
+            integrator->step(100);
+            double length, velocity;
+            constraintErrors(*d.system, context.getState(State::Positions | State::Velocities), length, velocity);
+            EXPECT_LT(length, 2 * DEFAULT_CONSTRAINT_TOLERANCE) << integrator->className() << " on " << platform;
+        }
+}
+
+TEST(ConstraintTolerance, XmlWithoutOneReadsTheDefault) {
+    for (auto& integrator : constructedIntegrators()) {
+        integrator->setConstraintTolerance(1e-7);
+        std::stringstream xml;
+        XmlSerializer::serialize<Integrator>(integrator.get(), "Integrator", xml);
+        std::string text = xml.str();
+        const std::string attribute = " constraintTolerance=\"1e-07\"";
+        const size_t at = text.find(attribute);
+        ASSERT_NE(at, std::string::npos) << integrator->className();
+        std::istringstream written(text), stripped(text.erase(at, attribute.size()));
+        EXPECT_EQ(std::unique_ptr<Integrator>(XmlSerializer::deserialize<Integrator>(written))->getConstraintTolerance(), 1e-7);
+        EXPECT_EQ(std::unique_ptr<Integrator>(XmlSerializer::deserialize<Integrator>(stripped))->getConstraintTolerance(), 1e-5)
+                << integrator->className();
+    }
+}
+
+TEST(ConstraintTolerance, EveryClassStartsAtOpenMMsDefaultAndRefusesNonsense) {
+    std::vector<std::unique_ptr<DPDThermostatIntegrator>> integrators = constructedIntegrators();
+    integrators.emplace_back(new StaggeredDPDIntegrator(KT_KELVIN, 4.5, 1.0, DT));
+    for (auto& integrator : integrators) {
+        EXPECT_EQ(integrator->getConstraintTolerance(), 1e-5) << integrator->className();
+        for (double bad : {0.0, -1e-5, 1.0, (double) NAN})
+            expectErrorNaming([&] { integrator->setConstraintTolerance(bad); }, "constraintTolerance");
+        EXPECT_EQ(integrator->getConstraintTolerance(), 1e-5) << integrator->className();
     }
 }
 

@@ -10,6 +10,7 @@
 #include "openmm/State.h"
 #include "openmm/System.h"
 #include "openmm/serialization/XmlSerializer.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <memory>
@@ -138,6 +139,7 @@ TEST(DPDVVIntegrator, XmlRoundTrip) {
     integrator.setTolerance(1e-4);
     integrator.setRandomNumberSeed(17);
     integrator.setIntegrationForceGroups(5);
+    integrator.setConstraintTolerance(3e-7);
     integrator.setParticleType(3, 2);
     integrator.setParticleType(7, 1);
     integrator.addTypePair(1, 2, 2.5, 0.9);
@@ -157,6 +159,7 @@ TEST(DPDVVIntegrator, XmlRoundTrip) {
     EXPECT_EQ(c->getTolerance(), 1e-4);
     EXPECT_EQ(c->getRandomNumberSeed(), 17);
     EXPECT_EQ(c->getIntegrationForceGroups(), 5);
+    EXPECT_EQ(c->getConstraintTolerance(), 3e-7);
     EXPECT_EQ(c->getParticleTypes(), integrator.getParticleTypes());
     ASSERT_EQ(c->getNumTypePairs(), 2);
     for (int k = 0; k < 2; k++) {
@@ -169,6 +172,46 @@ TEST(DPDVVIntegrator, XmlRoundTrip) {
         EXPECT_EQ(fa, fb);
         EXPECT_EQ(ca, cb);
     }
+}
+
+/** The XML of `integrator` with attribute `name` set to `value` (or removed if value is null). */
+std::string withAttribute(const Integrator& integrator, const std::string& name, const char* value) {
+    std::stringstream buffer;
+    XmlSerializer::serialize<Integrator>(&integrator, "Integrator", buffer);
+    std::string text = buffer.str();
+    const size_t at = text.find(" " + name + "=\"");
+    const size_t end = text.find('"', at + name.size() + 3) + 1;
+    text.replace(at, end - at, value == nullptr ? "" : " " + name + "=\"" + value + "\"");
+    return text;
+}
+
+TEST(DPDVVIntegrator, XmlWithAMissingOrGarbledAttributeIsRefusedNamingIt) {
+    DPDVVIntegrator integrator(250.0, 3.5, 1.1, 0.02);
+    const std::vector<const char*> notNumbers = {"abc", "", "1.5x"}, notIntegers = {"abc", "", "1.5", "2147483648"};
+    for (const char* name : {"temperature", "lambda", "maxIterations", "randomSeed", "variant"}) {
+        const bool isInteger = std::string(name) == "maxIterations" || std::string(name) == "randomSeed" ||
+                               std::string(name) == "variant";
+        for (const char* garbled : isInteger ? notIntegers : notNumbers) {
+            std::istringstream xml(withAttribute(integrator, name, garbled));
+            expectErrorNaming([&] { delete XmlSerializer::deserialize<Integrator>(xml); },
+                              std::string("attribute ") + name + " is \"" + garbled + "\", not a");
+        }
+        std::istringstream missing(withAttribute(integrator, name, nullptr));
+        expectErrorNaming([&] { delete XmlSerializer::deserialize<Integrator>(missing); },
+                          std::string("attribute ") + name + " is missing");
+    }
+    // A damaged byte is shown escaped, so the message stays text.
+    std::istringstream damaged(withAttribute(integrator, "lambda", "0.\xff"));
+    expectErrorNaming([&] { delete XmlSerializer::deserialize<Integrator>(damaged); }, "is \"0.\\xff\", not a number");
+}
+
+TEST(DPDVVIntegrator, CountsThatCouldHangAreLimited) {
+    DPDVVIntegrator integrator(250.0, 3.5, 1.1, 0.02);
+    expectErrorNaming([&] { integrator.setMaxIterations(DPDVVIntegrator::MAX_ITERATIONS + 1); }, "maxIterations must be from 1 to 1000");
+    StaggeredDPDIntegrator staggered(250.0, 3.5, 1.1, 0.02);
+    expectErrorNaming([&] { staggered.setNumSubSteps(2147483647); }, "numSubSteps (K) must be from 1 to 10000");
+    std::istringstream xml(withAttribute(staggered, "numSubSteps", "2147483648"));
+    expectErrorNaming([&] { delete XmlSerializer::deserialize<Integrator>(xml); }, "attribute numSubSteps is \"2147483648\"");
 }
 
 TEST(DPDVVIntegrator, BlowUpStopsWithTheStep) {

@@ -2,17 +2,10 @@
 #include "openmmdpd/DPDKernels.h"
 #include "openmm/Context.h"
 #include "openmm/internal/ContextImpl.h"
+#include "openmmdpd/internal/ForceTerms.h"
 #include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/System.h"
 #include "openmm/CMMotionRemover.h"
-#include "openmm/CustomBondForce.h"
-#include "openmm/CustomAngleForce.h"
-#include "openmm/CustomTorsionForce.h"
-#include "openmm/CustomCompoundBondForce.h"
-#include "openmm/HarmonicAngleForce.h"
-#include "openmm/HarmonicBondForce.h"
-#include "openmm/PeriodicTorsionForce.h"
-#include "openmm/RBTorsionForce.h"
 #include <algorithm>
 #include <cmath>
 
@@ -32,6 +25,8 @@ DPDThermostatIntegrator::DPDThermostatIntegrator(const std::string& className, d
     this->defaultFriction = defaultFriction;
     this->defaultCutoff = defaultCutoff;
     OpenMM::Integrator::setStepSize(stepSize);
+    // OpenMM's Integrator leaves it unset; OpenMM's own integrators start at 1e-5 too.
+    OpenMM::Integrator::setConstraintTolerance(DEFAULT_CONSTRAINT_TOLERANCE);
 }
 
 void DPDThermostatIntegrator::checkTemperature(double temp) const {
@@ -103,37 +98,47 @@ void DPDThermostatIntegrator::resetPressureTensor() {
     kernel.getAs<DPDStepKernel>().resetPressureTensor();
 }
 
-namespace {
-
-/** Forces that act within molecules, which the shear wraps as a whole: they need not be periodic. */
-bool isBondedOrInert(const OpenMM::Force& force) {
-    return dynamic_cast<const OpenMM::HarmonicBondForce*>(&force) || dynamic_cast<const OpenMM::HarmonicAngleForce*>(&force) ||
-           dynamic_cast<const OpenMM::PeriodicTorsionForce*>(&force) || dynamic_cast<const OpenMM::RBTorsionForce*>(&force) ||
-           dynamic_cast<const OpenMM::CustomBondForce*>(&force) || dynamic_cast<const OpenMM::CustomAngleForce*>(&force) ||
-           dynamic_cast<const OpenMM::CustomTorsionForce*>(&force) ||
-           dynamic_cast<const OpenMM::CustomCompoundBondForce*>(&force) || dynamic_cast<const OpenMM::CMMotionRemover*>(&force);
-}
-
-} // namespace
-
 void DPDThermostatIntegrator::validateShear(const OpenMM::System& system) const {
     const std::string under = name + ": under shear (shearRate " + numberText(shearRate) + " /ps) ";
     require(system.usesPeriodicBoundaryConditions(), under + "the System must be periodic");
-    OpenMM::Vec3 a, b, c;
-    system.getDefaultPeriodicBoxVectors(a, b, c);
-    require(c[0] == 0 && c[1] == 0, under + "the third box vector must be (0, 0, Lz): the boundary slides along x only");
+    OpenMM::Vec3 box[3];
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    validateShearBox(box, "the System's default box");
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& force = system.getForce(k);
-        require(force.usesPeriodicBoundaryConditions() || isBondedOrInert(force),
+        require(force.usesPeriodicBoundaryConditions() || isBondedForce(force) ||
+                        dynamic_cast<const OpenMM::CMMotionRemover*>(&force) != nullptr,
                 under + "every Force must use periodic boundary conditions or be a bonded force (its molecule is wrapped "
                 "as a whole); Force " + std::to_string(k) + " of the System is neither (a barostat, a non-periodic "
                 "nonbonded or external force)");
     }
 }
 
+void DPDThermostatIntegrator::validateShearBox(const OpenMM::Vec3* box, const std::string& which) const {
+    require(box[2][0] == 0 && box[2][1] == 0, name + ": under shear (shearRate " + numberText(shearRate) + " /ps) the third "
+            "vector of " + which + " must be (0, 0, Lz): the boundary slides along x only; got (" + numberText(box[2][0]) +
+            ", " + numberText(box[2][1]) + ", " + numberText(box[2][2]) + ")");
+}
+
+void DPDThermostatIntegrator::validateContextBox() const {
+    if (!context->getSystem().usesPeriodicBoundaryConditions())
+        return;
+    OpenMM::Vec3 box[3];
+    context->getPeriodicBoxVectors(box[0], box[1], box[2]);
+    requireCutoffFitsBox(name, "the thermostat cutoff", getMaxCutoff(), box);
+    if (shearRate != 0)
+        validateShearBox(box, "the Context's box");
+}
+
 void DPDThermostatIntegrator::setStepSize(double size) {
     checkStepSize(size);
     OpenMM::Integrator::setStepSize(size);
+}
+
+void DPDThermostatIntegrator::setConstraintTolerance(double tol) {
+    require(std::isfinite(tol) && tol > 0 && tol < 1,
+            name + ": constraintTolerance must be > 0 and < 1 (relative), got " + numberText(tol));
+    OpenMM::Integrator::setConstraintTolerance(tol);
 }
 
 void DPDThermostatIntegrator::getTypePairParameters(int pairIndex, int& type1, int& type2, double& friction, double& cutoff) const {
@@ -186,8 +191,9 @@ double DPDThermostatIntegrator::computeKineticEnergy() {
 void DPDThermostatIntegrator::step(int steps) {
     if (context == nullptr)
         throw OpenMMException(name + ": this integrator is not bound to a Context");
-    // Parameters may have been changed since the Context was created.
+    // Parameters, and the Context's box, may have been changed since the Context was created.
     validate(context->getSystem());
+    validateContextBox();
     DPDStepKernel& stepKernel = kernel.getAs<DPDStepKernel>();
     for (int i = 0; i < steps; i++) {
         if (context->updateContextState())

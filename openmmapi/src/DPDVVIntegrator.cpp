@@ -23,7 +23,8 @@ void DPDVVIntegrator::setLambda(double value) {
 }
 
 void DPDVVIntegrator::setMaxIterations(int iterations) {
-    require(iterations >= 1, "DPDVVIntegrator: maxIterations must be >= 1, got " + std::to_string(iterations));
+    require(iterations >= 1 && iterations <= MAX_ITERATIONS, "DPDVVIntegrator: maxIterations must be from 1 to " +
+            std::to_string(MAX_ITERATIONS) + ", got " + std::to_string(iterations));
     maxIterations = iterations;
 }
 

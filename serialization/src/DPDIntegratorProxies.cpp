@@ -24,11 +24,11 @@ struct Traits<DPDVVIntegrator> {
         node.setIntProperty("maxIterations", integrator.getMaxIterations());
         node.setDoubleProperty("tolerance", integrator.getTolerance());
     }
-    static void read(const SerializationNode& node, DPDVVIntegrator& integrator) {
-        integrator.setVariant((DPDVVIntegrator::Variant) node.getIntProperty("variant"));
-        integrator.setLambda(node.getDoubleProperty("lambda"));
-        integrator.setMaxIterations(node.getIntProperty("maxIterations"));
-        integrator.setTolerance(node.getDoubleProperty("tolerance"));
+    static void read(const XmlReader& xml, DPDVVIntegrator& integrator) {
+        integrator.setVariant((DPDVVIntegrator::Variant) xml.integer("variant"));
+        integrator.setLambda(xml.number("lambda"));
+        integrator.setMaxIterations(xml.integer("maxIterations"));
+        integrator.setTolerance(xml.number("tolerance"));
     }
 };
 
@@ -37,8 +37,8 @@ struct Traits<ShardlowIntegrator> {
     static void write(const ShardlowIntegrator& integrator, SerializationNode& node) {
         node.setIntProperty("order", integrator.getOrder());
     }
-    static void read(const SerializationNode& node, ShardlowIntegrator& integrator) {
-        integrator.setOrder(node.getIntProperty("order"));
+    static void read(const XmlReader& xml, ShardlowIntegrator& integrator) {
+        integrator.setOrder(xml.integer("order"));
     }
 };
 
@@ -48,10 +48,10 @@ struct Traits<LoweAndersenIntegrator> {
         node.setIntProperty("method", integrator.getMethod());
         node.setIntProperty("splitting", integrator.getSplitting());
     }
-    static void read(const SerializationNode& node, LoweAndersenIntegrator& integrator) {
-        integrator.setMethod((LoweAndersenIntegrator::Method) node.getIntProperty("method"));
+    static void read(const XmlReader& xml, LoweAndersenIntegrator& integrator) {
+        integrator.setMethod((LoweAndersenIntegrator::Method) xml.integer("method"));
         // Files written before the splitting existed hold the AfterVerlet scheme.
-        integrator.setSplitting((LoweAndersenIntegrator::Splitting) node.getIntProperty("splitting", LoweAndersenIntegrator::AfterVerlet));
+        integrator.setSplitting((LoweAndersenIntegrator::Splitting) xml.integer("splitting", LoweAndersenIntegrator::AfterVerlet));
     }
 };
 
@@ -61,8 +61,8 @@ struct Traits<EDPDIntegrator> {
         node.setDoubleProperty("alpha", integrator.getAlpha());
         node.setIntProperty("scheme", integrator.getScheme());
     }
-    static void read(const SerializationNode& node, EDPDIntegrator& integrator) {
-        integrator.setScheme((EDPDIntegrator::Scheme) node.getIntProperty("scheme"));
+    static void read(const XmlReader& xml, EDPDIntegrator& integrator) {
+        integrator.setScheme((EDPDIntegrator::Scheme) xml.integer("scheme"));
     }
 };
 
@@ -73,10 +73,10 @@ struct Traits<DenOtterClarkeIntegrator> {
         node.setDoubleProperty("averageFDDotFD", integrator.getAverageFDDotFD());
         node.setDoubleProperty("averageFRDotFR", integrator.getAverageFRDotFR());
     }
-    static void read(const SerializationNode& node, DenOtterClarkeIntegrator& integrator) {
+    static void read(const XmlReader& xml, DenOtterClarkeIntegrator& integrator) {
         // 0 is "not set", which the setters do not take.
-        const double fdDotV = node.getDoubleProperty("averageFDDotV"), fdDotFD = node.getDoubleProperty("averageFDDotFD"),
-                     frDotFR = node.getDoubleProperty("averageFRDotFR");
+        const double fdDotV = xml.number("averageFDDotV"), fdDotFD = xml.number("averageFDDotFD"),
+                     frDotFR = xml.number("averageFRDotFR");
         if (fdDotV != 0)
             integrator.setAverageFDDotV(fdDotV);
         if (fdDotFD != 0)
@@ -88,16 +88,16 @@ struct Traits<DenOtterClarkeIntegrator> {
 
 // The constructor's arguments, as the XML has them.
 template <class Integrator>
-Integrator* construct(const SerializationNode& node) {
-    return new Integrator(node.getDoubleProperty("temperature"), node.getDoubleProperty("defaultFriction"),
-                          node.getDoubleProperty("defaultCutoff"), node.getDoubleProperty("stepSize"));
+Integrator* construct(const XmlReader& xml) {
+    return new Integrator(xml.number("temperature"), xml.number("defaultFriction"),
+                          xml.number("defaultCutoff"), xml.number("stepSize"));
 }
 
 template <>
-EDPDIntegrator* construct<EDPDIntegrator>(const SerializationNode& node) {
-    return new EDPDIntegrator(node.getDoubleProperty("temperature"), node.getDoubleProperty("defaultFriction"),
-                              node.getDoubleProperty("defaultCutoff"), node.getDoubleProperty("alpha"),
-                              node.getDoubleProperty("stepSize"));
+EDPDIntegrator* construct<EDPDIntegrator>(const XmlReader& xml) {
+    return new EDPDIntegrator(xml.number("temperature"), xml.number("defaultFriction"),
+                              xml.number("defaultCutoff"), xml.number("alpha"),
+                              xml.number("stepSize"));
 }
 
 template <>
@@ -115,16 +115,16 @@ struct Traits<StaggeredDPDIntegrator> {
         for (int p : integrator.getPolymerParticles())
             particles.createChildNode("Particle").setIntProperty("index", p);
     }
-    static void read(const SerializationNode& node, StaggeredDPDIntegrator& integrator) {
-        integrator.setBaseScheme((StaggeredDPDIntegrator::BaseScheme) node.getIntProperty("baseScheme"));
-        integrator.setNumSubSteps(node.getIntProperty("numSubSteps"));
-        integrator.setLambda(node.getDoubleProperty("lambda"));
-        integrator.setRelaxationParameters(node.getDoubleProperty("mu"), node.getDoubleProperty("a"), node.getDoubleProperty("b"));
-        integrator.setWeighted(node.getBoolProperty("weighted"));
-        integrator.setFastForceGroups(node.getIntProperty("fastForceGroups"));
+    static void read(const XmlReader& xml, StaggeredDPDIntegrator& integrator) {
+        integrator.setBaseScheme((StaggeredDPDIntegrator::BaseScheme) xml.integer("baseScheme"));
+        integrator.setNumSubSteps(xml.integer("numSubSteps"));
+        integrator.setLambda(xml.number("lambda"));
+        integrator.setRelaxationParameters(xml.number("mu"), xml.number("a"), xml.number("b"));
+        integrator.setWeighted(xml.flag("weighted"));
+        integrator.setFastForceGroups(xml.integer("fastForceGroups"));
         std::vector<int> particles;
-        for (const SerializationNode& particle : node.getChildNode("PolymerParticles").getChildren())
-            particles.push_back(particle.getIntProperty("index"));
+        for (const XmlReader& particle : xml.child("PolymerParticles").children())
+            particles.push_back(particle.integer("index"));
         integrator.setPolymerParticles(particles);
     }
 };
@@ -152,14 +152,15 @@ void DPDIntegratorProxy<Integrator>::serialize(const void* object, Serialization
 
 template <class Integrator>
 void* DPDIntegratorProxy<Integrator>::deserialize(const SerializationNode& node) const {
-    const int version = node.getIntProperty("version");
+    const XmlReader xml(node, proxyName((Integrator*) nullptr));
+    const int version = xml.integer("version");
     if (version != 1)
         throw OpenMM::OpenMMException(std::string(proxyName((Integrator*) nullptr)) + ": the XML version must be 1, got " +
                                       std::to_string(version));
-    Integrator* integrator = construct<Integrator>(node);
+    Integrator* integrator = construct<Integrator>(xml);
     try {
-        deserializeThermostatParameters(node, *integrator);
-        Traits<Integrator>::read(node, *integrator);
+        deserializeThermostatParameters(xml, *integrator);
+        Traits<Integrator>::read(xml, *integrator);
     }
     catch (...) {
         delete integrator;

@@ -1,14 +1,87 @@
 #include "openmmdpd/DPDSerializationHelpers.h"
+#include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/serialization/SerializationNode.h"
+#include <cerrno>
+#include <climits>
+#include <cstdlib>
 
 using namespace DPDPlugin;
 using OpenMM::SerializationNode;
+
+void XmlReader::refuse(const char* name, const std::string& why) const {
+    const std::string where = node.getName().empty() ? "" : " of <" + printable(node.getName()) + ">";
+    throw OpenMM::OpenMMException(owner + ": cannot read the XML: attribute " + name + where + " " + why);
+}
+
+const std::string& XmlReader::text(const char* name) const {
+    if (!node.hasProperty(name))
+        refuse(name, "is missing");
+    return node.getStringProperty(name);
+}
+
+double XmlReader::number(const char* name) const {
+    const std::string& value = text(name);
+    char* end = nullptr;
+    const double x = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0')
+        refuse(name, "is \"" + printable(value) + "\", not a number");
+    return x;
+}
+
+double XmlReader::number(const char* name, double defaultValue) const {
+    return node.hasProperty(name) ? number(name) : defaultValue;
+}
+
+int XmlReader::integer(const char* name) const {
+    const std::string& value = text(name);
+    char* end = nullptr;
+    errno = 0;
+    const long long n = std::strtoll(value.c_str(), &end, 10);
+    if (value.empty() || *end != '\0' || errno == ERANGE || n < INT_MIN || n > INT_MAX)
+        refuse(name, "is \"" + printable(value) + "\", not an integer from " + std::to_string(INT_MIN) + " to " +
+                     std::to_string(INT_MAX));
+    return (int) n;
+}
+
+int XmlReader::integer(const char* name, int defaultValue) const {
+    return node.hasProperty(name) ? integer(name) : defaultValue;
+}
+
+bool XmlReader::flag(const char* name) const {
+    // OpenMM writes bools as "true"/"false" or "1"/"0" depending on its version.
+    const std::string& value = text(name);
+    if (value == "1" || value == "true")
+        return true;
+    if (value == "0" || value == "false")
+        return false;
+    refuse(name, "is \"" + printable(value) + "\", not true or false");
+}
+
+bool XmlReader::flag(const char* name, bool defaultValue) const {
+    return node.hasProperty(name) ? flag(name) : defaultValue;
+}
+
+XmlReader XmlReader::child(const char* name) const {
+    for (const SerializationNode& c : node.getChildren())
+        if (c.getName() == name)
+            return XmlReader(c, owner);
+    throw OpenMM::OpenMMException(owner + ": cannot read the XML: <" + printable(node.getName()) + "> has no <" + name +
+                                  "> element");
+}
+
+std::vector<XmlReader> XmlReader::children() const {
+    std::vector<XmlReader> result;
+    for (const SerializationNode& c : node.getChildren())
+        result.emplace_back(c, owner);
+    return result;
+}
 
 void DPDPlugin::serializeThermostatParameters(const DPDThermostatIntegrator& integrator, SerializationNode& node) {
     node.setDoubleProperty("stepSize", integrator.getStepSize());
     node.setDoubleProperty("temperature", integrator.getTemperature());
     node.setDoubleProperty("defaultFriction", integrator.getDefaultFriction());
     node.setDoubleProperty("defaultCutoff", integrator.getDefaultCutoff());
+    node.setDoubleProperty("constraintTolerance", integrator.getConstraintTolerance());
     node.setIntProperty("randomSeed", integrator.getRandomNumberSeed());
     node.setIntProperty("integrationForceGroups", integrator.getIntegrationForceGroups());
     node.setDoubleProperty("instabilityThreshold", integrator.getInstabilityThreshold());
@@ -17,13 +90,14 @@ void DPDPlugin::serializeThermostatParameters(const DPDThermostatIntegrator& int
     serializeTypeTable(integrator, node, "friction");
 }
 
-void DPDPlugin::deserializeThermostatParameters(const SerializationNode& node, DPDThermostatIntegrator& integrator) {
-    integrator.setRandomNumberSeed(node.getIntProperty("randomSeed"));
-    integrator.setIntegrationForceGroups(node.getIntProperty("integrationForceGroups"));
-    // XML written before the sentinel existed has no threshold: off, as it was.
-    integrator.setInstabilityThreshold(node.getDoubleProperty("instabilityThreshold", 0.0));
-    // XML written before shear existed has none.
-    integrator.setShearRate(node.getDoubleProperty("shearRate", 0.0));
-    integrator.setPressureTensorEnabled(node.getBoolProperty("pressureTensorEnabled", false));
-    deserializeTypeTable(node, integrator, "friction");
+void DPDPlugin::deserializeThermostatParameters(const XmlReader& xml, DPDThermostatIntegrator& integrator) {
+    // Attributes added after the first format are optional; their defaults are the values
+    // files without them ran with.
+    integrator.setConstraintTolerance(xml.number("constraintTolerance", DEFAULT_CONSTRAINT_TOLERANCE));
+    integrator.setRandomNumberSeed(xml.integer("randomSeed"));
+    integrator.setIntegrationForceGroups(xml.integer("integrationForceGroups"));
+    integrator.setInstabilityThreshold(xml.number("instabilityThreshold", 0.0));
+    integrator.setShearRate(xml.number("shearRate", 0.0));
+    integrator.setPressureTensorEnabled(xml.flag("pressureTensorEnabled", false));
+    deserializeTypeTable(xml, integrator, "friction");
 }

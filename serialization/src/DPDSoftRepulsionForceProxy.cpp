@@ -25,16 +25,17 @@ void DPDSoftRepulsionForceProxy::serialize(const void* object, SerializationNode
 }
 
 void* DPDSoftRepulsionForceProxy::deserialize(const SerializationNode& node) const {
-    const int version = node.getIntProperty("version");
+    const XmlReader xml(node, "DPDSoftRepulsionForce");
+    const int version = xml.integer("version");
     if (version != 1)
         throw OpenMM::OpenMMException("DPDSoftRepulsionForce: the XML version must be 1, got " + std::to_string(version));
-    DPDSoftRepulsionForce* force = new DPDSoftRepulsionForce(node.getDoubleProperty("defaultA"), node.getDoubleProperty("defaultCutoff"));
+    DPDSoftRepulsionForce* force = new DPDSoftRepulsionForce(xml.number("defaultA"), xml.number("defaultCutoff"));
     try {
-        force->setForceGroup(node.getIntProperty("forceGroup"));
-        force->setNonbondedMethod((DPDSoftRepulsionForce::NonbondedMethod) node.getIntProperty("method"));
-        deserializeTypeTable(node, *force, "a");
-        for (const SerializationNode& e : node.getChildNode("Exclusions").getChildren())
-            force->addExclusion(e.getIntProperty("p1"), e.getIntProperty("p2"));
+        force->setForceGroup(xml.integer("forceGroup"));
+        force->setNonbondedMethod((DPDSoftRepulsionForce::NonbondedMethod) xml.integer("method"));
+        deserializeTypeTable(xml, *force, "a");
+        for (const XmlReader& e : xml.child("Exclusions").children())
+            force->addExclusion(e.integer("p1"), e.integer("p2"));
     }
     catch (...) {
         delete force;

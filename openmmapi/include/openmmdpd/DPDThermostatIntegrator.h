@@ -12,6 +12,9 @@ namespace DPDPlugin {
 /** Boltzmann's constant in kJ/mol/K (OpenMM's value). */
 constexpr double BOLTZMANN_KJ_PER_MOL_K = 0.00831446261815324;
 
+/** The relative tolerance of constraints a new integrator starts with (OpenMM's integrators' default). */
+constexpr double DEFAULT_CONSTRAINT_TOLERANCE = 1e-5;
+
 /**
  * The parameters every DPD-style pair thermostat shares: temperature, the per-type-pair
  * friction and cutoff table, particle types and the random number seed.  Concrete
@@ -55,6 +58,11 @@ public:
     void setDefaultCutoff(double cutoff);
     /** Set the step size (ps); must be > 0. */
     void setStepSize(double size) override;
+    /**
+     * Set the relative tolerance to which constraints are satisfied; must be > 0 (and < 1).
+     * A new integrator has DEFAULT_CONSTRAINT_TOLERANCE.
+     */
+    void setConstraintTolerance(double tol) override;
     /** Get the type of a particle (0 unless set). */
     int getParticleType(int index) const { return types.getParticleType(index); }
     /** Set the type of a particle; types are integers >= 0. */
@@ -125,7 +133,7 @@ public:
     /** Get the shear rate of the Lees-Edwards boundaries (1/ps; 0, the default, means no shear). */
     double getShearRate() const { return shearRate; }
     /**
-     * Shear the System with Lees-Edwards boundaries (algorithms.md section 8): flow along x,
+     * Shear the System with Lees-Edwards boundaries (docs/theory/lees-edwards.md): flow along x,
      * gradient along y, the image above the box sliding at U = rate Ly along x.  The sliding
      * image is the Context's triclinic box b = (offset, Ly, 0): every step advances the offset
      * by U times the time drifted (reduced to OpenMM's range |offset| <= Lx/2), so every
@@ -155,8 +163,9 @@ public:
     /** Get whether every step adds a sample to the pressure tensor (false by default). */
     bool getPressureTensorEnabled() const { return pressureTensorEnabled; }
     /**
-     * Sample the pressure tensor at the end of every step from now on (algorithms.md section
-     * 10): P = (1/V) [sum_i m_i u_i u_i + sum_{i<j} r_ij (FC + FD + FR)_ij], with the
+     * Sample the pressure tensor at the end of every step from now on
+     * (docs/theory/pressure-tensor.md): P = (1/V) [sum_i m_i u_i u_i
+     * + sum_{i<j} r_ij (FC + FD + FR)_ij], with the
      * dissipative and random parts from the pair forces the step applied (for a scheme
      * that sweeps pairs sequentially, the impulses J_ij of its sweeps: sum r_ij J_ij / dt).
      * The conservative virial is exact for a force group that holds only
@@ -231,6 +240,10 @@ private:
     void checkStepSize(double size) const;
     /** Under shear: a periodic System with c = (0, 0, Lz) whose Forces are periodic or bonded. */
     void validateShear(const OpenMM::System& system) const;
+    /** Under shear: the third vector of a box (`which`, for the message) must be (0, 0, Lz). */
+    void validateShearBox(const OpenMM::Vec3* box, const std::string& which) const;
+    /** The Context's current box, which may differ from the System's default: the cutoff fits, and the shear's form. */
+    void validateContextBox() const;
     std::string name;
     double temperature, defaultFriction, defaultCutoff, instabilityThreshold = 0, shearRate = 0;
     bool pressureTensorEnabled = false;

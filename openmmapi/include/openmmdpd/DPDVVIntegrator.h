@@ -7,7 +7,7 @@ namespace DPDPlugin {
 
 /**
  * Dissipative particle dynamics with the velocity-Verlet family of integrators
- * (algorithms.md section 1):
+ * (docs/theory/velocity-verlet.md):
  *
  * - GrootWarren: positions by velocity Verlet, the dissipative force evaluated at the
  *   predicted velocity v + lambda dt F/m.  lambda = 0.5 (the default) is plain velocity
@@ -43,7 +43,9 @@ public:
     void setLambda(double lambda);
     /** Get the iteration cap of the SelfConsistent variant. */
     int getMaxIterations() const { return maxIterations; }
-    /** Set the iteration cap of the SelfConsistent variant (>= 1). */
+    /** The largest iteration cap: each iteration is a pass over the pairs, so more would only look like a hang. */
+    static constexpr int MAX_ITERATIONS = 1000;
+    /** Set the iteration cap of the SelfConsistent variant, from 1 to MAX_ITERATIONS. */
     void setMaxIterations(int iterations);
     /** Get the relative temperature tolerance that ends the SelfConsistent iteration. */
     double getTolerance() const { return tolerance; }

@@ -11,8 +11,8 @@ class System;
 namespace DPDPlugin {
 
 /**
- * Symeonidis and Karniadakis' time-staggered multi-timestep DPD (algorithms.md section 6,
- * paper 002 Tables 1 and 2) for stiff polymers in a soft DPD solvent.
+ * Symeonidis and Karniadakis' time-staggered multi-timestep DPD (2006, Tables 1
+ * and 2; docs/theory/staggered.md) for stiff polymers in a soft DPD solvent.
  *
  * The step size is the outer step Dt.  Once per outer step the "slow" forces are evaluated
  * for every particle: the conservative forces of the integration force groups that are not
@@ -74,9 +74,9 @@ namespace DPDPlugin {
  * forces, on the Context's platform with its properties; both are kept in step with its
  * positions, box and global parameters.  K = 1 uses the Context alone.
  *
- * The defaults are paper 002's recommendation for the velocity-Verlet base: weighted,
- * (mu, a, b) = (0, 0.6, 0), lambda = 0.65.  useRecommendedParameters() applies the
- * recommendation of the current base scheme (Lowe: weighted, (0, 0, 0.4)).
+ * The defaults are Symeonidis and Karniadakis' (2006) recommendation for the velocity-Verlet
+ * base: weighted, (mu, a, b) = (0, 0.6, 0), lambda = 0.65.  useRecommendedParameters() applies
+ * the recommendation of the current base scheme (Lowe: weighted, (0, 0, 0.4)).
  */
 class StaggeredDPDIntegrator : public DPDThermostatIntegrator {
 public:
@@ -90,7 +90,7 @@ public:
      *                         (Lowe-Andersen) of pairs without a type-pair entry (1/ps)
      * @param defaultCutoff    the thermostat cutoff of pairs without a type-pair entry (nm)
      * @param stepSize         the outer step Dt (ps)
-     * @param numSubSteps      K, the number of polymer sub-steps per outer step (>= 1)
+     * @param numSubSteps      K, the number of polymer sub-steps per outer step (1 to MAX_SUB_STEPS)
      */
     StaggeredDPDIntegrator(double temperature, double defaultFriction, double defaultCutoff, double stepSize, int numSubSteps = 1);
     BaseScheme getBaseScheme() const { return baseScheme; }
@@ -98,7 +98,9 @@ public:
     void setBaseScheme(BaseScheme scheme);
     /** Get K, the number of polymer sub-steps per outer step. */
     int getNumSubSteps() const { return numSubSteps; }
-    /** Set K (>= 1). */
+    /** The largest K: each sub-step evaluates the fast forces, so more would only look like a hang. */
+    static constexpr int MAX_SUB_STEPS = 10000;
+    /** Set K, from 1 to MAX_SUB_STEPS. */
     void setNumSubSteps(int steps);
     /** The polymer sub-step dt = Dt/K (ps). */
     double getSubStepSize() const { return getStepSize() / numSubSteps; }
@@ -128,8 +130,9 @@ public:
     /** Set the fast force groups: non-zero, and a subset of the integration force groups. */
     void setFastForceGroups(int groups);
     /**
-     * Paper 002's recommendation for the current base scheme: weighted staggering with
-     * (mu, a, b) = (0, 0.6, 0) and lambda = 0.65 (velocity Verlet), or (0, 0, 0.4) (Lowe).
+     * Symeonidis and Karniadakis' (2006) recommendation for the current base scheme: weighted
+     * staggering with (mu, a, b) = (0, 0.6, 0) and lambda = 0.65 (velocity Verlet), or
+     * (0, 0, 0.4) (Lowe).
      */
     void useRecommendedParameters();
     /** The explicit polymer particles (empty: derived from the fast forces). */

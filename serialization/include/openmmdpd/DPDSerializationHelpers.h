@@ -26,19 +26,44 @@ void serializeTypeTable(const Owner& owner, OpenMM::SerializationNode& node, con
     }
 }
 
+/**
+ * The attributes of one XML node, read strictly: a required attribute that is missing, or any
+ * attribute whose text is not a number of the asked kind (OpenMM's own getters read such text
+ * as 0), is refused with "<owner>: cannot read the XML: ..." naming the node and attribute.
+ */
+class XmlReader {
+public:
+    XmlReader(const OpenMM::SerializationNode& node, std::string owner) : node(node), owner(std::move(owner)) {}
+    double number(const char* name) const;
+    double number(const char* name, double defaultValue) const;
+    int integer(const char* name) const;
+    int integer(const char* name, int defaultValue) const;
+    bool flag(const char* name) const;
+    bool flag(const char* name, bool defaultValue) const;
+    /** The child node of that name, read with the same owner. */
+    XmlReader child(const char* name) const;
+    /** Every child node, in order. */
+    std::vector<XmlReader> children() const;
+
+private:
+    const std::string& text(const char* name) const;
+    [[noreturn]] void refuse(const char* name, const std::string& why) const;
+    const OpenMM::SerializationNode& node;
+    std::string owner;
+};
+
 template <class Owner>
-void deserializeTypeTable(const OpenMM::SerializationNode& node, Owner& owner, const char* valueName) {
-    for (const OpenMM::SerializationNode& p : node.getChildNode("ParticleTypes").getChildren())
-        owner.setParticleType(p.getIntProperty("index"), p.getIntProperty("type"));
-    for (const OpenMM::SerializationNode& p : node.getChildNode("TypePairs").getChildren())
-        owner.addTypePair(p.getIntProperty("type1"), p.getIntProperty("type2"), p.getDoubleProperty(valueName),
-                          p.getDoubleProperty("cutoff"));
+void deserializeTypeTable(const XmlReader& xml, Owner& owner, const char* valueName) {
+    for (const XmlReader& p : xml.child("ParticleTypes").children())
+        owner.setParticleType(p.integer("index"), p.integer("type"));
+    for (const XmlReader& p : xml.child("TypePairs").children())
+        owner.addTypePair(p.integer("type1"), p.integer("type2"), p.number(valueName), p.number("cutoff"));
 }
 
 /** The parameters every DPDThermostatIntegrator has, written into a proxy's node. */
 void serializeThermostatParameters(const DPDThermostatIntegrator& integrator, OpenMM::SerializationNode& node);
 /** Read them back (the constructor's arguments are read by each proxy). */
-void deserializeThermostatParameters(const OpenMM::SerializationNode& node, DPDThermostatIntegrator& integrator);
+void deserializeThermostatParameters(const XmlReader& xml, DPDThermostatIntegrator& integrator);
 
 /**
  * XML serialization of a DPD integrator class: the shared parameters plus what

@@ -27,6 +27,23 @@ inline std::string numberText(double x) {
 }
 
 /**
+ * Text taken from a file, made fit for an error message: bytes outside printable ASCII become
+ * \xNN, so a damaged file cannot make the message invalid UTF-8 (Python shows such a message
+ * as empty).
+ */
+inline std::string printable(const std::string& text) {
+    static const char* hex = "0123456789abcdef";
+    std::string result;
+    for (unsigned char c : text) {
+        if (c >= 0x20 && c < 0x7f && c != '\\')
+            result += (char) c;
+        else
+            result += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    }
+    return result;
+}
+
+/**
  * Throw unless a cutoff (nm) is at most half the smallest width of an OpenMM periodic box
  * (reduced form, so the widths are the diagonal), which the pair searches need.
  */
