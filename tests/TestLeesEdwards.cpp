@@ -1,4 +1,4 @@
-// Lees-Edwards shear (algorithms.md section 8) in every single-rate integrator: a pair across
+// Lees-Edwards shear (docs/theory/lees-edwards.md) in every single-rate integrator: a pair across
 // the sliding boundary is the same pair as inside the box with its partner's image velocity;
 // x momentum changes only by the counted boundary jumps; the box slides at U = rate Ly;
 // checkpoints continue bit for bit; the CPU follows the Reference trajectory; combinations
@@ -7,7 +7,12 @@
 
 #include "TestHelpers.h"
 #include "TestSchemes.h"
+#include "openmm/CMAPTorsionForce.h"
+#include "openmm/CustomCentroidBondForce.h"
+#include "openmm/CustomCompoundBondForce.h"
 #include "openmm/CustomNonbondedForce.h"
+#include "openmm/HarmonicAngleForce.h"
+#include "openmm/PeriodicTorsionForce.h"
 #include "openmm/MonteCarloBarostat.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 
@@ -373,6 +378,81 @@ TEST_P(StaggeredLeesEdwards, CpuOnOneAndTwoThreadsFollowsTheReferenceTrajectory)
 
 INSTANTIATE_TEST_SUITE_P(BothBases, StaggeredLeesEdwards, testing::ValuesIn(staggeredSchemesAt(0.02)), schemeName);
 
+/** A molecule held together by one bonded Force of each kind that does not mark a bond for OpenMM. */
+struct HeldMolecule {
+    std::string kind;
+    int size;
+    std::function<Force*()> make;  // the Force joining particles 0 .. size-1
+};
+
+const std::vector<HeldMolecule> HELD_MOLECULES = {
+    {"CustomCompoundBondForce", 2, [] {
+         CustomCompoundBondForce* bond = new CustomCompoundBondForce(2, "50*(distance(p1,p2)-0.5)^2");
+         bond->addBond({0, 1}, {});
+         return bond;
+     }},
+    {"HarmonicAngleForce", 3, [] {
+         HarmonicAngleForce* angle = new HarmonicAngleForce();
+         angle->addAngle(0, 1, 2, 2.0, 10.0);
+         return angle;
+     }},
+    {"PeriodicTorsionForce", 4, [] {
+         PeriodicTorsionForce* torsion = new PeriodicTorsionForce();
+         torsion->addTorsion(0, 1, 2, 3, 1, 0.0, 1.0);
+         return torsion;
+     }},
+    {"CustomCentroidBondForce", 2, [] {
+         CustomCentroidBondForce* centroid = new CustomCentroidBondForce(2, "50*(distance(g1,g2)-0.5)^2");
+         centroid->addGroup({0});
+         centroid->addGroup({1});
+         centroid->addBond({0, 1}, {});
+         return centroid;
+     }},
+    {"CMAPTorsionForce", 5, [] {
+         CMAPTorsionForce* cmap = new CMAPTorsionForce();
+         cmap->addMap(2, std::vector<double>(4, 0.0));
+         cmap->addTorsion(0, 0, 1, 2, 3, 1, 2, 3, 4);
+         return cmap;
+     }},
+};
+
+/**
+ * A molecule whose only link is a term of a Force OpenMM does not count as a bond crosses the
+ * top of the sheared box: it must be wrapped whole (its particles stay ~0.5 apart), not
+ * particle by particle (a box height apart).
+ */
+TEST(LeesEdwardsMolecules, EveryBondedTermKeepsItsMoleculeWhole) {
+    for (const HeldMolecule& held : HELD_MOLECULES)
+        for (const Scheme& scheme : {schemesAt(0.02)[0], schemesAt(0.02)[4]})  // GW, S1
+            for (const std::string& platform : platforms()) {
+                System system;
+                system.setDefaultPeriodicBoxVectors(Vec3(L, 0, 0), Vec3(0, L, 0), Vec3(0, 0, L));
+                std::vector<Vec3> positions, velocities;
+                for (int i = 0; i < held.size; i++) {
+                    system.addParticle(1.0);
+                    // A zigzag just below y = L, moving up: its centre crosses within a few steps.
+                    positions.push_back(Vec3(1.0 + 0.4 * i, L - 0.15 + 0.1 * (i % 2), 2.0 + 0.1 * (i % 3)));
+                    velocities.push_back(Vec3(0, 2.0, 0));
+                }
+                system.addForce(held.make());
+                CustomBondForce* marker = new CustomBondForce("0");  // makes the System periodic
+                marker->setUsesPeriodicBoundaryConditions(true);
+                system.addForce(marker);
+                std::unique_ptr<DPDThermostatIntegrator> integrator(scheme.make());
+                std::unique_ptr<Context> context = shearedContext(system, *integrator, platform, positions, velocities);
+                integrator->step(20);
+                const std::vector<Vec3> r = context->getState(State::Positions).getPositions();
+                const std::string where = held.kind + ", " + scheme.name + " on " + platform;
+                double centre = 0;
+                for (int i = 0; i < held.size; i++) {
+                    centre += r[i][1] / held.size;
+                    for (int j = 0; j < i; j++)
+                        EXPECT_LT(std::sqrt((r[i] - r[j]).dot(r[i] - r[j])), 0.5 * L) << where << ", particles " << j << ", " << i;
+                }
+                EXPECT_LT(centre, 0.5 * L) << where << ": the molecule did not cross";
+            }
+}
+
 /** Each combination that cannot be sheared is refused when the Context is made, naming shearRate. */
 TEST(LeesEdwardsRefuses, WhatCannotBeSheared) {
     auto refused = [](const std::function<void(System&)>& change, DPDThermostatIntegrator* integrator) {
@@ -394,6 +474,20 @@ TEST(LeesEdwardsRefuses, WhatCannotBeSheared) {
     }, gw());
     std::unique_ptr<DPDThermostatIntegrator> integrator(gw());
     expectErrorNaming([&] { integrator->setShearRate(NAN); }, "shearRate");
+}
+
+/** A box tilted on a live Context is refused at the next step, as it is in the System. */
+TEST(LeesEdwardsRefuses, ATiltedBoxSetOnALiveContext) {
+    for (const std::string& platform : platforms()) {
+        std::vector<Vec3> positions, velocities;
+        std::unique_ptr<System> system(makeShearFluid(100, positions, velocities));
+        std::unique_ptr<DPDThermostatIntegrator> integrator(schemesAt(0.02)[0].make());
+        std::unique_ptr<Context> context = shearedContext(*system, *integrator, platform, positions, velocities);
+        integrator->step(1);
+        context->setPeriodicBoxVectors(Vec3(L, 0, 0), Vec3(0, L, 0), Vec3(0.5, 0.6, L));
+        expectErrorNaming([&] { integrator->step(1); }, "the third vector of the Context's box must be (0, 0, Lz)");
+        EXPECT_EQ(context->getState(0).getStepCount(), 1) << platform;
+    }
 }
 
 } // namespace

@@ -1,11 +1,13 @@
 #include "openmmdpd/LeesEdwardsBoundary.h"
+#include "openmmdpd/internal/ForceTerms.h"
 #include "openmm/System.h"
 #include <cmath>
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
 
-LeesEdwardsBoundary::LeesEdwardsBoundary(const OpenMM::System& system) : moves(system.getNumParticles()) {
+LeesEdwardsBoundary::LeesEdwardsBoundary(const OpenMM::System& system) :
+        moves(system.getNumParticles()), molecules(findMolecules(system)) {
     for (int i = 0; i < system.getNumParticles(); i++)
         moves[i] = (system.getParticleMass(i) != 0);
 }
@@ -22,7 +24,6 @@ void LeesEdwardsBoundary::slide(OpenMM::ContextImpl& context, double rate, doubl
     box[1][0] = offset - Lx * std::round(offset / Lx);
     context.setPeriodicBoxVectors(box[0], box[1], box[2]);
     // A fluid of free particles (the usual DPD system): one pass over them.
-    const std::vector<std::vector<int>>& molecules = context.getMolecules();
     if (molecules.size() == positions.size()) {
         for (size_t i = 0; i < positions.size(); i++) {
             const double crossings = std::floor(positions[i][1] / Ly);

@@ -8,11 +8,11 @@
 namespace DPDPlugin {
 
 /**
- * The sliding boundaries of Lees-Edwards shear (algorithms.md section 8), for every update
+ * The sliding boundaries of Lees-Edwards shear (docs/theory/lees-edwards.md), for every update
  * rule of every platform that keeps its state in the Reference platform's data.  The
  * sliding image is the Context's triclinic box b = (offset, Ly, 0); after each drift of
- * duration dt the offset advances by U dt (U = rate Ly) and every molecule (OpenMM's: the
- * particles linked by bonds and constraints) whose centre has left 0 <= y < Ly is brought
+ * duration dt the offset advances by U dt (U = rate Ly) and every molecule (findMolecules:
+ * the particles joined by any bonded term, constraint or virtual site) whose centre has left 0 <= y < Ly is brought
  * back by whole box heights, n b, with its x velocity lowered by n U.  The pairs across the
  * boundary see their partner's image moving (DPDPairParameters::imageVelocityX).
  */
@@ -32,6 +32,7 @@ private:
     void wrap(int i, double crossings, const OpenMM::Vec3& b, double U, std::vector<OpenMM::Vec3>& positions,
               std::vector<OpenMM::Vec3>& velocities, std::vector<OpenMM::Vec3>* alsoJump) const;
     std::vector<bool> moves;  // mass > 0: its velocity takes the jump
+    std::vector<std::vector<int>> molecules;
 };
 
 } // namespace DPDPlugin
