@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake swig
   libopenmm-dev libopenmm-plugins python3-simtk
-  librandom123-dev libeigen3-dev libgtest-dev
+  librandom123-dev libxxhash-dev libeigen3-dev libgtest-dev
   python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib python3-tqdm
   python3-pymbar python3-mdanalysis
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers

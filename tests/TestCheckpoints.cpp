@@ -1,9 +1,12 @@
 // The integrator part of a checkpoint (platforms/core CheckpointIO.h) as a hostile file
-// would test it: every other integrator class and variant refuses it, truncations and
-// damaged fields are refused with an OpenMMException (never a crash), and after a refused
-// load the integrator steps exactly as a new Context would from the Context's state.
+// would test it: every other integrator class and variant refuses it, truncations, damaged
+// bytes anywhere in the file and damaged fields (behind a valid checksum) are refused with an
+// OpenMMException (never a crash), and after a refused load the integrator steps exactly as a
+// new Context would from the Context's state; loadCheckpoint (Checkpoints.h) leaves the Context
+// as it was, bit for bit.
 
 #include "TestHelpers.h"
+#include "openmmdpd/Checkpoints.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/DenOtterClarkeIntegrator.h"
@@ -17,6 +20,8 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#define XXH_INLINE_ALL
+#include <xxhash.h>
 
 using namespace DPDPlugin;
 
@@ -96,7 +101,7 @@ Integrator* staggered(StaggeredDPDIntegrator::BaseScheme base) {
 
 Integrator* denOtterClarke() {
     DenOtterClarkeIntegrator* integrator = seeded(new DenOtterClarkeIntegrator(KT_KELVIN, 4.5, 1.0, DT));
-    integrator->setAverageFDDotV(-4.985245);  // model B (paper 000 Table III)
+    integrator->setAverageFDDotV(-4.985245);  // model B (Nikunen et al. 2003, Table III)
     integrator->setAverageFDDotFD(14.507340);
     integrator->setAverageFRDotFR(9.976453);
     return integrator;
@@ -179,24 +184,36 @@ void expectStepsLikeANewContext(Simulation& run, const Scheme& scheme, const std
         ASSERT_EQ(a[i], b[i]) << scheme.name << " on " << platform << ", particle " << i;
 }
 
-/** Where the integrator's part of a checkpoint starts (its magic), and where its payload does. */
+/**
+ * Where the integrator's part of a checkpoint starts (its magic), where its payload does, and
+ * where the integrator's state follows the pressure tensor's sums (count, 3 x 6 doubles).
+ */
 struct IntegratorPart {
     explicit IntegratorPart(const std::string& bytes) {
         begin = bytes.find("OMMDPDCK");
         EXPECT_NE(begin, std::string::npos);
         uint32_t tagLength;
-        std::memcpy(&tagLength, bytes.data() + begin + 12, 4);
-        payload = begin + 16 + tagLength + 4 + 8;
+        std::memcpy(&tagLength, bytes.data() + begin + 20, 4);
+        payload = begin + 24 + tagLength + 4 + 8;
         std::memcpy(&payloadSize, bytes.data() + payload - 8, 8);
+        state = payload + 8 + 18 * 8;
     }
-    size_t begin, payload;
+    size_t begin, payload, state;
     uint64_t payloadSize;
 };
 
+/** The checkpoint with its checksum made anew, so that only the fields' own checks can refuse a change. */
+std::string sealed(std::string bytes) {
+    const uint64_t digest = XXH3_64bits(bytes.data(), bytes.size() - 8);
+    std::memcpy(&bytes[bytes.size() - 8], &digest, 8);
+    return bytes;
+}
+
+/** One field changed, the checksum made anew. */
 template <class T>
 std::string withField(std::string bytes, size_t offset, T value) {
     std::memcpy(&bytes[offset], &value, sizeof(T));
-    return bytes;
+    return sealed(bytes);
 }
 
 class Checkpoints : public testing::TestWithParam<std::string> {};
@@ -237,13 +254,16 @@ TEST_P(Checkpoints, HeadersOfOtherFormatsAreRefusedAndSaySo) {
     // Format 1 had the payload alone where the header now starts.
     const std::string old = bytes.substr(0, part.begin) + bytes.substr(part.payload);
     expectErrorNaming([&] { std::istringstream s(old); run.context->loadCheckpoint(s); }, "before checkpoint format 2");
-    const std::string future = withField<uint32_t>(bytes, part.begin + 8, 3);
-    expectErrorNaming([&] { std::istringstream s(future); run.context->loadCheckpoint(s); }, "format 3");
+    const std::string second = withField<uint32_t>(bytes, part.begin + 8, 2);
+    expectErrorNaming([&] { std::istringstream s(second); run.context->loadCheckpoint(s); }, "format 2 and this build reads format 3");
+    const std::string future = withField<uint32_t>(bytes, part.begin + 8, 4);
+    expectErrorNaming([&] { std::istringstream s(future); run.context->loadCheckpoint(s); }, "format 4");
     const std::string otherSize = withField<int32_t>(bytes, part.payload - 12, NUM_PARTICLES + 1);
     expectErrorNaming([&] { std::istringstream s(otherSize); run.context->loadCheckpoint(s); }, "this System has 300");
     run.expectRefused(withField<uint64_t>(bytes, part.payload - 8, part.payloadSize + 1), "payload size + 1");
     run.expectRefused(withField<uint64_t>(bytes, part.payload - 8, 1ULL << 60), "payload size 2^60");
-    run.expectRefused(withField<uint32_t>(bytes, part.begin + 12, 1u << 30), "tag length 2^30");
+    run.expectRefused(withField<uint32_t>(bytes, part.begin + 20, 1u << 30), "tag length 2^30");
+    run.expectRefused(withField<uint64_t>(bytes, part.begin + 12, bytes.size()), "OpenMM's part longer than the file");
     expectStepsLikeANewContext(run, schemeNamed("GW"), platform);
 }
 
@@ -252,19 +272,98 @@ TEST_P(Checkpoints, DamagedCarriedForceIsRefused) {
     const std::string platform = GetParam();
     Simulation run(schemeNamed("S1"), platform);
     const std::string bytes = run.checkpoint();
-    const size_t payload = IntegratorPart(bytes).payload;
-    run.expectRefused(withField<char>(bytes, payload + 4, 7), "flag 7");
-    run.expectRefused(withField<uint64_t>(bytes, payload + 5, NUM_PARTICLES + 1), "force count N + 1");
-    run.expectRefused(withField<double>(bytes, payload + 13 + 24 * 7 + 8, std::numeric_limits<double>::quiet_NaN()),
+    const size_t state = IntegratorPart(bytes).state;
+    run.expectRefused(withField<char>(bytes, state + 4, 7), "flag 7");
+    run.expectRefused(withField<uint64_t>(bytes, state + 5, NUM_PARTICLES + 1), "force count N + 1");
+    run.expectRefused(withField<double>(bytes, state + 13 + 24 * 7 + 8, std::numeric_limits<double>::quiet_NaN()),
                       "NaN force");
-    run.expectRefused(withField<double>(bytes, payload + 13, std::numeric_limits<double>::infinity()), "infinite force");
+    run.expectRefused(withField<double>(bytes, state + 13, std::numeric_limits<double>::infinity()), "infinite force");
+    const size_t sums = IntegratorPart(bytes).payload;
+    run.expectRefused(withField<int64_t>(bytes, sums, -1), "pressure sample count -1");
+    run.expectRefused(withField<double>(bytes, sums + 8, std::numeric_limits<double>::quiet_NaN()), "NaN pressure sum");
     expectStepsLikeANewContext(run, schemeNamed("S1"), platform);
+}
+
+/** Everything loadCheckpoint promises to keep, bit for bit. */
+struct Snapshot {
+    explicit Snapshot(Context& context) {
+        const State state = context.getState(State::Positions | State::Velocities);
+        positions = state.getPositions();
+        velocities = state.getVelocities();
+        time = state.getTime();
+        step = state.getStepCount();
+    }
+    bool operator==(const Snapshot& other) const {
+        return positions == other.positions && velocities == other.velocities && time == other.time && step == other.step;
+    }
+    std::vector<Vec3> positions, velocities;
+    double time;
+    long long step;
+};
+
+bool isPrintable(const std::string& text) {
+    return !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= 0x20 && c < 0x7f; });
+}
+
+TEST_P(Checkpoints, DamagedBytesAnywhereAreRefusedAndLoadCheckpointKeepsTheState) {
+    const std::string platform = GetParam();
+    std::mt19937 rng(5);
+    for (const Scheme& scheme : SCHEMES) {
+        Simulation run(scheme, platform);
+        const std::string bytes = run.checkpoint();
+        run.integrator->step(2);
+        const Snapshot before(*run.context);
+        std::uniform_int_distribution<size_t> offset(0, bytes.size() - 1);
+        std::vector<std::string> damaged = {bytes + "x"};
+        for (int k = 0; k < 10; k++) {
+            std::string flipped = bytes;
+            flipped[offset(rng)] ^= (char) (1 << (k % 8));
+            damaged.push_back(flipped);
+        }
+        for (const std::string& file : damaged) {
+            std::istringstream stream(file);
+            try {
+                loadCheckpoint(*run.context, stream);
+                ADD_FAILURE() << scheme.name << " on " << platform << ": a damaged checkpoint was accepted";
+            }
+            catch (const OpenMMException& e) {
+                EXPECT_TRUE(isPrintable(e.what())) << scheme.name << ": \"" << e.what() << "\"";
+            }
+            ASSERT_TRUE(Snapshot(*run.context) == before) << scheme.name << " on " << platform << ": the state changed";
+        }
+        std::istringstream intact(bytes);
+        loadCheckpoint(*run.context, intact);
+        EXPECT_EQ(run.context->getState(0).getStepCount(), STEPS_BEFORE) << scheme.name;
+    }
+}
+
+TEST_P(Checkpoints, ACheckpointOfAnotherIntegratorLeavesTheContextAsItWas) {
+    const std::string platform = GetParam();
+    const std::string gw = Simulation(schemeNamed("GW"), platform, 3).checkpoint();
+    Simulation run(schemeNamed("S1"), platform, 7);
+    const Snapshot before(*run.context);
+    std::istringstream stream(gw);
+    expectErrorNaming([&] { loadCheckpoint(*run.context, stream); }, "written by a DPDVVIntegrator (GrootWarren)");
+    EXPECT_TRUE(Snapshot(*run.context) == before);
+    // The raw load restores OpenMM's part before ours is refused.
+    std::istringstream raw(gw);
+    EXPECT_THROW(run.context->loadCheckpoint(raw), OpenMMException);
+    EXPECT_EQ(run.context->getState(0).getStepCount(), 3);
+}
+
+TEST_P(Checkpoints, DamagedTagReadsAsPrintableText) {
+    const std::string platform = GetParam();
+    Simulation run(schemeNamed("GW"), platform);
+    const std::string bytes = run.checkpoint();
+    const size_t tag = IntegratorPart(bytes).begin + 24;
+    expectErrorNaming([&] { std::istringstream s(withField<unsigned char>(bytes, tag + 2, 0xff)); run.context->loadCheckpoint(s); },
+                      "written by a DP\\xffVVIntegrator (GrootWarren)");
 }
 
 INSTANTIATE_TEST_SUITE_P(Platforms, Checkpoints, testing::ValuesIn(platforms()),
                          [](const testing::TestParamInfo<std::string>& info) { return info.param; });
 
-/** The damaged EDPD pair variables of issue 13, in each platform's layout of PairMemory. */
+/** Checkpoints with damaged EDPD pair variables, in each platform's layout of PairMemory: all refused. */
 class DamagedPairVariables : public testing::Test {
 protected:
     // Pair variables forget slowly at alpha = 10, dt = 0.02: after 20 steps some pairs have left.
@@ -282,7 +381,7 @@ TEST_F(DamagedPairVariables, RefusedOnTheReferencePlatform) {
     // particles (int32), step (int64), count, (i, j, s, wR^2) each; count, (i, j, s, step) each
     Simulation run(scheme, "Reference", 20);
     const std::string bytes = run.checkpoint();
-    const size_t memory = IntegratorPart(bytes).payload + MEMORY;
+    const size_t memory = IntegratorPart(bytes).state + MEMORY;
     const size_t inRange = memory + 12, first = inRange + 8;
     uint64_t numInRange;
     std::memcpy(&numInRange, &bytes[inRange], 8);
@@ -294,6 +393,7 @@ TEST_F(DamagedPairVariables, RefusedOnTheReferencePlatform) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     std::string duplicate = bytes;
     duplicate.replace(first + 24, 8, bytes.substr(first, 8));
+    duplicate = sealed(duplicate);
     expectAllRefused(run, "Reference", {
         {"partner 10^6", withField<int32_t>(bytes, first + 4, 1000000)},
         {"partner -1", withField<int32_t>(bytes, first + 4, -1)},
@@ -316,7 +416,7 @@ TEST_F(DamagedPairVariables, RefusedOnTheCpuPlatform) {
     // particle: count, (j, s, step) each
     Simulation run(scheme, "CPU", 20);
     const std::string bytes = run.checkpoint();
-    const size_t memory = IntegratorPart(bytes).payload + MEMORY;
+    const size_t memory = IntegratorPart(bytes).state + MEMORY;
     const size_t offsets = memory + 24, pairs = offsets + 4 * (NUM_PARTICLES + 1);
     uint64_t numInRange;
     std::memcpy(&numInRange, &bytes[memory + 16], 8);

@@ -1,6 +1,7 @@
 // The instability sentinel (DPDThermostatIntegrator::setInstabilityThreshold): a step after
 // which a particle's kinetic energy exceeds the threshold times kT stops the run, on both
-// platforms and for every integrator, at the step the exact trajectory predicts.
+// platforms and for every integrator, at the step the exact trajectory predicts, and leaves
+// the Context at that step: its state, time and step count.
 
 #include "TestHelpers.h"
 #include "openmm/CustomExternalForce.h"
@@ -102,6 +103,31 @@ TEST(InstabilitySentinel, StopsEveryIntegratorAtTheExactStepOnBothPlatforms) {
                 EXPECT_NE(message.find("above the instability threshold " + std::string(kT == 1 ? "40" : "20") + " kT"),
                           std::string::npos) << where << ": " << message;
             }
+}
+
+TEST(InstabilitySentinel, LeavesTheContextAtTheStoppedStep) {
+    for (const Scheme& scheme : SCHEMES)
+        for (const std::string& platform : platforms()) {
+            std::unique_ptr<DPDThermostatIntegrator> integrator(scheme.make(KT_KELVIN));
+            integrator->setInstabilityThreshold(40);
+            std::vector<Vec3> positions;
+            std::unique_ptr<System> system(makePushedParticle(positions));
+            Context context(*system, *integrator, Platform::getPlatformByName(platform));
+            context.setPositions(positions);
+            context.setVelocities(std::vector<Vec3>(3));
+            EXPECT_THROW(integrator->step(200), OpenMMException);
+            const std::string where = scheme.name + " on " + platform;
+            State state = context.getState(State::Velocities);
+            EXPECT_EQ(state.getStepCount(), 90) << where;
+            EXPECT_NEAR(state.getTime(), 90 * DT, 1e-12) << where;
+            EXPECT_NEAR(state.getVelocities()[0][0], PUSH * 90 * DT, 1e-9) << where;
+            // Stepping on continues from that state: the next step is step 91.
+            integrator->setInstabilityThreshold(0);
+            integrator->step(1);
+            state = context.getState(State::Velocities);
+            EXPECT_EQ(state.getStepCount(), 91) << where;
+            EXPECT_NEAR(state.getVelocities()[0][0], PUSH * 91 * DT, 1e-9) << where;
+        }
 }
 
 TEST(InstabilitySentinel, OffByDefaultAndAtZeroTemperature) {

@@ -1,12 +1,14 @@
-// The pressure tensor (algorithms.md section 10): sampling it leaves every trajectory alone;
+// The pressure tensor (docs/theory/pressure-tensor.md): sampling it leaves every trajectory alone;
 // the CPU's equals the Reference's; the exact pair virial of DPDSoftRepulsionForce equals the
 // strain derivative of the same energy written as a CustomNonbondedForce; a sweep's part is
-// the impulse its pair received over dt; what cannot be sampled is refused.
+// the impulse its pair received over dt; a checkpoint carries the running average, so loading
+// one rewinds it with the run; what cannot be sampled is refused.
 
 #include "TestHelpers.h"
 #include "TestSchemes.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
+#include <sstream>
 
 using namespace DPDPlugin;
 
@@ -182,6 +184,29 @@ TEST(PressureTensor, SweepPartIsTheImpulseOverTheStep) {
             EXPECT_NEAR(kinetic[3], 2 * u[0] * u[1] / V, 1e-14);
             EXPECT_EQ(integrator->getAveragePressureTensor(DPDThermostatIntegrator::PressureConservative)[0], 0.0);
         }
+}
+
+TEST(PressureTensor, LoadingACheckpointRewindsTheAverage) {
+    std::vector<Vec3> positions, velocities;
+    std::unique_ptr<System> system(makeModelB(true, positions, velocities));
+    for (const std::string& platform : platforms()) {
+        DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.02);
+        std::unique_ptr<Context> context = sampledContext(*system, integrator, platform, positions, velocities, false);
+        std::stringstream unsampled;
+        context->createCheckpoint(unsampled);
+        integrator.setPressureTensorEnabled(true);
+        integrator.step(10);
+        std::stringstream atTen;
+        context->createCheckpoint(atTen);
+        const std::vector<double> averageAtTen = integrator.getAveragePressureTensor();
+        integrator.step(10);
+        ASSERT_EQ(integrator.getPressureTensorSampleCount(), 20);
+        context->loadCheckpoint(atTen);
+        EXPECT_EQ(integrator.getPressureTensorSampleCount(), 10) << platform;
+        EXPECT_EQ(integrator.getAveragePressureTensor(), averageAtTen) << platform;
+        context->loadCheckpoint(unsampled);
+        EXPECT_EQ(integrator.getPressureTensorSampleCount(), 0) << platform;
+    }
 }
 
 TEST(PressureTensor, Refuses) {

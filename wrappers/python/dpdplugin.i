@@ -3,6 +3,7 @@
 %import(module="openmm.openmm") "openmm_stub.i"
 
 %{
+#include "openmmdpd/Checkpoints.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmmdpd/DPDVVIntegrator.h"
@@ -13,6 +14,7 @@
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/OpenMMException.h"
 #include <exception>
+#include <sstream>
 %}
 
 %include "typemaps.i"
@@ -313,3 +315,19 @@ DPD_EXTRAS(EDPDIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(DenOtterClarkeIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(StaggeredDPDIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(DPDSoftRepulsionForce, OpenMM::Force)
+
+// openmmdpd.load_checkpoint's C++ side: the checkpoint as Python bytes.
+%inline %{
+namespace DPDPlugin {
+void _loadCheckpointBytes(OpenMM::Context& context, PyObject* data) {
+    char* bytes;
+    Py_ssize_t size;
+    if (PyBytes_AsStringAndSize(data, &bytes, &size) != 0) {
+        PyErr_Clear();
+        throw OpenMM::OpenMMException("load_checkpoint: the checkpoint must be bytes");
+    }
+    std::istringstream stream(std::string(bytes, size));
+    loadCheckpoint(context, stream);
+}
+}
+%}

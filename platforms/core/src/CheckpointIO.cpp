@@ -1,8 +1,13 @@
 #include "openmmdpd/CheckpointIO.h"
+#include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <sstream>
+// Header-only: the checksum needs no library at run time.
+#define XXH_INLINE_ALL
+#include <xxhash.h>
 
 using namespace DPDPlugin;
 
@@ -19,65 +24,130 @@ const size_t READ_PIECE = 1 << 20;
     throw OpenMM::OpenMMException(name + ": cannot load this checkpoint: " + why);
 }
 
-template <class T>
-T readHeaderField(std::istream& stream, const std::string& name) {
-    T value;
-    stream.read((char*) &value, sizeof(T));
-    if (!stream)
-        refuse(name, "it ends inside the integrator's header (the file is truncated)");
-    return value;
+/** What the stream holds before the integrator's part (OpenMM's part), where it can be read back. */
+std::string writtenBefore(std::ostream& stream) {
+    auto* buffer = dynamic_cast<std::stringbuf*>(stream.rdbuf());
+    const std::streamoff end = stream.tellp();
+    if (buffer == nullptr || end <= 0)
+        return std::string();
+    return buffer->str().substr(0, (size_t) end);
 }
 
-std::string readPayload(std::istream& stream, uint64_t size, const std::string& name) {
-    std::string payload;
-    while (payload.size() < size) {
-        const size_t piece = (size_t) std::min<uint64_t>(READ_PIECE, size - payload.size());
-        const size_t start = payload.size();
-        payload.resize(start + piece);
-        stream.read(&payload[start], piece);
-        if (!stream)
-            refuse(name, "it ends " + std::to_string(size - start - stream.gcount()) +
-                             " bytes before the end of the integrator's data (the file is truncated)");
+template <class T>
+void append(std::string& bytes, const T& value) {
+    bytes.append((const char*) &value, sizeof(T));
+}
+
+uint64_t checksum(const std::string& before, const std::string& part) {
+    XXH3_state_t* state = XXH3_createState();
+    XXH3_64bits_reset(state);
+    XXH3_64bits_update(state, before.data(), before.size());
+    XXH3_64bits_update(state, part.data(), part.size());
+    const uint64_t digest = XXH3_64bits_digest(state);
+    XXH3_freeState(state);
+    return digest;
+}
+
+/** Reads the integrator's part, keeping every byte read for the checksum. */
+class PartReader {
+public:
+    PartReader(std::istream& stream, const std::string& name) : stream(stream), name(name) {}
+    template <class T>
+    T field() {
+        T value;
+        bytes(sizeof(T), (char*) &value);
+        return value;
     }
-    return payload;
+    /** n bytes, read in pieces (n may be damaged: we never allocate more than the stream holds). */
+    std::string text(uint64_t n) {
+        std::string result;
+        while (result.size() < n) {
+            const size_t piece = (size_t) std::min<uint64_t>(READ_PIECE, n - result.size());
+            const size_t start = result.size();
+            result.resize(start + piece);
+            bytes(piece, &result[start]);
+        }
+        return result;
+    }
+    std::string read;  // every byte so far
+
+private:
+    void bytes(size_t n, char* destination) {
+        stream.read(destination, n);
+        if ((size_t) stream.gcount() != n)
+            refuse(name, "it ends inside the integrator's data (the file is truncated)");
+        read.append(destination, n);
+    }
+    std::istream& stream;
+    const std::string& name;
+};
+
+/** The `length` bytes before the integrator's part, which began at `start`; the stream is left where it was. */
+std::string readBefore(std::istream& stream, std::streamoff start, uint64_t length, const std::string& name) {
+    if (length == 0)
+        return std::string();
+    if (start < 0 || (uint64_t) start < length)
+        refuse(name, "it is damaged: its checksum covers " + std::to_string(length) + " bytes before the integrator's "
+                     "data, and the stream holds " + std::to_string(std::max<std::streamoff>(start, 0)) +
+                     " (or cannot be read back: load the checkpoint from a file or from bytes)");
+    const std::streampos end = stream.tellg();
+    std::string before((size_t) length, '\0');
+    stream.seekg(start - (std::streamoff) length);
+    stream.read(&before[0], (std::streamsize) length);
+    if (!stream)
+        refuse(name, "the bytes before the integrator's data, which its checksum covers, cannot be read back");
+    stream.seekg(end);
+    return before;
 }
 
 } // namespace
 
 void DPDPlugin::writeCheckpoint(std::ostream& stream, const std::string& tag, int numParticles, const std::string& payload) {
-    stream.write(MAGIC, sizeof(MAGIC));
-    putField<uint32_t>(stream, CHECKPOINT_FORMAT_VERSION);
-    putField<uint32_t>(stream, tag.size());
-    stream.write(tag.data(), tag.size());
-    putField<int32_t>(stream, numParticles);
-    putField<uint64_t>(stream, payload.size());
-    stream.write(payload.data(), payload.size());
+    const std::string before = writtenBefore(stream);
+    std::string part(MAGIC, sizeof(MAGIC));
+    append<uint32_t>(part, CHECKPOINT_FORMAT_VERSION);
+    append<uint64_t>(part, before.size());
+    append<uint32_t>(part, tag.size());
+    part += tag;
+    append<int32_t>(part, numParticles);
+    append<uint64_t>(part, payload.size());
+    part += payload;
+    append<uint64_t>(part, checksum(before, part));
+    stream.write(part.data(), part.size());
 }
 
 CheckpointReader DPDPlugin::readCheckpoint(std::istream& stream, const std::string& tag, int numParticles, const std::string& name) {
+    const std::streamoff start = stream.tellg();
+    PartReader in(stream, name);
     char magic[sizeof(MAGIC)];
     stream.read(magic, sizeof(magic));
-    if (!stream || std::memcmp(magic, MAGIC, sizeof(MAGIC)) != 0)
+    if ((size_t) stream.gcount() != sizeof(MAGIC) || std::memcmp(magic, MAGIC, sizeof(MAGIC)) != 0)
         refuse(name, "it has no openmm-dpd integrator header, so it was written by another integrator or by openmm-dpd "
-                     "before checkpoint format 2. Start from a saved State (positions and velocities) instead");
-    const uint32_t version = readHeaderField<uint32_t>(stream, name);
+                     "before checkpoint format 2, or it is damaged. Start from a saved State (positions and velocities) instead");
+    in.read.assign(magic, sizeof(magic));
+    const uint32_t version = in.field<uint32_t>();
     if (version != CHECKPOINT_FORMAT_VERSION)
         refuse(name, "it is in checkpoint format " + std::to_string(version) + " and this build reads format " +
-                         std::to_string(CHECKPOINT_FORMAT_VERSION));
-    const uint32_t tagLength = readHeaderField<uint32_t>(stream, name);
+                         std::to_string(CHECKPOINT_FORMAT_VERSION) + " (or the file is damaged)");
+    const uint64_t beforeLength = in.field<uint64_t>();
+    const uint32_t tagLength = in.field<uint32_t>();
     if (tagLength > MAX_TAG_LENGTH)
-        refuse(name, "its integrator header is damaged (a name of " + std::to_string(tagLength) + " bytes)");
-    std::string written(tagLength, ' ');
-    stream.read(&written[0], tagLength);
-    if (!stream)
-        refuse(name, "it ends inside the integrator's header (the file is truncated)");
+        refuse(name, "it is damaged: its integrator header gives a name of " + std::to_string(tagLength) + " bytes");
+    const std::string written = in.text(tagLength);
+    const int32_t particles = in.field<int32_t>();
+    const uint64_t size = in.field<uint64_t>();
+    std::string payload = in.text(size);
+    const std::string part = in.read;
+    const uint64_t expected = in.field<uint64_t>();
+    if (checksum(readBefore(stream, start, beforeLength, name), part) != expected)
+        refuse(name, "it is damaged: its checksum does not match its contents (it was changed after it was written)");
+    if (stream.peek() != std::char_traits<char>::eof())
+        refuse(name, "bytes follow its end (it was changed after it was written)");
     if (written != tag)
-        refuse(name, "it was written by a " + written + ", not by a " + tag);
-    const int32_t particles = readHeaderField<int32_t>(stream, name);
+        refuse(name, "it was written by a " + printable(written) + ", not by a " + tag);
     if (particles != numParticles)
         refuse(name, "it holds " + std::to_string(particles) + " particles and this System has " + std::to_string(numParticles));
-    const uint64_t size = readHeaderField<uint64_t>(stream, name);
-    return CheckpointReader(readPayload(stream, size, name), name);
+    return CheckpointReader(std::move(payload), name);
 }
 
 void CheckpointReader::damaged(const std::string& what) const {

@@ -49,28 +49,46 @@ void PressureTensorSampler::addSample(OpenMM::ContextImpl& context, double shear
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     const double inverseVolume = 1 / (box[0][0] * box[1][1] * box[2][2]);
-    addTensor(sums[0], kineticTerm(context, shearRate), inverseVolume);
-    addTensor(sums[1], conservativeVirial(context, forceGroups), inverseVolume);
-    addTensor(sums[2], thermostatVirial, inverseVolume);
-    count++;
+    addTensor(sums.parts[0], kineticTerm(context, shearRate), inverseVolume);
+    addTensor(sums.parts[1], conservativeVirial(context, forceGroups), inverseVolume);
+    addTensor(sums.parts[2], thermostatVirial, inverseVolume);
+    sums.count++;
 }
 
 std::vector<double> PressureTensorSampler::average(int part) const {
     SymmetricTensor total{};
     if (part == DPDThermostatIntegrator::PressureTotal)
-        for (const SymmetricTensor& s : sums)
+        for (const SymmetricTensor& s : sums.parts)
             addTensor(total, s);
     else
-        total = sums[part - 1];
+        total = sums.parts[part - 1];
     std::vector<double> result(6);
     for (int k = 0; k < 6; k++)
-        result[k] = total[k] / count;
+        result[k] = total[k] / sums.count;
     return result;
 }
 
 void PressureTensorSampler::reset() {
-    sums = {};
-    count = 0;
+    sums = PressureSums();
+}
+
+void DPDPlugin::writePressureSums(std::ostream& stream, const PressureTensorSampler* sampler) {
+    const PressureSums sums = sampler ? sampler->getSums() : PressureSums();
+    putField<int64_t>(stream, sums.count);
+    for (const SymmetricTensor& part : sums.parts)
+        for (double x : part)
+            putField<double>(stream, x);
+}
+
+PressureSums DPDPlugin::readPressureSums(CheckpointReader& reader) {
+    PressureSums sums;
+    sums.count = reader.take<int64_t>("the pressure tensor's sample count");
+    if (sums.count < 0 || sums.count > MAX_STEP_NUMBER)
+        reader.damaged("the pressure tensor's sample count is " + std::to_string(sums.count));
+    for (SymmetricTensor& part : sums.parts)
+        for (double& x : part)
+            x = reader.takeFinite("a pressure tensor sum");
+    return sums;
 }
 
 SymmetricTensor PressureTensorSampler::kineticTerm(OpenMM::ContextImpl& context, double shearRate) const {

@@ -57,7 +57,7 @@ bool isFinite(const Vec3& x) {
     std::ostringstream message;
     message << name << ": the simulation blew up at step " << step << ": " << what
             << ". Reduce the step size, or check the starting configuration and the forces.";
-    throw OpenMM::OpenMMException(message.str());
+    throw StepStopped(message.str());
 }
 
 [[noreturn]] void unstable(const std::string& name, long long step, int particle, double energy, double threshold) {
@@ -65,7 +65,7 @@ bool isFinite(const Vec3& x) {
     message << name << ": the simulation is unstable at step " << step << ": particle " << particle << " has kinetic energy "
             << energy << " kT, above the instability threshold " << threshold
             << " kT. Reduce the step size, or check the starting configuration and the forces.";
-    throw OpenMM::OpenMMException(message.str());
+    throw StepStopped(message.str());
 }
 
 /** m v^2 above this fails checkVelocities. */

@@ -44,7 +44,7 @@ __version__ = _build.version
 
 __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
            "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "DenOtterClarkeIntegrator",
-           "calibrate_den_otter_clarke", "KT_TEMPERATURE", "kT_from_temperature",
+           "calibrate_den_otter_clarke", "load_checkpoint", "KT_TEMPERATURE", "kT_from_temperature",
            "reduced_temperature", "strip_units", "loaded_plugins", "skipped_plugins", "scenes", "__version__"]
 
 
@@ -76,3 +76,4 @@ loaded_plugins, skipped_plugins = _load_kernel_plugins()
 # After the plugins: `openmmdpd.scenes` works after a plain `import openmmdpd`.
 from . import scenes  # noqa: E402
 from .calibration import calibrate_den_otter_clarke  # noqa: E402
+from .checkpoints import load_checkpoint  # noqa: E402

@@ -14,16 +14,21 @@ namespace DPDPlugin {
  * The integrator part of this plugin's checkpoints, written and read in one place for
  * every platform and integrator.  Binary, so that a continuation is bit-exact:
  *
- *   magic "OMMDPDCK", format version (uint32), integrator tag (uint32 length + chars: the
- *   class and its variant), particle count (int32), payload size (uint64), payload.
+ *   magic "OMMDPDCK", format version (uint32), the length of OpenMM's part before it (uint64;
+ *   0 where the stream could not be read back), integrator tag (uint32 length + chars: the
+ *   class and its variant), particle count (int32), payload size (uint64), payload, checksum.
  *
- * The payload is read whole before any of it is used, and every field taken from it is
+ * The checksum (XXH3, 64 bits) covers every byte before it: OpenMM's part of the checkpoint
+ * (positions, velocities, time, box, parameters) as far as its length says, then ours.  It
+ * is checked, and nothing may follow it, before any field is used; then every field is still
  * checked (sizes against what is left, indices, finiteness), so that a damaged or foreign
  * checkpoint is refused with an OpenMMException before any integrator state changes.
+ * OpenMM restores its own part before ours is read: a refused checkpoint has changed the
+ * Context by then, which loadCheckpoint (openmmdpd/Checkpoints.h) undoes.
  */
 
-/** The format this version writes; checkpoints without the header (format 1) are refused. */
-constexpr uint32_t CHECKPOINT_FORMAT_VERSION = 2;
+/** The format this version writes; earlier ones (1: no header, 2: no checksum) are refused. */
+constexpr uint32_t CHECKPOINT_FORMAT_VERSION = 3;
 
 /** Step numbers read from a checkpoint lie within +-MAX_STEP_NUMBER, so differences of two cannot overflow. */
 constexpr long long MAX_STEP_NUMBER = 1LL << 62;

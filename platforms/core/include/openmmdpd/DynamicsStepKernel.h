@@ -6,6 +6,7 @@
 #include "openmmdpd/DPDKernels.h"
 #include "openmmdpd/PairRandom.h"
 #include "openmmdpd/PressureTensor.h"
+#include "openmmdpd/StepState.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
 #include <memory>
@@ -50,7 +51,7 @@ public:
             pressure.reset(new PressureTensorSampler(context.getSystem(), integrator.className()));
         SymmetricTensor thermostatVirial{};
         dynamics->recordThermostatVirial(samplePressure ? &thermostatVirial : nullptr);
-        dynamics->step(context, integrator);
+        stepKeepingTheClock(context, integrator);
         if (samplePressure)
             pressure->addSample(context, integrator.getShearRate(), integrator.getIntegrationForceGroups(), thermostatVirial);
     }
@@ -70,6 +71,8 @@ public:
     void invalidateForces() override { dynamics->invalidateForces(); }
     void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream) const override {
         std::ostringstream payload;
+        // The pressure tensor's average goes with the run it was sampled in.
+        writePressureSums(payload, pressure.get());
         dynamics->createCheckpoint(payload);
         writeCheckpoint(stream, checkpointTag(*owner), context.getSystem().getNumParticles(), payload.str());
     }
@@ -77,7 +80,14 @@ public:
         const std::string tag = checkpointTag(*owner);
         try {
             CheckpointReader reader = readCheckpoint(stream, tag, context.getSystem().getNumParticles(), tag.substr(0, tag.find(' ')));
+            const PressureSums sums = readPressureSums(reader);
+            std::unique_ptr<PressureTensorSampler> loadedPressure;
+            if (sums.count > 0) {
+                loadedPressure.reset(new PressureTensorSampler(context.getSystem(), owner->className()));
+                loadedPressure->setSums(sums);
+            }
             dynamics->loadCheckpoint(context, reader);
+            pressure = std::move(loadedPressure);
         }
         catch (...) {
             dynamics->resetState();
@@ -86,6 +96,21 @@ public:
     }
 
 protected:
+    /** One step; a stopped step (StepStopped) leaves the Context's time and step count at the step it stopped in. */
+    void stepKeepingTheClock(OpenMM::ContextImpl& context, const Integrator& integrator) {
+        const long long stepCount = context.getStepCount();
+        const double time = context.getTime();
+        try {
+            dynamics->step(context, integrator);
+        }
+        catch (const StepStopped&) {
+            if (context.getStepCount() == stepCount) {
+                context.setStepCount(stepCount + 1);
+                context.setTime(time + integrator.getStepSize());
+            }
+            throw;
+        }
+    }
     virtual Dynamics* createDynamics(const OpenMM::System& system, const Integrator& integrator) = 0;
     std::unique_ptr<Dynamics> dynamics;
     std::unique_ptr<PressureTensorSampler> pressure;  // made when the integrator first asks for it

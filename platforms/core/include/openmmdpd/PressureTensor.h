@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_PRESSURETENSOR_H_
 #define OPENMMDPD_PRESSURETENSOR_H_
 
+#include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ConstrainedPairImpulse.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmm/System.h"
@@ -45,7 +46,7 @@ inline void addPairVirial(const std::vector<PairGeometry>& pairs, const std::vec
 
 /**
  * The impulses J (along e, on i) that a pairwise-sequential sweep gives each pair of its
- * list, for the thermostat part of the pressure tensor (algorithms.md section 10): the
+ * list, for the thermostat part of the pressure tensor (docs/theory/pressure-tensor.md): the
  * sweep's rules apply their impulses through RecordedImpulse, which adds J to the pair's
  * own entry, so a sweep split over threads records without sharing an entry.
  */
@@ -103,8 +104,14 @@ void withRecordedPairImpulse(ConstrainedPairImpulse& constrained, const DPDPairP
     record.addVirial(pairs, parameters, 1 / dt, *virial);
 }
 
+/** The running sums of the pressure tensor's samples. */
+struct PressureSums {
+    std::array<SymmetricTensor, 3> parts{};  // kinetic, conservative, thermostat: sum of P over samples
+    long long count = 0;
+};
+
 /**
- * The pressure tensor of algorithms.md section 10, averaged over the steps since the last
+ * The pressure tensor of docs/theory/pressure-tensor.md, averaged over the steps since the last
  * reset: P = (1/V) [sum_i m_i u_i u_i + sum_{i<j} r_ij (FC + FD + FR)_ij], one sample at the
  * end of each step, kept as its three parts.
  *  - kinetic: the peculiar velocities u = v - rate (y - Ly/2) x (OpenMM's positions as stored)
@@ -125,17 +132,24 @@ public:
     void addSample(OpenMM::ContextImpl& context, double shearRate, int forceGroups, const SymmetricTensor& thermostatVirial);
     /** The average of a part (DPDThermostatIntegrator::PressurePart), kJ/mol/nm^3. */
     std::vector<double> average(int part) const;
-    long long getCount() const { return count; }
+    long long getCount() const { return sums.count; }
     void reset();
+    /** The sums over the samples so far (a checkpoint keeps them). */
+    const PressureSums& getSums() const { return sums; }
+    void setSums(const PressureSums& restored) { sums = restored; }
 
 private:
     SymmetricTensor kineticTerm(OpenMM::ContextImpl& context, double shearRate) const;
     SymmetricTensor conservativeVirial(OpenMM::ContextImpl& context, int forceGroups) const;
     SymmetricTensor strainDerivative(OpenMM::ContextImpl& context, int groups) const;
     std::vector<double> mass;
-    std::array<SymmetricTensor, 3> sums{};  // kinetic, conservative, thermostat: sum of P over samples
-    long long count = 0;
+    PressureSums sums;
 };
+
+/** The sums of a sampler (none: no samples) as a checkpoint holds them: the count, then each part's sum. */
+void writePressureSums(std::ostream& stream, const PressureTensorSampler* sampler);
+/** Read what writePressureSums() wrote; counts and sums that cannot be are refused. */
+PressureSums readPressureSums(CheckpointReader& reader);
 
 } // namespace DPDPlugin
 

@@ -1,6 +1,7 @@
 #ifndef OPENMMDPD_STEPSTATE_H_
 #define OPENMMDPD_STEPSTATE_H_
 
+#include "openmm/OpenMMException.h"
 #include "openmm/Vec3.h"
 #include <cstdint>
 #include <iosfwd>
@@ -11,6 +12,17 @@ namespace DPDPlugin {
 
 class CheckpointReader;
 class DPDPairParameters;
+
+/**
+ * A step stopped because the simulation blew up or crossed the instability threshold.  The
+ * Context keeps what the stopped step made, and its time and step count are that step's
+ * (DynamicsStepKernel advances them if the step stopped before it did), so the Context is
+ * one consistent state and stepping again goes on from it.
+ */
+class StepStopped : public OpenMM::OpenMMException {
+public:
+    explicit StepStopped(const std::string& message) : OpenMM::OpenMMException(message) {}
+};
 
 /** A step that moves a particle farther than this many thermostat cutoffs has blown up. */
 constexpr double MAX_MOVE_PER_STEP = 5.0;
