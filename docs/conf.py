@@ -24,8 +24,9 @@ extensions = [
 
 source_suffix = {".md": "markdown"}
 root_doc = "index"
-# results/ holds the tools' generated reports, linked from the README, not pages of the site.
-exclude_patterns = ["_build", "_static", "results"]
+# results/ holds the tools' generated reports; they are pages of the site too, reached from
+# the validation page's (hidden) table of contents.
+exclude_patterns = ["_build", "_static"]
 
 # --- MyST: Markdown pages with LaTeX maths ------------------------------------------------
 myst_enable_extensions = [

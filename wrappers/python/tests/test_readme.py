@@ -1,5 +1,6 @@
-"""Every ```python block of README.md, run as a script in a fresh interpreter at small sizes,
-so that a broken example fails the suite.  Each block must be complete (its own imports)."""
+"""Every ```python block of README.md and of the documentation's pages (docs/, the built site
+left out), run as a script in a fresh interpreter at small sizes, so that a broken example
+fails the suite.  Each block must be complete (its own imports)."""
 import os
 import re
 import subprocess
@@ -9,7 +10,9 @@ import pytest
 
 import openmmdpd
 
-README = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "README.md")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
+README = os.path.join(ROOT, "README.md")
+DOCS = os.path.join(ROOT, "docs")
 
 # The examples' sizes, shrunk so that each runs in seconds.
 SMALLER = [
@@ -18,9 +21,28 @@ SMALLER = [
 ]
 
 
-def readme_blocks():
-    with open(README) as f:
+def blocks(path):
+    with open(path) as f:
         return re.findall(r"^```python\n(.*?)^```", f.read(), re.S | re.M)
+
+
+def readme_blocks():
+    return blocks(README)
+
+
+def documents():
+    """README.md, then every Markdown page of docs/ but the built site, relative to the root."""
+    pages = []
+    for folder, subfolders, files in os.walk(DOCS):
+        subfolders[:] = sorted(d for d in subfolders if d not in ("_build", "_static"))
+        pages += [os.path.join(folder, name) for name in sorted(files) if name.endswith(".md")]
+    return [os.path.relpath(path, ROOT).replace(os.sep, "/") for path in [README] + pages]
+
+
+def examples():
+    """(document, index, code) for every python block, in document order."""
+    return [(document, index, code) for document in documents()
+            for index, code in enumerate(blocks(os.path.join(ROOT, document)))]
 
 
 def shrink(code):
@@ -29,17 +51,21 @@ def shrink(code):
     return code
 
 
-def test_the_readme_has_its_examples():
-    assert len(readme_blocks()) >= 3
+def test_the_readme_and_the_docs_have_their_examples():
+    # The README's quick start, and the examples the guide pages carry (the README held eight).
+    assert len(readme_blocks()) >= 1
+    assert len(examples()) >= 8
+    assert "docs/guide/integrators.md" in {document for document, _, _ in examples()}
     assert "step(200)" in shrink("simulation.step(10000)") and "num_particles=500" in shrink("num_particles=4000")
 
 
-@pytest.mark.parametrize("index", range(len(readme_blocks())))
-def test_readme_example_runs(index, tmp_path):
-    code = shrink(readme_blocks()[index])
+@pytest.mark.parametrize("document, index, code", examples(),
+                         ids=[f"{document}-{index}" for document, index, _ in examples()])
+def test_example_runs(document, index, code, tmp_path):
+    code = shrink(code)
     # This package (wherever conftest found it) and the OpenMM it runs with.
     path = [os.path.dirname(os.path.dirname(openmmdpd.__file__))] + os.environ.get("PYTHONPATH", "").split(os.pathsep)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in path if p))
     result = subprocess.run([sys.executable, "-c", code], cwd=str(tmp_path), env=env,
                             capture_output=True, text=True, timeout=300)
-    assert result.returncode == 0, f"README example {index}:\n{code}\n--- stderr:\n{result.stderr}"
+    assert result.returncode == 0, f"{document} example {index}:\n{code}\n--- stderr:\n{result.stderr}"
