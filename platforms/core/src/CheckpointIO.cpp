@@ -116,7 +116,16 @@ void DPDPlugin::writeCheckpoint(std::ostream& stream, const std::string& tag, in
     stream.write(part.data(), part.size());
 }
 
-CheckpointReader DPDPlugin::readCheckpoint(std::istream& stream, const std::string& tag, int numParticles, const std::string& name) {
+namespace {
+
+/** The integrator's part as written, its checksum and that nothing follows it checked. */
+struct IntegratorPart {
+    std::string tag;
+    int32_t particles;
+    std::string payload;
+};
+
+IntegratorPart readIntegratorPart(std::istream& stream, const std::string& name) {
     const std::streamoff start = stream.tellg();
     PartReader in(stream, name);
     char magic[sizeof(MAGIC)];
@@ -133,21 +142,38 @@ CheckpointReader DPDPlugin::readCheckpoint(std::istream& stream, const std::stri
     const uint32_t tagLength = in.field<uint32_t>();
     if (tagLength > MAX_TAG_LENGTH)
         refuse(name, "it is damaged: its integrator header gives a name of " + std::to_string(tagLength) + " bytes");
-    const std::string written = in.text(tagLength);
-    const int32_t particles = in.field<int32_t>();
+    IntegratorPart part;
+    part.tag = in.text(tagLength);
+    part.particles = in.field<int32_t>();
     const uint64_t size = in.field<uint64_t>();
-    std::string payload = in.text(size);
-    const std::string part = in.read;
+    part.payload = in.text(size);
+    const std::string bytes = in.read;
     const uint64_t expected = in.field<uint64_t>();
-    if (checksum(readBefore(stream, start, beforeLength, name), part) != expected)
+    if (checksum(readBefore(stream, start, beforeLength, name), bytes) != expected)
         refuse(name, "it is damaged: its checksum does not match its contents (it was changed after it was written)");
     if (stream.peek() != std::char_traits<char>::eof())
         refuse(name, "bytes follow its end (it was changed after it was written)");
-    if (written != tag)
-        refuse(name, "it was written by a " + printable(written) + ", not by a " + tag);
-    if (particles != numParticles)
-        refuse(name, "it holds " + std::to_string(particles) + " particles and this System has " + std::to_string(numParticles));
-    return CheckpointReader(std::move(payload), name);
+    return part;
+}
+
+} // namespace
+
+CheckpointReader DPDPlugin::readCheckpoint(std::istream& stream, const std::string& tag, int numParticles, const std::string& name) {
+    IntegratorPart part = readIntegratorPart(stream, name);
+    if (part.tag != tag)
+        refuse(name, "it was written by a " + printable(part.tag) + ", not by a " + tag);
+    if (part.particles != numParticles)
+        refuse(name, "it holds " + std::to_string(part.particles) + " particles and this System has " +
+                         std::to_string(numParticles));
+    return CheckpointReader(std::move(part.payload), name);
+}
+
+void DPDPlugin::requireIntactCheckpoint(const std::string& checkpoint, const std::string& name) {
+    // The integrator's part ends the checkpoint, so its header is the last copy of the magic.
+    const size_t begin = checkpoint.rfind(std::string(MAGIC, sizeof(MAGIC)));
+    std::istringstream stream(checkpoint);
+    stream.seekg(begin == std::string::npos ? checkpoint.size() : begin);
+    readIntegratorPart(stream, name);
 }
 
 void CheckpointReader::damaged(const std::string& what) const {

@@ -85,6 +85,14 @@ private:
  */
 CheckpointReader readCheckpoint(std::istream& stream, const std::string& tag, int numParticles, const std::string& name);
 
+/**
+ * Refuses a whole checkpoint (OpenMM's part and ours, as Context::createCheckpoint() wrote
+ * them) whose integrator part is missing, damaged or followed by other bytes, before OpenMM
+ * reads any of it: OpenMM trusts the sizes in its own part, and a damaged one can make it
+ * allocate without bound.  Foreign tags and particle counts are left to the integrator.
+ */
+void requireIntactCheckpoint(const std::string& checkpoint, const std::string& name);
+
 } // namespace DPDPlugin
 
 #endif
