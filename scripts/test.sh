@@ -3,7 +3,8 @@
 # Python tests, pytest, both through ctest) twice: against Debian's OpenMM 7.7 in build/, and
 # against OpenMM 8 in build-openmm8/.  OpenMM 8 is $OPENMM8_DIR, else ../shared/openmm-8.5
 # next to the repository; without one the second run is skipped, saying so.  Long statistical
-# runs are marked `slow` and are left to the benchmark tool.
+# runs are marked `slow` and are left to the benchmark tool.  Then it builds the documentation
+# site (scripts/docs.sh), which must have no warning.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -42,6 +43,15 @@ if [ -n "$omm8" ]; then
   run_suite "OpenMM 8 ($omm8)" build-openmm8
 else
   summary+=("OpenMM 8: SKIPPED: none found in \$OPENMM8_DIR or ../shared/openmm-8.5")
+fi
+
+# The documentation site, every warning an error: its pages and API reference are part of the product.
+echo "=== documentation site ==="
+if bash scripts/docs.sh -q; then
+  summary+=("docs: built with no warning")
+else
+  summary+=("docs: FAILED (scripts/docs.sh)")
+  failed=1
 fi
 
 echo "=== summary ==="

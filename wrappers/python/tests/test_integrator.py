@@ -579,8 +579,12 @@ def blow_up_step(scene, integrator, platform_name, max_steps=200):
     assert "DPDVVIntegrator" in message and "Reduce the step size" in message
     step = int(re.search(r"blew up at step (\d+)", message).group(1))
     assert 1 <= step <= max_steps
-    # The step that blew up is not counted.
-    assert context.getState().getStepCount() == step - 1
+    # The Context is left at the step that blew up: its state, time and step count.
+    state = context.getState()
+    assert state.getStepCount() == step
+    dt = integrator.getStepSize()
+    dt = dt.value_in_unit(unit.picosecond) if unit.is_quantity(dt) else dt
+    assert state.getTime().value_in_unit(unit.picosecond) == pytest.approx(step * dt)
     return step, context
 
 
