@@ -8,6 +8,7 @@
 // for positions, to the largest speed for velocities): any error in the rule or the random
 // numbers (a wrong Philox word moves a particle by sigma dt^1.5 ~ 1e-2 nm) is 1000x that.
 #include "TestHelpers.h"
+#include "openmmdpd/Checkpoints.h"
 #include "openmmdpd/CommonPairRandomCheck.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
@@ -245,6 +246,21 @@ TEST(GpuPlatform, MomentumSeedsAndCheckpoints) {
             ASSERT_EQ(sa.getVelocities()[i], sb.getVelocities()[i]) << "one seed, two runs: particle " << i;
         }
         expectCheckpointContinuesBitForBit(*a, first, "OpenCL variant " + std::to_string(variant));
+        // A byte flipped anywhere is refused, and loadCheckpoint leaves the Context as it was.
+        std::stringstream checkpoint;
+        a->createCheckpoint(checkpoint);
+        first.step(2);
+        const State before = a->getState(State::Positions | State::Velocities);
+        for (size_t offset : {(size_t) 100, checkpoint.str().size() / 2, checkpoint.str().size() - 20}) {
+            std::string damaged = checkpoint.str();
+            damaged[offset] ^= 4;
+            std::istringstream stream(damaged);
+            expectErrorNaming([&] { DPDPlugin::loadCheckpoint(*a, stream); }, "cannot load this checkpoint");
+            const State after = a->getState(State::Positions | State::Velocities);
+            EXPECT_EQ(after.getStepCount(), before.getStepCount());
+            EXPECT_EQ(after.getPositions(), before.getPositions()) << "byte " << offset;
+            EXPECT_EQ(after.getVelocities(), before.getVelocities()) << "byte " << offset;
+        }
     }
 }
 
@@ -414,7 +430,8 @@ TEST(GpuPlatform, BlowUpsStopTheStepTheyHappenInAsOnReference) {
                 v[7] = Vec3(speed, 0, 0);
                 run.second->setVelocities(v);
                 reports.push_back(blowUpReport(*run.first));
-                EXPECT_EQ(run.second->getState(0).getStepCount(), 2) << reports.back();
+                // The Context is left at the stopped step.
+                EXPECT_EQ(run.second->getState(0).getStepCount(), 3) << reports.back();
             }
             EXPECT_NE(reports[0].find("at step 3: "), std::string::npos) << reports[0];
             if (std::isnan(speed)) {
