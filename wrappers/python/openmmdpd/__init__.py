@@ -39,6 +39,12 @@ from .dpdplugin import (DenOtterClarkeIntegrator, DPDSoftRepulsionForce, DPDTher
                         DPDVVIntegrator, EDPDIntegrator, LoweAndersenIntegrator, ShardlowIntegrator,
                         StaggeredDPDIntegrator)
 from .units import KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units  # noqa: E402
+from . import _downcast  # noqa: E402
+
+# XmlSerializer.deserialize / clone, System.getForce(s) and CompoundIntegrator.getIntegrator
+# give our integrators and forces back as their own classes, not as base Integrator / Force.
+_downcast.install((DPDVVIntegrator, ShardlowIntegrator, LoweAndersenIntegrator, EDPDIntegrator,
+                   DenOtterClarkeIntegrator, StaggeredDPDIntegrator), (DPDSoftRepulsionForce,))
 
 __version__ = _build.version
 
