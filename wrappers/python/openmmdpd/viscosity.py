@@ -354,13 +354,21 @@ def main(argv=None):
                          f"{', '.join(n for n in integrators(None) if n != 'Langevin')}")
     start = time.perf_counter()
     if args.reanalyse:
-        reanalyse(args)
+        nemd, gk = reanalyse(args)
         print(f"outputs in {args.out}/ rewritten from its nemd.csv and gk_series_*.npz")
+        _print_flags(nemd, gk)
         return 0
     nemd, gk = run(args)
     print(f"{len(nemd)} NEMD runs and {len(args.scene) if args.gk_time > 0 else 0} Green–Kubo runs in "
           f"{time.perf_counter() - start:.0f} s; results, charts and report in {args.out}/")
+    _print_flags(nemd, gk)
     return 0
+
+
+def _print_flags(nemd, gk):
+    from .viscosity_report import flags
+    for line in flags(nemd, gk):
+        print(f"FLAGGED: {line}")
 
 
 if __name__ == "__main__":

@@ -13,6 +13,13 @@ from .catalog import FRICTION  # noqa: E402
 from .viscosity import SCENES, groot_warren_estimate  # noqa: E402
 
 AGREEMENT_SIGMAS = 3  # NEMD at the lowest rate and Green–Kubo agree within this many combined standard errors
+TARGET_KT = 1.0  # the thermostat's kT, reduced units
+# A sheared run's peculiar kT further than this from TARGET_KT is flagged as off, as compare's
+# configurational and chain kT are: viscous heating at the rates used here raises it by a few
+# per cent (1.025-1.034 at rate 0.5 in the committed long runs), an unequilibrated start or an
+# integrator near its stability limit by more.
+KT_TOLERANCE = 0.10
+KT_SIGMAS = 3  # ... and one whose 3 standard errors exceed the tolerance as too noisy to check
 
 
 def _scenes(nemd, gk):
@@ -124,10 +131,60 @@ def _difference(a, a_err, b, b_err):
     return a - b, combined, abs(a - b) / combined if combined > 0 else float("inf")
 
 
+def temperature_flags(rows):
+    """{rate: why} for the NEMD rows whose peculiar kT is off (further than KT_TOLERANCE from
+    TARGET_KT) or too noisy to check (KT_SIGMAS standard errors wider than the tolerance)."""
+    flags = {}
+    for r in rows:
+        kT, err = r["kT"], r["kT_err"]
+        if not (math.isfinite(kT) and math.isfinite(err)):
+            flags[r["rate"]] = f"peculiar kT {kT} ± {err} is not a number"
+            continue
+        off = abs(kT - TARGET_KT)
+        sigmas = f" ({off / err:.1f} standard errors)" if err > 0 else ""
+        if off > KT_TOLERANCE:
+            flags[r["rate"]] = (f"peculiar kT {_pm(kT, err, 3)} is {off / TARGET_KT:.0%} from the target "
+                                f"{TARGET_KT:g}{sigmas}, beyond the {KT_TOLERANCE:.0%} tolerance: the run is not "
+                                f"at the thermostat's temperature (too short an equilibration, or a dt or rate "
+                                f"too large), so its viscosity is not that of the fluid at kT {TARGET_KT:g}")
+        elif KT_SIGMAS * err > KT_TOLERANCE:
+            flags[r["rate"]] = (f"peculiar kT {_pm(kT, err, 3)}: {KT_SIGMAS} standard errors exceed the "
+                                f"{KT_TOLERANCE:.0%} tolerance, too few samples to check the temperature "
+                                f"(a longer --nemd-time)")
+    return flags
+
+
+def flags(nemd, gk):
+    """Every flagged result of a run as short lines ("scene rate R: why", "scene: ..."): a peculiar
+    kT off or unchecked (temperature_flags) and NEMD at the lowest rate disagreeing with
+    Green–Kubo beyond AGREEMENT_SIGMAS."""
+    found = []
+    for scene in _scenes(nemd, gk):
+        rows = _rows(nemd, scene)
+        found += [f"{scene} rate {rate:g}: {why}" for rate, why in temperature_flags(rows).items()]
+        if rows and scene in gk:
+            low, total = rows[0], gk[scene]["total"]
+            diff, err, z = _difference(low["eta"], low["eta_err"], total["eta"], total["eta_err"])
+            if not z <= AGREEMENT_SIGMAS:
+                found.append(f"{scene}: NEMD at rate {low['rate']:g} and Green–Kubo disagree ({diff:+.3f} ± {err:.3f}, "
+                             f"{z:.1f} combined standard errors, more than {AGREEMENT_SIGMAS})")
+    return found
+
+
 def _checks(rows, results):
-    """The report's two checks, as lines: NEMD at the lowest rate against Green–Kubo, and the
-    thermostat part of the stress present in Green–Kubo."""
+    """The report's checks, as lines: each rate's peculiar kT against the target, NEMD at the
+    lowest rate against Green–Kubo, and the thermostat part of the stress present in Green–Kubo."""
     lines = []
+    if rows:
+        flagged = temperature_flags(rows)
+        for rate, why in flagged.items():
+            lines.append(f"- **Flagged**, rate {rate:g}: {why}.")
+        fine = [r for r in rows if r["rate"] not in flagged]
+        if fine:
+            worst = max(fine, key=lambda r: abs(r["kT"] - TARGET_KT))
+            where = "every rate" if not flagged else "rates " + ", ".join(f"{r['rate']:g}" for r in fine)
+            lines.append(f"- Peculiar kT within {KT_TOLERANCE:.0%} of {TARGET_KT:g} at {where} (furthest "
+                         f"{_pm(worst['kT'], worst['kT_err'], 4)} at rate {worst['rate']:g}).")
     if rows and results:
         low, total = rows[0], results["total"]
         diff, err, z = _difference(low["eta"], low["eta_err"], total["eta"], total["eta_err"])
@@ -188,6 +245,13 @@ def write_report(args, nemd, gk, seconds):
              f"{args.platform} platform ({args.threads} thread(s)), block Delta {args.block:g}, "
              f"equilibration {args.equilibrate:g} per run, seed {args.seed}. Reduced units (kT, rc, m = 1).", "",
              METHODS, ""]
+    found = flags(nemd, gk)
+    if found:
+        lines += [f"**{len(found)} result(s) flagged** (see each scene's checks):", ""] + [f"- {f}" for f in found] + [""]
+    else:
+        lines += [f"No result flagged (the checks: a peculiar kT within {KT_TOLERANCE:.0%} of {TARGET_KT:g} at every "
+                  f"rate, with {KT_SIGMAS} standard errors inside that tolerance; NEMD at the lowest rate and "
+                  f"Green–Kubo within {AGREEMENT_SIGMAS} combined standard errors).", ""]
     for scene in _scenes(nemd, gk):
         lines += _scene_section(scene, _rows(nemd, scene), gk.get(scene))
     lines += ["Charts: `viscosity.png` (eta against rate), `green_kubo.png` (running integral and plateau), "

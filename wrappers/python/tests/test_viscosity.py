@@ -253,3 +253,47 @@ def test_viscosity_quick_smoke(tmp_path):
     with open(os.path.join(out, "nemd.csv")) as f:
         assert float(next(csv.DictReader(f))["eta"]) == pytest.approx(float(rows[0]["eta"]))
     assert "re-read from the saved series" in open(os.path.join(out, "report.md")).read()
+
+
+# --- the report's flags --------------------------------------------------------------------------
+
+def nemd_row(rate, kT, kT_err, eta=1.1, eta_err=0.05, scene="model-b"):
+    return dict(scene=scene, integrator="GW", dt=0.01, rate=rate, time=2.0, eta=eta, eta_err=eta_err,
+                eta_kinetic=0.1, eta_conservative=0.8, eta_thermostat=0.2, Pxy=-eta * rate, Pxy_err=eta_err * rate,
+                N1=0.0, N1_err=0.01, slope_ratio=1.0, slope_ratio_err=0.01, profile_rms=0.01,
+                kT=kT, kT_err=kT_err, kT_x=kT, kT_y=kT, kT_z=kT)
+
+
+def test_report_flags_a_peculiar_kT_off_the_target(tmp_path):
+    """A --quick run measured kT 1.30: the report and the command say so; the few per cent of
+    viscous heating of the committed long runs (1.025 ± 0.001 at rate 0.5) are not flagged."""
+    from openmmdpd import viscosity_report as report
+    rows = [nemd_row(0.05, 1.004, 0.001), nemd_row(0.2, 1.30, 0.03), nemd_row(0.5, 1.025, 0.001),
+            nemd_row(1.0, 0.98, 0.05)]
+    flagged = report.temperature_flags(rows)
+    assert set(flagged) == {0.2, 1.0}
+    assert "30% from the target 1 (10.0 standard errors), beyond the 10% tolerance" in flagged[0.2]
+    assert "too few samples" in flagged[1.0]  # 3 x 0.05 is wider than the tolerance
+    assert report.temperature_flags([nemd_row(0.5, 0.85, 0.2)])[0.5].startswith("peculiar kT 0.850 ± 0.200 is 15%")
+    assert report.temperature_flags([nemd_row(0.5, float("nan"), float("nan"))])
+    assert report.flags([nemd_row(0.05, 1.004, 0.001), nemd_row(0.5, 1.025, 0.001)], {}) == []
+
+    args = viscosity._parser().parse_args(["--out", str(tmp_path), "--rates", "0.2"])
+    args.command = ["--quick"]
+    report.write_report(args, [nemd_row(0.2, 1.30, 0.03)], {}, 1.0)
+    text = open(tmp_path / "report.md").read()
+    assert "**1 result(s) flagged**" in text and "- **Flagged**, rate 0.2: peculiar kT 1.300 ± 0.030 is 30%" in text
+    report.write_report(args, [nemd_row(0.2, 1.02, 0.003)], {}, 1.0)
+    text = open(tmp_path / "report.md").read()
+    assert "No result flagged" in text and "Peculiar kT within 10% of 1 at every rate" in text
+
+
+def test_reanalyse_prints_the_flags(tmp_path, capsys):
+    out = tmp_path / "visc"
+    out.mkdir()
+    with open(out / "nemd.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=viscosity.NEMD_COLUMNS)
+        writer.writeheader()
+        writer.writerow(nemd_row(0.5, 1.30, 0.03))
+    viscosity.main(["--out", str(out), "--reanalyse"])
+    assert "FLAGGED: model-b rate 0.5: peculiar kT 1.300 ± 0.030 is 30% from the target 1" in capsys.readouterr().out
