@@ -40,7 +40,6 @@ million, the integrators GW, S1, Lowe, Langevin and, on OpenMM >= 8.3, OpenMM's 
 
     /usr/bin/python3 -m openmmdpd.bench --scale --platform OpenCL
 """
-import argparse
 import ctypes
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
@@ -59,7 +58,7 @@ from . import EDPDIntegrator
 from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
-from . import staggered
+from . import options, staggered
 
 DEFAULT_INTEGRATORS = ["Langevin", "GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU", "OC"]
 SCALE_INTEGRATORS = ["GW", "DPD-VV", "S1", "Lowe", "Langevin"]
@@ -646,8 +645,18 @@ def print_staggered_table(rows, args):
               f"{chain - 1:>+10.4f} +- {chain_error:.4f}  {total - 1:>+10.4f} +- {total_error:.4f}")
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+# How long a run with the defaults takes, for --help (docs/benchmarks.md has the measured ones).
+DURATION = ("With the defaults (scene soft, 9 integrators at N 4000 and 32000 on 1 and 2 threads, best of 3 "
+            "rounds of about 1 s each) a run takes about 3 minutes on 2 cores: about 1 s per integrator, size, "
+            "thread count and round (--seconds), plus building each System. --scale with its default sizes "
+            "(4000 to a million particles, 5 integrators) takes roughly 10 minutes (an estimate; the run in docs/benchmarks.md, "
+            "7 integrators at 32000 and a million in 5 rounds, took 11), --staggered about a minute, "
+            "--thread-scaling and --memory a few minutes; the time grows with the sizes, the integrators and "
+            "--repeats.")
+
+
+def _parser():
+    parser = options.parser("bench", __doc__.splitlines()[0], DURATION)
     parser.add_argument("--sizes", type=int, nargs="+",
                         help=f"default 4000 32000 ({' '.join(map(str, SCALE_SIZES))} with --scale, --memory)")
     parser.add_argument("--threads", type=int, nargs="+", help="default 1 2 (1 with --scale, --memory)")
@@ -693,6 +702,11 @@ def main(argv=None):
                         help="--staggered: simulated time of one timed run")
     parser.add_argument("--sample-time", type=float, default=4.0,
                         help="--staggered: simulated time over which <kT> is sampled")
+    return parser
+
+
+def main(argv=None):
+    parser = _parser()
     args = parser.parse_args(argv)
     if args.thread_scaling:
         if args.platform != "CPU":

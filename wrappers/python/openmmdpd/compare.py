@@ -20,7 +20,6 @@ configurational kT within 10 % of 1 and no overlapping particles (g(r < 0.2) mor
 above that of the smallest dt), and on scene polymer has a chain <kT> within 10 % of 1 and
 no bond longer than 2.5; an unstable run is recorded with its reason, not raised.
 """
-import argparse
 import csv
 import math
 import os
@@ -446,18 +445,26 @@ def compare(args):
     return rows
 
 
+# How long a run with the defaults takes, for --help (docs/results/README.md: 452 s for scene soft
+# on a quiet 2-core machine, 257 s for ideal).
+DURATION = ("With the defaults (scene soft, N 2000, 100 time units per run, every integrator at 6 time steps: "
+            "72 runs) a run takes about 8 minutes on 2 cores (scene ideal about 4); each integrator's "
+            "time grows as --particles times --time times the sum of 1/dt over --dts. "
+            "--quick takes seconds.")
+
 # --quick (options.add_quick)
 QUICK = dict(particles=500, time=3.0, equilibrate=0.5, prepare=1.0, frame_every=0.5, gr_frames=4, cost_block=0.01,
              cost_repeats=3, dts=[0.02, 0.06, 0.15])
 
 
 def _parser():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph, whole
+    parser = options.parser("compare", __doc__.split("\n\n")[0], DURATION)  # the first paragraph, whole
     add = parser.add_argument
-    add("--scene", default="soft", choices=SCENES)
-    add("--integrators", nargs="+", help="default: all available")
-    add("--dts", type=float, nargs="+", default=[0.02, 0.03, 0.04, 0.06, 0.1, 0.15])
-    add("--particles", type=int, default=2000)
+    add("--scene", default="soft", choices=SCENES, help="the System every integrator runs")
+    add("--integrators", nargs="+", help="names from openmmdpd.catalog (default: all available on the scene)")
+    add("--dts", type=float, nargs="+", default=[0.02, 0.03, 0.04, 0.06, 0.1, 0.15],
+        help="time steps (ps = reduced time) each integrator runs at")
+    add("--particles", type=int, default=2000, help="N")
     add("--a", type=float, default=25.0, help="soft repulsion (scene soft)")
     add("--time", type=float, default=100.0, help="simulated time sampled per run (reduced units)")
     add("--equilibrate", type=float, default=2.0, help="time each run equilibrates before sampling")
@@ -469,9 +476,9 @@ def _parser():
     add("--cost-block", type=float, default=0.1, help="CPU seconds per timed block of the cost ratio to Langevin")
     add("--cost-repeats", type=int, default=7, help="alternating timed blocks (integrator, Langevin)")
     options.add_quick(parser, QUICK)
-    add("--platform", default="CPU")
-    add("--threads", type=int, default=os.cpu_count() or 1)
-    add("--seed", type=int, default=2024)
+    add("--platform", default="CPU", help="OpenMM platform")
+    add("--threads", type=int, default=os.cpu_count() or 1, help="CPU platform threads, one per core here")
+    add("--seed", type=int, default=2024, help="seed of the start and of every integrator")
     add("--instability-threshold", type=float, default=INSTABILITY_THRESHOLD,
         help="stop a run when a particle's kinetic energy passes this many kT (0: off)")
     add("--out", default=None, help="output folder (default results/compare-SCENE)")

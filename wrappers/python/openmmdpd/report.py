@@ -395,17 +395,25 @@ def stability_map(tables, path):
     plt.close(fig)
 
 
+def _parser():
+    from .options import parser
+    result = parser("report", "One stability map (PNG) of several comparison runs: per integrator, a bar per "
+                    "scene to its largest stable dt and a cross at its smallest unstable dt with the reason, "
+                    "from the results.csv that `python3 -m openmmdpd.compare` wrote.",
+                    "It only reads the CSV files and draws: a few seconds.")
+    result.add_argument("out", metavar="OUT.png", help="the chart to write")
+    result.add_argument("results", metavar="RESULTS.csv", nargs="+", help="results.csv of each run (one per scene)")
+    return result
+
+
 def main(argv=None):
     """python3 -m openmmdpd.report OUT.png RESULTS.csv...: one stability map of several runs."""
-    import sys
-    argv = sys.argv[1:] if argv is None else argv
-    if len(argv) < 2:
-        raise SystemExit(main.__doc__)
+    args = _parser().parse_args(argv)
     tables = {}
-    for path in argv[1:]:
+    for path in args.results:
         rows = read_rows(path)
         tables[rows[0]["scene"]] = rows
-    stability_map(tables, argv[0])
+    stability_map(tables, args.out)
 
 
 if __name__ == "__main__":

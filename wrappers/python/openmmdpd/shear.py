@@ -62,3 +62,11 @@ def profile_slope(centres, means):
     """The least-squares slope dv_x/dy of a velocity profile, and its residuals per bin."""
     slope, intercept = np.polyfit(centres, means, 1)
     return float(slope), means - (slope * centres + intercept)
+
+
+if __name__ == "__main__":
+    from .options import not_a_command
+    not_a_command("shear",
+                  "It measures a sheared fluid's peculiar velocities, temperature and velocity profile from Python "
+                  "(openmmdpd.shear.peculiar_temperature, velocity_profile, ...); `python3 -m openmmdpd.viscosity` runs"
+                  " sheared fluids (see its --help).")

@@ -101,3 +101,11 @@ def run_fene_chains(scene, state, num_sub_steps, inner_dt, sample_time, base="vv
         per_sample = np.asarray(radii).reshape(num_samples, len(chains)).mean(axis=1)
         result["rg"] = block_average(per_sample)
     return result
+
+
+if __name__ == "__main__":
+    from .options import not_a_command
+    not_a_command("staggered",
+                  "Its runs of StaggeredDPDIntegrator on the fene-chains scene are timed by `python3 -m openmmdpd.bench"
+                  " --staggered` (about a minute; see its --help), and called from Python as "
+                  "openmmdpd.staggered.run_fene_chains.")

@@ -28,7 +28,6 @@ independent consecutive segments, each integrated to the same lag. The same inte
 the thermostat part (total - thermostat) is reported to show that the dissipative and random
 stress matters.
 """
-import argparse
 import csv
 import math
 import os
@@ -315,19 +314,28 @@ def _say(args, message):
         print(f"[{time.strftime('%H:%M:%S')}] {message}", flush=True)
 
 
+# How long a run with the defaults takes, for --help: 286 000 steps of N = 4000 with the pressure
+# tensor sampled per scene (a GW step at N = 32 000 runs at 113-120 steps/s on one thread, and
+# sampling the tensor makes it 2.2 times as long: docs/benchmarks.md).
+DURATION = ("With the defaults (scene model-b, N 4000, dt 0.01, 5 rates of 400 time units and 800 for "
+            "Green–Kubo, one thread) a run takes about 10-15 minutes per scene on one core (an estimate "
+            "from the measured step rates, not a timed run); the time grows with --particles times the "
+            "total time (--nemd-time per rate, --gk-time, --equilibrate per run) over --dt, and with each "
+            "--scene. --quick takes seconds; --reanalyse, no runs, seconds.")
+
 # --quick (options.add_quick)
 QUICK = dict(particles=300, rates=[0.5], nemd_time=2.0, gk_time=4.0, equilibrate=0.5, frame_every=0.5,
              gk_max_lag=0.5, segments=4)
 
 
 def _parser():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = options.parser("viscosity", __doc__.split("\n\n")[0], DURATION)
     add = parser.add_argument
     add("--scene", nargs="+", default=["model-b"], choices=sorted(SCENES),
         help="model-b: rho 4, a 25; gw-fluid: Groot–Warren's rho 3, a 25 (gamma 4.5 both)")
     add("--integrator", default="GW", help="a name from openmmdpd.catalog (GW, S1, Lowe, PairOU, ...)")
     add("--dt", type=float, default=0.01, help="time step (ps = reduced time)")
-    add("-N", "--particles", type=int, default=4000)
+    add("-N", "--particles", type=int, default=4000, help="N")
     add("--rates", type=float, nargs="*", default=[0.05, 0.1, 0.2, 0.3, 0.5], help="shear rates (1/ps) of the NEMD sweep")
     add("--nemd-time", type=float, default=400.0, help="time sampled at each rate")
     add("--gk-time", type=float, default=800.0, help="time sampled at equilibrium for Green–Kubo (0: none)")
@@ -337,9 +345,9 @@ def _parser():
     add("--gk-max-lag", type=float, default=10.0, help="longest lag time of the correlation")
     add("--segments", type=int, default=8, help="independent segments giving the Green–Kubo error")
     options.add_quick(parser, QUICK)
-    add("--platform", default="CPU")
-    add("--threads", type=int, default=1)
-    add("--seed", type=int, default=2024)
+    add("--platform", default="CPU", help="OpenMM platform")
+    add("--threads", type=int, default=1, help="CPU platform threads")
+    add("--seed", type=int, default=2024, help="seed of the start and of the integrator")
     add("--out", default=os.path.join("results", "viscosity"), help="output folder")
     add("--quiet", action="store_true", help="no progress lines")
     add("--reanalyse", action="store_true", help="no runs: rewrite the outputs from --out's nemd.csv and saved series")

@@ -258,3 +258,11 @@ def write_report(args, nemd, gk, seconds):
               "`temperature.png` (peculiar kT against rate). Data: `nemd.csv`, `gk.csv`, `gk_running.csv`.", ""]
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write("\n".join(lines))
+
+
+if __name__ == "__main__":
+    from .options import not_a_command
+    not_a_command("viscosity_report",
+                  "It writes the report and charts of `python3 -m openmmdpd.viscosity`, which runs them; `python3 -m "
+                  "openmmdpd.viscosity --reanalyse --out FOLDER` rewrites a finished run's report in seconds (see its "
+                  "--help).")

@@ -1,0 +1,75 @@
+"""What `python3 -m openmmdpd.TOOL --help` tells a new user: what the tool does, roughly how long
+a run with the defaults takes, and every option's default; a library module run as a command
+says what to run instead."""
+import argparse
+import os
+import subprocess
+import sys
+
+import pytest
+
+import openmmdpd
+from openmmdpd import bench, compare, options, report, viscosity
+
+PARSERS = {"compare": compare._parser, "viscosity": viscosity._parser, "bench": bench._parser,
+           "report": report._parser}
+LIBRARIES = {"viscosity_report": "openmmdpd.viscosity", "staggered": "openmmdpd.bench --staggered",
+             "shear": "openmmdpd.viscosity"}
+
+
+def run_module(module, *args):
+    path = [os.path.dirname(os.path.dirname(openmmdpd.__file__))] + os.environ.get("PYTHONPATH", "").split(os.pathsep)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in path if p), COLUMNS="100")
+    return subprocess.run([sys.executable, "-m", f"openmmdpd.{module}", *args], env=env, capture_output=True,
+                          text=True, timeout=120)
+
+
+@pytest.mark.parametrize("name", list(PARSERS))
+def test_help_gives_every_default_and_the_run_time(name):
+    parser = PARSERS[name]()
+    assert parser.prog == f"python3 -m openmmdpd.{name}"
+    assert any(word in parser.description for word in ("minute", "seconds")), parser.description
+    formatter = parser._get_formatter()
+    for action in parser._actions:
+        default = action.default
+        if not action.option_strings or default in (None, False, argparse.SUPPRESS):
+            continue
+        assert action.help, f"{action.option_strings} has no help, so --help would not show its default"
+        shown = formatter._get_help_string(action) % dict(vars(action), prog=parser.prog)
+        assert "default" in shown, f"{action.option_strings}: {shown}"
+    text = " ".join(parser.format_help().split())
+    assert "show this help message and exit" in text
+
+
+def test_defaults_are_shown_as_typed():
+    parser = argparse.ArgumentParser(formatter_class=options.HelpFormatter)
+    parser.add_argument("--dts", type=float, nargs="+", default=[0.02, 0.1], help="time steps")
+    parser.add_argument("--share", type=float, default=0.5, help="a 50%% share")
+    parser.add_argument("--integrators", nargs="+", help="all unless given")
+    parser.add_argument("--quiet", action="store_true", help="no progress")
+    text = " ".join(parser.format_help().split())
+    assert "time steps (default: 0.02 0.1)" in text and "a 50% share (default: 0.5)" in text
+    assert "all unless given --quiet" in text and "no progress" in text and "None" not in text
+
+
+def test_compare_help_from_the_command_line():
+    result = run_module("compare", "--help")
+    assert result.returncode == 0, result.stderr
+    text = " ".join(result.stdout.split())
+    assert "about 8 minutes on 2 cores" in text and "(default: 0.02 0.03 0.04 0.06 0.1 0.15)" in text
+    assert "--quick a run of seconds for CI: --particles 500" in text
+
+
+@pytest.mark.parametrize("module", list(LIBRARIES))
+def test_a_library_module_says_what_to_run_instead(module):
+    result = run_module(module, "--help")
+    assert result.returncode == 0, result.stderr
+    assert "is a library module, not a command" in result.stdout
+    assert LIBRARIES[module] in " ".join(result.stdout.split())
+    result = run_module(module)
+    assert result.returncode == 2 and "not a command" in result.stderr
+
+
+def test_report_names_what_is_missing():
+    result = run_module("report")
+    assert result.returncode == 2 and "OUT.png, RESULTS.csv" in result.stderr
