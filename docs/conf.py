@@ -1,6 +1,9 @@
 """Sphinx configuration of the openmm-dpd documentation (built by scripts/docs.sh)."""
 import os
 import re
+import sys
+
+from sphinx.errors import ConfigError
 
 here = os.path.dirname(os.path.abspath(__file__))
 
@@ -19,6 +22,7 @@ version = release = _project_version()
 extensions = [
     "myst_parser",
     "sphinx.ext.mathjax",
+    "sphinx.ext.autodoc",
     "breathe",
 ]
 
@@ -70,6 +74,9 @@ breathe_default_members = ("members", "undoc-members")
 # them stay plain text.
 nitpick_ignore_regex = [
     ("cpp:identifier", r"OpenMM(::.*)?"),
+    # The same in Python: the base classes autodoc shows (openmm.openmm.Integrator, Force)
+    # and the exception that the functions raise (openmm.OpenMMException).
+    (r"py:(class|exc)", r"openmm(\..*)?"),
 ]
 nitpick_ignore = [
     # Doxygen links the word "OpenMM" in comments to OpenMM's namespace, which has no page here.
@@ -82,4 +89,102 @@ nitpick_ignore = [
     # keeps Sphinx from declaring the enumerator there.  The enumerator is documented, under
     # its enum PressurePart.
     ("cpp:identifier", "PressureTotal"),
+    # SWIG writes a C++ default argument as ":type part: int, optional", and the Python
+    # domain takes each word of a :type: field for a class.
+    ("py:class", "optional"),
 ]
+
+# --- Python API through autodoc ---------------------------------------------------------------
+# autodoc imports `openmmdpd`, which needs the compiled module (_dpdplugin, the SWIG proxies in
+# dpdplugin.py, the kernel plugins): the build's package, $OPENMMDPD_PYTHON_PATH if set (as
+# scripts/docs.sh sets it), else <repo>/build/python.  Without it the site is not built: mocked
+# imports would give the Python reference pages without a single class's methods, and
+# nothing would say so.
+_package_parent = os.path.abspath(os.environ.get("OPENMMDPD_PYTHON_PATH")
+                                  or os.path.join(here, "..", "build", "python"))
+if os.path.isdir(os.path.join(_package_parent, "openmmdpd")):
+    sys.path.insert(0, _package_parent)
+try:
+    import openmmdpd  # noqa: E402,F401
+    import openmmdpd.dpdplugin  # noqa: E402,F401  (the source tree's package has no such module)
+except ImportError as error:
+    raise ConfigError(
+        f"the Python API reference (docs/api/python*.md) needs the built package openmmdpd, which did not "
+        f"import from {_package_parent} ({error}). Build the plugin first (bash scripts/build.sh), or set "
+        f"OPENMMDPD_PYTHON_PATH to the folder that holds a built openmmdpd/.") from error
+
+autodoc_default_options = {
+    # SWIG's proxies give every class the property `thisown` (who deletes the C++ object):
+    # plumbing, not API.
+    "exclude-members": "thisown",
+}
+autodoc_member_order = "bysource"
+# A class's entry holds its constructor's parameters too (SWIG documents them on __init__).
+autoclass_content = "both"
+# Signatures as Python shows them (SWIG writes `def getTemperature(self)`): no type hints to
+# resolve, so -n has nothing to chase in them.
+autodoc_typehints = "none"
+
+
+# SWIG's docstrings are the headers' Doxygen comments, plain text rather than
+# reStructuredText: a "- item" list straight after a line of text, formulas indented as a
+# block, |x| and * as maths.  Read as RST they are errors and wrong markup, so the prose of
+# every docstring of the SWIG module is made RST here (its :param:/:type: fields, which
+# SWIG writes as RST, are kept): special characters escaped, a blank line around each list,
+# and an indented block after a blank line as a literal block.  The Python modules written
+# by hand (openmmdpd/*.py) are RST already and pass unchanged.
+_SWIG_MODULE = "openmmdpd.dpdplugin"
+_FIELD = re.compile(r"^(:(?:param|type|rtype|return|returns|raises?)\b[^:]*:)(.*)$")
+_BULLET = re.compile(r"^- ")
+
+
+def _rst_text(text):
+    text = text.replace("\\", "\\\\")
+    text = re.sub(r"([*|`])", r"\\\1", text)
+    return re.sub(r"(?<=\w)_(?!\w)", r"\\_", text)  # name_ is a reference
+
+
+def _swig_docstring_as_rst(app, what, name, obj, options, lines):
+    if getattr(obj, "__module__", None) != _SWIG_MODULE or not lines:
+        return
+    out, in_list, in_literal = [], False, False
+    for line in lines:
+        stripped, indent = line.strip(), len(line) - len(line.lstrip())
+        previous = out[-1] if out else ""
+        if not stripped:
+            out.append("")
+            continue
+        if in_literal and indent > 0:
+            out.append(line)
+            continue
+        in_literal = False
+        field = _FIELD.match(line)
+        if field:
+            if previous and not _FIELD.match(previous) and not previous.startswith(" "):
+                out.append("")
+            out.append(field.group(1) + _rst_text(field.group(2)))
+            in_list = False
+            continue
+        if _BULLET.match(line):
+            if previous and not in_list:
+                out.append("")
+            in_list = True
+            out.append(line[:2] + _rst_text(line[2:]))
+            continue
+        if in_list and indent > 0:
+            out.append(line[:indent] + _rst_text(line[indent:]))  # a list item goes on
+            continue
+        if indent > 0 and not previous:
+            # a block set off by indentation (formulas): literal, as written
+            out += ["::", "", line]
+            in_literal, in_list = True, False
+            continue
+        if in_list and previous:
+            out.append("")  # the list ends
+        in_list = False
+        out.append(_rst_text(line))
+    lines[:] = out
+
+
+def setup(app):
+    app.connect("autodoc-process-docstring", _swig_docstring_as_rst)

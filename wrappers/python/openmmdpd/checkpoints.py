@@ -14,16 +14,10 @@ def load_checkpoint(target, checkpoint):
     OpenMM's part of the file before the integrator reads its part, so after a refusal there
     the Context holds the refused file's positions and velocities.
 
-    Parameters
-    ----------
-    target : openmm.app.Simulation or openmm.Context
-    checkpoint : bytes, a file name, or a binary file object
-        What ``Context.createCheckpoint()`` or ``Simulation.saveCheckpoint()`` wrote.
-
-    Raises
-    ------
-    openmm.OpenMMException
-        If the checkpoint is refused; its message says why.
+    :param target: the ``openmm.app.Simulation`` or ``openmm.Context`` to load into
+    :param checkpoint: what ``Context.createCheckpoint()`` or ``Simulation.saveCheckpoint()``
+        wrote: bytes, a file name, or a binary file object
+    :raises openmm.OpenMMException: if the checkpoint is refused; its message says why
     """
     context = getattr(target, "context", target)
     if isinstance(checkpoint, (str, os.PathLike)):

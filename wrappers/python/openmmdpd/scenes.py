@@ -21,10 +21,11 @@ Scene.__doc__ = """A ready-to-simulate system.
 chain_particles: tuple of chains, each a tuple of particle indices in bond order
 (empty for scenes without chains)."""
 
+#: The names of the scenes build_scene() builds.
 SCENES = ("ideal", "soft", "polymer", "fene-chains", "wlc-shear")
 
-# The force group of the stiff polymer forces (FENE, WCA) in the scenes made for the
-# staggered integrator; StaggeredDPDIntegrator's default fastForceGroups is this group.
+#: The force group of the stiff polymer forces (FENE, WCA) in the scenes made for the
+#: staggered integrator; StaggeredDPDIntegrator's default fastForceGroups is this group.
 FAST_FORCE_GROUP = 1
 
 
@@ -115,7 +116,7 @@ def fene_bond_force(bonds, k=7.0, rmax=3.0):
     return force
 
 
-# The global parameter of wlc_bond_force(..., lp_ratio=True): effective over true persistence length.
+#: The global parameter of wlc_bond_force(..., lp_ratio=True): effective over true persistence length.
 WLC_LP_RATIO = "lpRatio"
 
 
@@ -323,8 +324,8 @@ def fene_chains_scene(chain_length=20, num_chains=4, num_particles=4000, density
     return scene
 
 
-# lambda-phage DNA as Symeonidis and Karniadakis 2006, §3, model it (after Underhill and Doyle):
-# contour length and persistence length in micrometres.
+#: lambda-phage DNA as Symeonidis and Karniadakis 2006, §3, model it (after Underhill and Doyle):
+#: contour length and persistence length in micrometres.
 LAMBDA_DNA = {"contour_length": 21.1, "persistence_length": 0.053}
 
 
