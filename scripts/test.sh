@@ -4,7 +4,8 @@
 # against OpenMM 8 in build-openmm8/.  OpenMM 8 is $OPENMM8_DIR, else ../shared/openmm-8.5
 # next to the repository; without one the second run is skipped, saying so.  Long statistical
 # runs are marked `slow` and are left to the benchmark tool.  Then it builds the documentation
-# site (scripts/docs.sh), which must have no warning.
+# site (scripts/docs.sh), which must have no warning, and checks an install of build/
+# (scripts/install_test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,6 +33,13 @@ find_openmm8() {
 
 bash scripts/build.sh
 run_suite "OpenMM 7.7 (Debian)" build
+echo "=== install test (OpenMM 7.7) ==="
+if bash scripts/install_test.sh build; then
+  summary+=("install test (cmake --install, find_package, Python from the prefix): passed")
+else
+  summary+=("install test: FAILED (scripts/install_test.sh)")
+  failed=1
+fi
 
 omm8=$(find_openmm8)
 if [ -n "$omm8" ]; then
