@@ -49,8 +49,8 @@ function(openmmdpd_add_gpu_plugin name prefix note)
   string(TOLOWER "${name}" lower)
   set(target OpenMMDPD${name})
   add_library(${target} SHARED platforms/${lower}/src/${prefix}DPDKernelFactory.cpp)
-  target_include_directories(${target} PUBLIC "${CMAKE_SOURCE_DIR}/platforms/${lower}/include"
-                             PRIVATE "${OPENMM_INCLUDE_DIR}/openmm/${lower}")
+  target_include_directories(${target} PUBLIC "${CMAKE_SOURCE_DIR}/platforms/${lower}/include")
+  target_include_directories(${target} SYSTEM PRIVATE "${OPENMM_INCLUDE_DIR}/openmm/${lower}")
   target_link_libraries(${target} PRIVATE ${OPENMMDPD_WHOLE_COMMON} "${OPENMM_${upper}_LIBRARY}")
   set_target_properties(${target} PROPERTIES
     BUILD_RPATH "$ORIGIN;${OPENMM_PLUGIN_DIR}" INSTALL_RPATH "$ORIGIN;${OPENMM_PLUGIN_DIR}")

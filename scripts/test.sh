@@ -19,8 +19,11 @@ run_suite() {
   (cd "$dir" && ctest --output-on-failure -L fast) | tee "$dir/fast-suite.log" || status=$?
   local ctest_count pytest_count
   ctest_count=$(grep -E "tests passed, .* tests failed out of" "$dir/fast-suite.log" || echo "no ctest summary")
-  pytest_count=$(grep -E "^[0-9]+ (passed|failed).* in [0-9.]+s" "$dir/Testing/Temporary/LastTest.log" | tail -1 || echo "no pytest summary")
-  summary+=("$label: ctest (every C++ test, layout, pytest as one): $ctest_count; pytest: $pytest_count")
+  # pytest runs once per test file: add up the files' closing lines.
+  pytest_count=$(grep -E "^[0-9]+ (passed|failed|deselected).* in [0-9.]+s" "$dir/Testing/Temporary/LastTest.log" |
+    grep -oE "[0-9]+ (passed|failed|deselected)" |
+    awk '{n[$2] += $1} END {printf "%d passed, %d failed, %d deselected (slow)", n["passed"], n["failed"], n["deselected"]}')
+  summary+=("$label: ctest (every C++ test, layout, each pytest file): $ctest_count; pytest: $pytest_count")
   [ "$status" -eq 0 ] || failed=1
 }
 
