@@ -216,54 +216,36 @@ def checkpoints_report():
 # ---------------------------------------------------------------- shear
 
 def bonded_kinds():
-    """(kind, molecule size, holds a distance, Force joining one molecule's particles (offset o))."""
-    def harmonic(o):
-        f = openmm.HarmonicBondForce()
-        f.addBond(o, o + 1, 0.5, 50.0)
-        return f
-
-    def custom_bond(o):
-        f = openmm.CustomBondForce("25*(r-0.5)^2")
-        f.addBond(o, o + 1, [])
-        return f
-
-    def compound(o):
-        f = openmm.CustomCompoundBondForce(2, "25*(distance(p1,p2)-0.5)^2")
-        f.addBond([o, o + 1], [])
-        return f
-
-    def centroid(o):
-        f = openmm.CustomCentroidBondForce(2, "25*(distance(g1,g2)-0.5)^2")
-        f.addGroup([o, o + 1])
+    """(kind, molecule size, whether its term holds a distance, the empty Force, and a function
+    adding to that Force the term that joins the molecule starting at particle o)."""
+    def centroid_bond(f, o):
+        first = f.addGroup([o, o + 1])
         f.addGroup([o + 2, o + 3])
-        f.addBond([0, 1], [])
-        return f
+        f.addBond([first, first + 1], [])
 
-    def angle(o):
-        f = openmm.HarmonicAngleForce()
-        f.addAngle(o, o + 1, o + 2, 2.0, 10.0)
-        return f
-
-    def torsion(o):
-        f = openmm.PeriodicTorsionForce()
-        f.addTorsion(o, o + 1, o + 2, o + 3, 1, 0.0, 2.0)
-        return f
-
-    def cmap(o):
+    def cmap():
         f = openmm.CMAPTorsionForce()
         f.addMap(2, [0.0, 1.0, 1.0, 0.0])
-        f.addTorsion(0, o, o + 1, o + 2, o + 3, o + 1, o + 2, o + 3, o + 4)
         return f
 
-    return [("HarmonicBondForce", 2, True, harmonic), ("CustomBondForce", 2, True, custom_bond),
-            ("CustomCompoundBondForce", 2, True, compound), ("CustomCentroidBondForce", 4, False, centroid),
-            ("HarmonicAngleForce", 3, False, angle), ("PeriodicTorsionForce", 4, False, torsion),
-            ("CMAPTorsionForce", 5, False, cmap)]
+    return [
+        ("HarmonicBondForce", 2, True, openmm.HarmonicBondForce, lambda f, o: f.addBond(o, o + 1, 0.5, 50.0)),
+        ("CustomBondForce", 2, True, lambda: openmm.CustomBondForce("25*(r-0.5)^2"),
+         lambda f, o: f.addBond(o, o + 1, [])),
+        ("CustomCompoundBondForce", 2, True, lambda: openmm.CustomCompoundBondForce(2, "25*(distance(p1,p2)-0.5)^2"),
+         lambda f, o: f.addBond([o, o + 1], [])),
+        ("CustomCentroidBondForce", 4, False, lambda: openmm.CustomCentroidBondForce(2, "25*(distance(g1,g2)-0.5)^2"),
+         centroid_bond),
+        ("HarmonicAngleForce", 3, False, openmm.HarmonicAngleForce, lambda f, o: f.addAngle(o, o + 1, o + 2, 2.0, 10.0)),
+        ("PeriodicTorsionForce", 4, False, openmm.PeriodicTorsionForce,
+         lambda f, o: f.addTorsion(o, o + 1, o + 2, o + 3, 1, 0.0, 2.0)),
+        ("CMAPTorsionForce", 5, False, cmap, lambda f, o: f.addTorsion(0, o, o + 1, o + 2, o + 3, o + 1, o + 2, o + 3, o + 4)),
+    ]
 
 
-def sheared_molecules(kind, size, make, n=180, box=4.0, seed=7):
-    """Molecules of `size` particles (one Force of the kind holding them all) making up half of a
-    fluid of n particles, and their particle lists."""
+def sheared_molecules(size, make_force, add_term, n=180, box=4.0, seed=7):
+    """Molecules of `size` particles, joined by terms of one Force, making up half of a fluid of
+    n particles, and their particle lists."""
     system = openmm.System()
     system.setDefaultPeriodicBoxVectors((box, 0, 0), (0, box, 0), (0, 0, box))
     rng = np.random.default_rng(seed)
@@ -271,44 +253,21 @@ def sheared_molecules(kind, size, make, n=180, box=4.0, seed=7):
     groups = []
     for i in range(n):
         system.addParticle(1.0)
-    force = None
+    force = make_force()
     for m in range(n // 2 // size):
         o = m * size
         for k in range(1, size):
             positions[o + k] = positions[o + k - 1] + rng.normal(0, 0.3, 3)
-        piece = make(o)
-        force = piece if force is None else merge(force, piece)
+        add_term(force, o)
         groups.append(list(range(o, o + size)))
     system.addForce(force)
     system.addForce(openmmdpd.DPDSoftRepulsionForce(25.0, 1.0))
     return system, positions, groups
 
 
-def merge(force, piece):
-    """Add piece's single term to force (both of one class)."""
-    if isinstance(force, openmm.HarmonicBondForce):
-        force.addBond(*piece.getBondParameters(0))
-    elif isinstance(force, openmm.CustomBondForce):
-        force.addBond(*piece.getBondParameters(0))
-    elif isinstance(force, openmm.CustomCompoundBondForce):
-        force.addBond(*piece.getBondParameters(0))
-    elif isinstance(force, openmm.CustomCentroidBondForce):
-        first = force.getNumGroups()
-        for g in range(piece.getNumGroups()):
-            force.addGroup(piece.getGroupParameters(g)[0])
-        force.addBond([first, first + 1], [])
-    elif isinstance(force, openmm.HarmonicAngleForce):
-        force.addAngle(*piece.getAngleParameters(0))
-    elif isinstance(force, openmm.PeriodicTorsionForce):
-        force.addTorsion(*piece.getTorsionParameters(0))
-    else:
-        force.addTorsion(*piece.getTorsionParameters(0))
-    return force
-
-
-def shear_run(kind, size, holds_distance, make, integrator_name, rate, platform, steps):
+def shear_run(size, make_force, add_term, integrator_name, rate, platform, steps):
     """(whether every molecule stayed whole, its largest internal distance, boundary crossings)."""
-    system, positions, groups = sheared_molecules(kind, size, make)
+    system, positions, groups = sheared_molecules(size, make_force, add_term)
     if integrator_name == "GW":
         integrator = openmmdpd.DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, DT)
     else:
@@ -350,13 +309,13 @@ def shear_report(steps, reference_steps):
              "| bonded term | integrator | platform | rate | steps | net crossings | whole | largest distance |",
              "|---|---|---|---|---|---|---|---|"]
     all_whole = True
-    for kind, size, holds, make in bonded_kinds():
+    for kind, size, holds, make_force, add_term in bonded_kinds():
         for integrator_name in ("GW", "S1"):
             for platform in ("Reference", "CPU"):
                 for rate in (0.1, 1.0):
                     started = time.time()
                     n = steps if platform == "CPU" else reference_steps
-                    whole, distance, crossings = shear_run(kind, size, holds, make, integrator_name, rate, platform, n)
+                    whole, distance, crossings = shear_run(size, make_force, add_term, integrator_name, rate, platform, n)
                     ok = whole and (not holds or distance <= 1.6)
                     all_whole &= ok
                     shown = f"{distance:.2f}" if holds else f"({distance:.0f})"
