@@ -29,8 +29,9 @@ namespace DPDPlugin {
  * - LoweAndersen: velocity Verlet with the conservative forces and, once at the end of the
  *   outer step, Lowe-Andersen's pair thermalisation with probability Gamma Dt (Table 2).
  *   The friction parameters are then the collision rates Gamma (1/ps), and Gamma Dt must be
- *   <= 1.  The pairs thermalised are those of the outer step's single pair search, at the
- *   positions the slow forces were evaluated at.
+ *   <= 1.  The pairs thermalised, their distances and directions are those at the
+ *   end-of-step positions (the polymer's after its sub-cycle), searched for there, not at
+ *   the provisional polymer positions the slow forces were evaluated at.
  *
  * Relaxation parameters (each in [-1, 1]; 0 uses the prediction, 1 the old value):
  * mu for the polymer positions the slow forces are evaluated at, a for the polymer
