@@ -5,6 +5,14 @@ averages of an equilibrium ensemble at the target temperature: <FD.v>, <FD.FD> a
 (FR without 1/sqrt(dt)).  calibrate_den_otter_clarke() measures them on the user's System
 in a short run at a small step, where the scheme is plain DPD leap-frog to O(dt);
 ideal_gas_averages() gives them in closed form for the ideal gas.
+
+A library module, not a command: the averages belong to the user's System (its forces,
+density, temperature, friction and cutoffs), so they are measured from Python, with
+openmmdpd.calibrate_den_otter_clarke (exported by the package; docs/guide/integrators.md).
+Its other users: catalog.py gives den Otter-Clarke ("OC") the Table III averages below on
+the scenes Nikunen et al. calibrated, for the tools that compare integrators (`python3 -m
+openmmdpd.compare`, `openmmdpd.bench`), and the tests check both functions against the
+ideal gas and Table III.  `python3 -m openmmdpd.calibration` says so and what to run instead.
 """
 import copy
 import math
@@ -150,3 +158,13 @@ def _sums(integrator):
     fd_v, fd_fd, fr_fr, count = integrator.getMeasuredSums()
     return np.array([fd_v.value_in_unit(_POWER), fd_fd.value_in_unit(_FORCE2), fr_fr.value_in_unit(_FORCE2_TIME), count],
                     dtype=float)
+
+
+if __name__ == "__main__":
+    from .options import not_a_command
+    not_a_command("calibration",
+                  "It measures den Otter-Clarke's averages on your own System from Python: "
+                  "openmmdpd.calibrate_den_otter_clarke(system, positions, integrator) (about 30 s on 2 cores for "
+                  "4000 particles with the defaults; see docs/guide/integrators.md).  `python3 -m openmmdpd.compare` "
+                  "runs den Otter-Clarke (\"OC\") with Nikunen et al.'s averages on the scenes they calibrated "
+                  "(see its --help).")

@@ -14,7 +14,7 @@ from openmmdpd import bench, compare, options, report, viscosity
 PARSERS = {"compare": compare._parser, "viscosity": viscosity._parser, "bench": bench._parser,
            "report": report._parser}
 LIBRARIES = {"viscosity_report": "openmmdpd.viscosity", "staggered": "openmmdpd.bench --staggered",
-             "shear": "openmmdpd.viscosity"}
+             "shear": "openmmdpd.viscosity", "calibration": "openmmdpd.calibrate_den_otter_clarke"}
 
 
 def run_module(module, *args):
