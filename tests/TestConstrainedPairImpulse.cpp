@@ -133,6 +133,30 @@ TEST(ConstrainedPairImpulse, ShardlowOneKickIsTheTwoHalvesToRounding) {
     }
 }
 
+// A rod of three collinear particles held by all three distances: K has rank 2 (a redundancy
+// that is not a repeated constraint).  Along the rod particle 0 moves with the whole rod, across
+// it alone (the constraints are parallel), as for the dimer.
+TEST(ConstrainedPairImpulse, CollinearRodWithARedundantConstraintHasTheClosedFormReducedMass) {
+    System system;
+    for (double m : {1.0, 2.0, 4.0, 3.0})
+        system.addParticle(m);
+    const Vec3 axis = Vec3(0.267, 0.534, 0.802) / std::sqrt(0.267 * 0.267 + 0.534 * 0.534 + 0.802 * 0.802);
+    const std::vector<Vec3> r = {Vec3(0.1, 0.2, 0.3), Vec3(0.1, 0.2, 0.3) + axis * 0.37, Vec3(0.1, 0.2, 0.3) + axis * 1.13,
+                                 Vec3(0.9, -0.4, 0.5)};
+    system.addConstraint(0, 1, 0.37);
+    system.addConstraint(1, 2, 0.76);
+    system.addConstraint(0, 2, 1.13);
+    ConstrainedPairImpulse impulse(system);
+    impulse.prepare(r);
+    const PairGeometry p = pair(r, 0, 3);
+    const double along = p.e.dot(axis);
+    const double expected = 1 / 3.0 + along * along / 7.0 + (1 - along * along) / 1.0;
+    EXPECT_NEAR(impulse.inverseReducedMass(p), expected, 1e-12);
+    std::vector<Vec3> v(r.size());
+    impulse.apply(p, 0.7, v);
+    EXPECT_LT(constraintVelocity(system, r, v), 1e-12);
+}
+
 TEST(ConstrainedPairImpulse, FreeParticlesHaveTheirOwnReducedMass) {
     System system;
     system.addParticle(2.0);

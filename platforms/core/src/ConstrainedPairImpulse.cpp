@@ -59,51 +59,34 @@ void ConstrainedPairImpulse::prepare(const std::vector<Vec3>& positions) {
 void ConstrainedPairImpulse::factor(Cluster& cluster) const {
     // K = C M^-1 C^T, C's row k being +c_k at a_k and -c_k at b_k.
     const std::vector<Constraint>& c = cluster.constraints;
-    const size_t n = c.size();
-    std::vector<double>& L = cluster.lower;
-    std::vector<double>& D = cluster.pivot;
-    L.assign(n * n, 0.0);
-    D.assign(n, 0.0);
-    for (size_t k = 0; k < n; k++)
-        for (size_t l = 0; l <= k; l++) {
+    const Eigen::Index n = (Eigen::Index) c.size();
+    Eigen::MatrixXd K(n, n);
+    for (Eigen::Index k = 0; k < n; k++)
+        for (Eigen::Index l = 0; l <= k; l++) {
             const double shared = (c[k].a == c[l].a ? inverseMasses[c[k].a] : 0) + (c[k].b == c[l].b ? inverseMasses[c[k].b] : 0) -
                                   (c[k].a == c[l].b ? inverseMasses[c[k].a] : 0) - (c[k].b == c[l].a ? inverseMasses[c[k].b] : 0);
-            L[k * n + l] = shared * c[k].direction.dot(c[l].direction);
+            K(k, l) = K(l, k) = shared * c[k].direction.dot(c[l].direction);
         }
-    // In place L D L^T; a pivot that vanishes against its diagonal is a redundant constraint.
-    for (size_t k = 0; k < n; k++) {
-        const double diagonal = L[k * n + k];
-        double d = diagonal;
-        for (size_t m = 0; m < k; m++)
-            d -= L[k * n + m] * L[k * n + m] * D[m];
-        D[k] = (d > 1e-12 * diagonal ? d : 0.0);
-        L[k * n + k] = 1;
-        for (size_t l = k + 1; l < n; l++) {
-            double s = L[l * n + k];
-            for (size_t m = 0; m < k; m++)
-                s -= L[l * n + m] * L[k * n + m] * D[m];
-            L[l * n + k] = (D[k] > 0 ? s / D[k] : 0.0);
-        }
-    }
+    cluster.factors.compute(K);
+    // K is semidefinite: a redundant constraint leaves a pivot of zero or rounding error against
+    // the largest (LDLT pivots the largest first); its share of lambda is 0, not 0/0 or noise.
+    const Eigen::VectorXd& D = cluster.factors.vectorD();
+    const double tolerance = 1e-12 * D.cwiseAbs().maxCoeff();
+    cluster.inversePivots = D.unaryExpr([tolerance](double d) { return d > tolerance ? 1 / d : 0.0; });
 }
 
-void ConstrainedPairImpulse::solve(const Cluster& cluster, std::vector<double>& x) const {
-    const size_t n = x.size();
-    const std::vector<double>& L = cluster.lower;
-    for (size_t k = 0; k < n; k++)
-        for (size_t m = 0; m < k; m++)
-            x[k] -= L[k * n + m] * x[m];
-    for (size_t k = 0; k < n; k++)
-        x[k] = (cluster.pivot[k] > 0 ? x[k] / cluster.pivot[k] : 0.0);
-    for (size_t k = n; k-- > 0;)
-        for (size_t l = k + 1; l < n; l++)
-            x[k] -= L[l * n + k] * x[l];
+void ConstrainedPairImpulse::solve(const Cluster& cluster, Eigen::VectorXd& x) const {
+    x = cluster.factors.transpositionsP() * x;
+    cluster.factors.matrixL().solveInPlace(x);
+    x.array() *= cluster.inversePivots.array();
+    cluster.factors.matrixU().solveInPlace(x);
+    x = cluster.factors.transpositionsP().transpose() * x;
 }
 
 double ConstrainedPairImpulse::addClusterResponse(const Cluster& cluster, const PairGeometry& p) const {
     auto impulseAt = [&](int particle) { return particle == p.i ? p.e : particle == p.j ? -p.e : Vec3(); };
     const std::vector<Constraint>& c = cluster.constraints;
-    rhs.resize(c.size());
+    rhs.resize((Eigen::Index) c.size());
     for (size_t k = 0; k < c.size(); k++)
         rhs[k] = c[k].direction.dot(impulseAt(c[k].a) * inverseMasses[c[k].a] - impulseAt(c[k].b) * inverseMasses[c[k].b]);
     work = rhs;

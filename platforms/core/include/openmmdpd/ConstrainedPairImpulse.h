@@ -4,6 +4,7 @@
 #include "openmmdpd/PairParameters.h"
 #include "openmm/System.h"
 #include "openmm/Vec3.h"
+#include <Eigen/Dense>
 #include <utility>
 #include <vector>
 
@@ -45,18 +46,19 @@ private:
     };
     struct Cluster {
         std::vector<Constraint> constraints;
-        std::vector<double> lower, pivot;  // K = L D L^T, L unit lower triangular (row major)
+        Eigen::LDLT<Eigen::MatrixXd> factors;  // K = P^T L D L^T P
+        Eigen::VectorXd inversePivots;         // 1/D, 0 where D marks a redundant constraint
     };
     void factor(Cluster& cluster) const;
-    /** lambda = K^+ b by the factors (a pivot of 0 marks a redundant constraint). */
-    void solve(const Cluster& cluster, std::vector<double>& x) const;
+    /** lambda = K^+ b by the factors: the redundant constraints' share of lambda is 0. */
+    void solve(const Cluster& cluster, Eigen::VectorXd& x) const;
     /** Adds the cluster's constraint response to the impulse (e at i, -e at j); returns b.lambda. */
     double addClusterResponse(const Cluster& cluster, const PairGeometry& p) const;
     std::vector<double> inverseMasses;
     std::vector<int> clusterOf;  // -1 for a particle without constraints
     std::vector<Cluster> clusters;
     mutable std::vector<std::pair<int, OpenMM::Vec3>> spread;  // particle, velocity change per unit J
-    mutable std::vector<double> rhs, work;  // b and lambda of one cluster
+    mutable Eigen::VectorXd rhs, work;  // b and lambda of one cluster
 };
 
 /** The impulse on two free particles: J/m_i e at i, -J/m_j e at j. */
