@@ -9,7 +9,7 @@ to DPD-VV), ours next to the paper's, written to docs/results/paper000/.
 Every run goes through the main job's run_one (openmmdpd.compare: the same observables, pymbar
 standard errors and strict stability criteria), all of a scene's from one start equilibrated with
 Langevin (compare.equilibrated_positions), each sampling the same simulated time; the costs are
-one interleaved run of openmmdpd.bench's measure.  Results go to runs-SCENE.csv, gr-soft.csv and
+one interleaved run of openmmdpd.bench_timing's measure.  Results go to runs-SCENE.csv, gr-soft.csv and
 costs.csv; the charts and tables are drawn from those (--report-only: only that).  The tables in
 README.md are replaced between its "generated" markers; the text around them is written by hand.
 """
@@ -27,7 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from openmmdpd import bench, catalog, compare, scenes  # noqa: E402
+from openmmdpd import bench_timing, catalog, compare, scenes  # noqa: E402
 
 # The paper's integrators (GW at lambda 1/2 and 0.65 as the usual VV baselines, S2, and Lowe
 # also at the paper's Gamma) and our middle scheme.
@@ -149,8 +149,8 @@ def measure_costs(args):
     made = factories("soft")
     settings = SimpleNamespace(platform="CPU", dt=0.05, warmup=10, steps=None, seconds=args.cost_seconds,
                                repeats=args.repeats)
-    rates = bench.measure(scenes.soft_scene(num_particles=args.particles), [(n, made[n]) for n in COST_NAMES],
-                          args.threads, settings)
+    rates = bench_timing.measure(scenes.soft_scene(num_particles=args.particles), [(n, made[n]) for n in COST_NAMES],
+                                 args.threads, settings)
     return {name: (1 / rate if isinstance(rate, float) and rate > 0 else float("nan")) for name, rate in rates.items()}
 
 
@@ -320,7 +320,7 @@ def generated_tables(runs, gr, costs, args):
         lines += ["### Table VI: coordination number Nc, model B", ""] + table_vi(runs["soft"], *gr) + [""]
     if costs:
         lines += [f"### Table VII: cost per step, model B, N = {args.particles}, dt = 0.05", "",
-                  f"Ours: one interleaved run of `openmmdpd.bench.measure`, best of {args.repeats} "
+                  f"Ours: one interleaved run of `openmmdpd.bench_timing.measure`, best of {args.repeats} "
                   f"(~{args.cost_seconds:g} s each), {args.threads} thread(s); SC-VV6 is SC-VV with the "
                   "paper's fixed six iterations (tolerance 0).", ""] + table_vii(costs) + [""]
     for scene_name, rows in runs.items():

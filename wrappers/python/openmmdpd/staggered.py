@@ -1,7 +1,7 @@
 """Runs of the time-staggered integrator on the `fene-chains` scene (Symeonidis and Karniadakis 2006, §5).
 
 Everything in reduced units (see units.py). `run_fene_chains` is what the benchmark
-(`python3 -m openmmdpd.bench --staggered`) and the statistical tests share: it times the
+(`python3 -m openmmdpd.bench staggered`) and the statistical tests share: it times the
 integration at equal simulated time and measures the chain and total <kT> and <Rg>.
 """
 import time
@@ -107,5 +107,5 @@ if __name__ == "__main__":
     from .options import not_a_command
     not_a_command("staggered",
                   "Its runs of StaggeredDPDIntegrator on the fene-chains scene are timed by `python3 -m openmmdpd.bench"
-                  " --staggered` (about a minute; see its --help), and called from Python as "
+                  " staggered` (about a minute; see its --help), and called from Python as "
                   "openmmdpd.staggered.run_fene_chains.")

@@ -1,13 +1,24 @@
-"""The bench's modes run and print one row per integrator, size and thread count; --scale's
-ratios agree with its rates; --memory reads a Context's resident memory."""
+"""The bench's modes run and print one row per integrator, size and thread count; scale's
+ratios agree with its rates; memory reads a Context's resident memory."""
 import numpy as np
 from pytest import approx
 
-from openmmdpd import bench
+from openmmdpd import bench, bench_copies, bench_memory, bench_scale, bench_threads, bench_timing
+
+
+def test_rates_table_against_langevin_and_the_soft_force_table(capsys):
+    bench.main(["rates", "--integrators", "GW", "Langevin", "--sizes", "500", "--threads", "1", "--seconds", "0.02",
+                "--repeats", "1", "--warmup", "2", "--soft-force"])
+    lines = capsys.readouterr().out.splitlines()
+    rows = [line.split() for line in lines[2:4]]
+    assert [row[:3] for row in rows] == [["500", "1", "GW"], ["500", "1", "Langevin"]]
+    assert float(rows[0][3]) > 0 and rows[1][4] == "1.00"
+    assert lines[6].split()[:4] == ["N", "threads", "what", "per"]
+    assert [line.split(",")[0].split()[2:] for line in lines[7:]] == [["force", "only"], ["GW", "step"]] * 2
 
 
 def test_shear_cost_is_measured_for_each_integrator(capsys):
-    bench.main(["--shear", "0.1", "--integrators", "GW", "S1", "--sizes", "500", "--threads", "1",
+    bench.main(["shear", "--rate", "0.1", "--integrators", "GW", "S1", "--sizes", "500", "--threads", "1",
                 "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
     rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:]]
     assert [row[:3] for row in rows] == [["GW", "500", "1"], ["S1", "500", "1"]]
@@ -15,13 +26,13 @@ def test_shear_cost_is_measured_for_each_integrator(capsys):
 
 
 def test_sentinel_cost_is_measured(capsys):
-    bench.main(["--sentinel", "--sizes", "500", "--threads", "1", "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
+    bench.main(["sentinel", "--sizes", "500", "--threads", "1", "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
     rows = capsys.readouterr().out.splitlines()[2:]
     assert len(rows) == 1 and rows[0].split()[:3] == ["GW", "500", "1"]
 
 
 def test_scale_table_ratios_agree_with_its_rates(capsys):
-    bench.main(["--scale", "--integrators", "GW", "S1", "Langevin", "--sizes", "500", "1000",
+    bench.main(["scale", "--integrators", "GW", "S1", "Langevin", "--sizes", "500", "1000",
                 "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
     lines = capsys.readouterr().out.splitlines()
     assert lines[1].split() == ["N", "threads", "integrator", "steps/s", "Mparticle-steps/s",
@@ -55,8 +66,8 @@ def test_scale_ratios_are_medians_of_the_rounds_interleaved_with_each_integrator
             return {"GW": [100.0, 10.0, 100.0], "Langevin": [200.0, 20.0, 180.0], "S1": [50.0, 2.5, 40.0]}
         return {"GW": [120.0, 100.0, 12.0], "Langevin": [150.0, 125.0, 15.0]}
 
-    monkeypatch.setattr(bench, "measure_group", fake_measure_group)
-    bench.main(["--scale", "--integrators", "S1", "GW", "Langevin", "--sizes", "500"])
+    monkeypatch.setattr(bench_scale, "measure_group", fake_measure_group)
+    bench.main(["scale", "--integrators", "S1", "GW", "Langevin", "--sizes", "500"])
     assert groups == [["GW", "Langevin"], ["GW", "Langevin", "S1"]]
     rows = {row[2]: row[3:] for row in (line.split() for line in capsys.readouterr().out.splitlines()[2:])}
     assert list(rows) == ["S1", "GW", "Langevin"]
@@ -67,7 +78,7 @@ def test_scale_ratios_are_medians_of_the_rounds_interleaved_with_each_integrator
 
 
 def test_thread_scaling_prints_each_thread_count(capsys):
-    bench.main(["--thread-scaling", "--integrators", "GW", "S1", "--sizes", "500", "--threads", "1", "2",
+    bench.main(["thread-scaling", "--integrators", "GW", "S1", "--sizes", "500", "--threads", "1", "2",
                 "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
     lines = capsys.readouterr().out.splitlines()
     assert lines[1].split() == ["N", "integrator", "threads", "steps/s", "speed-up"]
@@ -85,34 +96,34 @@ def test_copies_speedup_sums_the_copies_of_each_round():
     """Copy 0 alone at 100, 50, 90 steps/s; the two at once 80 + 90, 50 + 45, 85 + 90: ratios
     1.7, 1.9, 1.94, median 1.9."""
     rounds = {0: ([100.0, 50.0, 90.0], [80.0, 50.0, 85.0]), 1: ([], [90.0, 45.0, 90.0])}
-    assert bench.combine_copy_rounds(rounds, 2) == approx(1.9)
+    assert bench_copies.combine_copy_rounds(rounds, 2) == approx(1.9)
 
 
 def test_copies_speedup_reports_a_copy_that_failed_or_stopped():
-    assert bench.combine_copy_rounds({0: ([1.0], [1.0]), 1: "failed: no memory"}, 2) == "failed: no memory"
-    assert bench.combine_copy_rounds({0: ([1.0], [1.0])}, 2) == "failed: a copy stopped"
+    assert bench_copies.combine_copy_rounds({0: ([1.0], [1.0]), 1: "failed: no memory"}, 2) == "failed: no memory"
+    assert bench_copies.combine_copy_rounds({0: ([1.0], [1.0])}, 2) == "failed: a copy stopped"
 
 
 def test_thread_speedup_is_the_median_of_each_rounds_ratio(capsys, monkeypatch):
     """Round by round, not best against best: one thread's best round (100) and two threads'
     (170) would give 1.70; the rounds' ratios are 1.5, 1.9 and 1.89."""
-    monkeypatch.setattr(bench, "in_fresh_process", lambda function, *arguments: function(*arguments))
-    monkeypatch.setattr(bench, "thread_rates", lambda n, name, args: {1: [100.0, 50.0, 90.0], 2: [150.0, 95.0, 170.0]})
-    monkeypatch.setattr(bench, "copies_speedup", lambda n, name, copies, args: 1.95)
-    bench.main(["--thread-scaling", "--integrators", "S1"])
+    monkeypatch.setattr(bench_threads, "in_fresh_process", lambda function, *arguments: function(*arguments))
+    monkeypatch.setattr(bench_threads, "thread_rates", lambda n, name, args: {1: [100.0, 50.0, 90.0], 2: [150.0, 95.0, 170.0]})
+    monkeypatch.setattr(bench_copies, "copies_speedup", lambda n, name, copies, args: 1.95)
+    bench.main(["thread-scaling", "--integrators", "S1"])
     rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:4]]
     assert rows == [["256000", "S1", "1", "100.00", "1.00"], ["256000", "S1", "2", "170.00", "1.89"]]
 
 
 def test_resident_bytes_sees_an_allocation():
-    before = bench.resident_bytes()
+    before = bench_memory.resident_bytes()
     block = np.ones(64 << 20, dtype=np.uint8)  # 64 MiB, every page touched
-    assert bench.resident_bytes() - before >= 60 << 20
+    assert bench_memory.resident_bytes() - before >= 60 << 20
     del block
 
 
 def test_memory_table_counts_each_context_with_edpd_pairs(capsys):
-    bench.main(["--memory", "--integrators", "GW", "EDPD", "--sizes", "1000", "--memory-steps", "11"])
+    bench.main(["memory", "--integrators", "GW", "EDPD", "--sizes", "1000", "--memory-steps", "11"])
     lines = capsys.readouterr().out.splitlines()
     assert lines[1].split() == ["N", "integrator", "bytes/particle", "steps", "pair", "vars/particle"]
     (_, gw, gw_bytes, gw_steps, gw_pairs), (_, edpd, edpd_bytes, edpd_steps, edpd_pairs) = [
@@ -124,13 +135,13 @@ def test_memory_table_counts_each_context_with_edpd_pairs(capsys):
 
 
 def test_scale_table_on_opencl(capsys):
-    """--platform OpenCL measures there (POCL here: the numbers say nothing about a GPU)."""
+    """scale --platform OpenCL measures there (POCL here: the numbers say nothing about a GPU)."""
     import openmm
     import pytest
     names = {openmm.Platform.getPlatform(i).getName() for i in range(openmm.Platform.getNumPlatforms())}
     if "OpenCL" not in names:
         pytest.skip("OpenMM has no OpenCL platform here")
-    bench.main(["--scale", "--platform", "OpenCL", "--integrators", "GW", "Langevin", "--sizes", "500",
+    bench.main(["scale", "--platform", "OpenCL", "--integrators", "GW", "Langevin", "--sizes", "500",
                 "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
     lines = capsys.readouterr().out.splitlines()
     assert "OpenCL platform" in lines[0]
@@ -141,4 +152,4 @@ def test_scale_table_on_opencl(capsys):
 
 def test_scale_groups_run_in_a_process_of_their_own():
     import os
-    assert bench.in_fresh_process(os.getpid) != os.getpid()
+    assert bench_timing.in_fresh_process(os.getpid) != os.getpid()

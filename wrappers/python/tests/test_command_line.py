@@ -13,7 +13,10 @@ from openmmdpd import bench, compare, options, report, viscosity
 
 PARSERS = {"compare": compare._parser, "viscosity": viscosity._parser, "bench": bench._parser,
            "report": report._parser}
-LIBRARIES = {"viscosity_report": "openmmdpd.viscosity", "staggered": "openmmdpd.bench --staggered",
+# The bench's modes are subcommands, each with a --help of its own ("bench scale").
+BENCH_MODES = next(action for action in bench._parser()._actions if isinstance(action, argparse._SubParsersAction))
+PARSERS.update({f"bench {mode}": lambda mode=mode: BENCH_MODES.choices[mode] for mode in BENCH_MODES.choices})
+LIBRARIES = {"viscosity_report": "openmmdpd.viscosity", "staggered": "openmmdpd.bench staggered",
              "shear": "openmmdpd.viscosity", "calibration": "openmmdpd.calibrate_den_otter_clarke"}
 
 

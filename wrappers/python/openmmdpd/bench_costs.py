@@ -1,0 +1,91 @@
+"""What an option costs an integrator's step: the instability sentinel, Lees-Edwards shear.
+
+Scene soft on the CPU platform; each integrator as is and with the option, alternated --repeats
+times, medians side by side (the two may differ by less than the noise).
+
+    python3 -m openmmdpd.bench sentinel --sizes 32000 --threads 1 --repeats 9
+    python3 -m openmmdpd.bench shear --rate 0.1 --integrators GW S1 --sizes 32000 --threads 1 --repeats 9
+"""
+import statistics
+
+import openmm
+
+from .bench_rates import DEFAULT_INTEGRATORS
+from .bench_timing import (add_integrators_argument, add_mode, add_round_arguments, add_system_arguments,
+                           steps_per_second, timed_steps, warm_up)
+from .catalog import INSTABILITY_THRESHOLD, integrators
+from .scenes import soft_scene
+from .units import KT_TEMPERATURE
+
+SENTINEL_SUMMARY = ("the instability sentinel's cost to GW's step (N 4000 32000, 1 and 2 threads, medians of 3: "
+                    "about half a minute)")
+SHEAR_SUMMARY = ("Lees-Edwards shear's cost to each integrator's step (rate 0.1, 9 integrators, N 4000 32000, "
+                 "1 and 2 threads, medians of 3: about 5 minutes)")
+# Estimates: about 1 s per integrator, size, thread count, round and setting (as is and changed),
+# plus building each System.
+SENTINEL_DURATION = ("With the defaults a run takes about half a minute on 2 cores (an estimate: about 1 s per size, "
+                     "thread count, round and setting, off and on, plus building each System); the time grows "
+                     "with the sizes and --repeats.")
+SHEAR_DURATION = ("With the defaults a run takes about 5 minutes on 2 cores (an estimate: about 1 s per integrator, "
+                  "size, thread count, round and setting, unsheared and sheared, plus building each System); the "
+                  "time grows with the sizes, the integrators and --repeats.")
+
+
+def add_parsers(modes):
+    sentinel = add_mode(modes, "sentinel", SENTINEL_SUMMARY, f"GW with the instability threshold off and at "
+                        f"{INSTABILITY_THRESHOLD:g} kT, alternated. {SENTINEL_DURATION}", run_sentinel)
+    add_cost_arguments(sentinel)
+    shear = add_mode(modes, "shear", SHEAR_SUMMARY, f"Each of --integrators unsheared and sheared at --rate, "
+                     f"alternated. {SHEAR_DURATION}", run_shear)
+    shear.add_argument("--rate", type=float, default=0.1, help="the shear rate (1/ps)")
+    add_integrators_argument(shear, DEFAULT_INTEGRATORS)
+    add_cost_arguments(shear)
+
+
+def add_cost_arguments(parser):
+    add_system_arguments(parser, [4000, 32000], [1, 2], 0.04)
+    add_round_arguments(parser, 1.0, "alternated measurements; medians kept")
+
+
+def run_sentinel(args):
+    print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; instability threshold 0 (off) and "
+                 f"{INSTABILITY_THRESHOLD:g} kT alternated, medians of {args.repeats}", ["GW"],
+                 ("steps/s off", "steps/s on"), lambda i: i.setInstabilityThreshold(INSTABILITY_THRESHOLD))
+
+
+def run_shear(args):
+    print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; no shear and Lees-Edwards shear at rate "
+                 f"{args.rate:g}/ps alternated, medians of {args.repeats}", args.integrators,
+                 ("steps/s", "steps/s sheared"), lambda i: i.setShearRate(args.rate))
+
+
+def print_paired(args, title, names, columns, change):
+    print(title)
+    print(f"{'integrator':>10} {'N':>6} {'threads':>7}  {columns[0]:>14} {columns[1]:>14}  {'cost':>8}")
+    for name in names:
+        for n in args.sizes:
+            for threads in args.threads:
+                plain, changed, cost = measure_paired(n, threads, args, name, change)
+                print(f"{name:>10} {n:>6} {threads:>7}  {plain:>14.2f} {changed:>14.2f}  {100 * cost:>+7.2f}%")
+
+
+def measure_paired(n, threads, args, name, change):
+    """Integrator `name` as is and with change(integrator) applied, alternated: (median
+    steps/s as is, median changed, median of the per-round cost changed/as-is - 1)."""
+    platform = openmm.Platform.getPlatformByName("CPU")
+    scene = soft_scene(num_particles=n)
+    runs = []
+    for changed in (False, True):
+        integrator = integrators()[name](args.dt)
+        if changed:
+            change(integrator)
+        context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})
+        context.setPositions(scene.positions)
+        context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
+        runs.append((context, integrator, timed_steps(warm_up(integrator, args), args)))
+    plain, changed = [], []
+    for _ in range(args.repeats):
+        for rates, (_, integrator, steps) in zip((plain, changed), runs):
+            rates.append(steps_per_second(integrator, steps))
+    cost = statistics.median(a / b - 1 for a, b in zip(plain, changed))
+    return statistics.median(plain), statistics.median(changed), cost
