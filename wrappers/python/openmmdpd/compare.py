@@ -35,19 +35,14 @@ from .analysis import (frame_radial_distributions, mean_squared_displacement, me
                        ratio_with_error, standard_error)
 from . import options
 from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
+from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS, R1_BLOCKS,
+                       schedule)
+from .report import write_report
 from .scenes import SCENES, build_scene
 from .units import KT_TEMPERATURE
 
 G_R_MAX, G_BIN = 2.0, 0.025  # g(r) to 2 rc (or half the box) in bins of 0.025 rc
 FIXED_RADII = (1.0, 1.16)  # Nc at these radii: r1 sits on a minimum too flat to integrate to
-R1_BLOCKS = 5              # blocks of g(r) frames whose spread gives the errors of r1 and Nc(r1)
-CONF_KT_TOLERANCE = 0.1    # a stable run's configurational kT is within 10 % of 1 (soft scene)
-CHAIN_KT_TOLERANCE = 0.1   # and its chain <kT> within 10 % of 1 (polymer scene)
-# The longest bond a stable polymer run may have: a harmonic bond (k = 7 kT/rc^2, rest length 0)
-# has rms length sqrt(3/7) = 0.65 and passes 2.5 with probability 1e-8 per bond and sample.
-BOND_LIMIT = 2.5
-CORE_RADIUS = 0.2          # g(r < 0.2 rc): pairs overlapping by 80 % (8 kT of repulsion at a = 25)
-OVERLAP_EXCESS = 0.2       # how far above the smallest-dt g(r < 0.2 rc) means overlapping particles
 COLUMNS = ["scene", "integrator", "dt", "status", "reason", "steps", "kT", "kT_err", "kT_error", "kT_conf",
            "kT_conf_err", "g_core", "g_dev_ref", "g_dev_ideal", "Nc", "Nc_err", "r1", "r1_err", "Nc_1.0",
            "Nc_1.0_err", "Nc_1.16", "Nc_1.16_err", "D", "D_ratio", "chain_kT", "chain_kT_err", "Rg", "Rg_err",
@@ -297,14 +292,6 @@ def _start(scene, start, factory, dt, args):
     return integrator, context
 
 
-def schedule(dt, args):
-    """(stride, samples, frame_every) of a run at dt: a sample every ~args.sample_every units of
-    time, a frame every ~args.frame_every, args.time in all, whatever dt."""
-    stride = max(1, round(args.sample_every / dt))
-    samples = max(2, round(args.time / (stride * dt)))
-    return stride, samples, max(1, round(args.frame_every / (stride * dt)))
-
-
 def _sample(integrator, context, sampler, dt, args):
     """Equilibrates, then steps and samples; returns (CPU, wall) seconds spent in the steps."""
     stride, samples, frame_every = schedule(dt, args)
@@ -440,7 +427,6 @@ def compare(args):
     _deviations(rows, names, g_of)
     r = g_r_centres(scene.system)
     _write_csvs(args.out, rows, r, g_of)
-    from .report import write_report
     write_report(args, rows, r, g_of, time.perf_counter() - began)
     return rows
 

@@ -1,4 +1,5 @@
 """Charts (PNG) and the Markdown report of a comparison run (see compare.py)."""
+import csv
 import math
 import os
 
@@ -7,8 +8,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from .compare import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS,  # noqa: E402
-                      R1_BLOCKS, schedule)
+from .options import parser  # noqa: E402
+from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS,  # noqa: E402
+                       R1_BLOCKS, schedule)
 
 
 def _ok(rows, name):
@@ -361,7 +363,6 @@ def _value(text):
 
 def read_rows(path):
     """The rows of a results.csv, numbers as floats."""
-    import csv
     with open(path) as f:
         return [{key: _value(value) for key, value in row.items()} for row in csv.DictReader(f)]
 
@@ -396,7 +397,6 @@ def stability_map(tables, path):
 
 
 def _parser():
-    from .options import parser
     result = parser("report", "One stability map (PNG) of several comparison runs: per integrator, a bar per "
                     "scene to its largest stable dt and a cross at its smallest unstable dt with the reason, "
                     "from the results.csv that `python3 -m openmmdpd.compare` wrote.",

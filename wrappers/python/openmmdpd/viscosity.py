@@ -29,7 +29,6 @@ the thermostat part (total - thermostat) is reported to show that the dissipativ
 stress matters.
 """
 import csv
-import math
 import os
 import sys
 import time
@@ -40,12 +39,13 @@ from openmm import unit
 
 from . import options, shear
 from .analysis import standard_error
-from .catalog import FRICTION, integrators
+from .catalog import integrators
 from .pressure import PARTS, check_integrator, pressure_tensor
 from .scenes import build_scene
 from .units import KT_TEMPERATURE, kT_from_temperature
+from .viscosity_fluids import SCENES
+from .viscosity_report import flags, write_report
 
-SCENES = {"model-b": dict(density=4.0, a=25.0), "gw-fluid": dict(density=3.0, a=25.0)}
 OFF_DIAGONAL = slice(3, 6)  # xy, xz, yz in (xx, yy, zz, xy, xz, yz)
 PROFILE_BINS = 10
 NEMD_COLUMNS = ["scene", "integrator", "dt", "rate", "time", "eta", "eta_err", "eta_kinetic", "eta_conservative",
@@ -56,14 +56,6 @@ GK_COLUMNS = ["scene", "integrator", "dt", "series", "time", "block", "plateau_t
 
 
 # --- Green–Kubo ----------------------------------------------------------------------------------
-
-def groot_warren_estimate(density, gamma=FRICTION, kT=1.0, rc=1.0):
-    """Groot–Warren's kinetic-theory viscosity (docs/theory/pressure-tensor.md, w_D = (1 - r/rc)^2, unit
-    masses, no conservative force): rho D/2 + 2 pi gamma rho^2 rc^5/1575 with
-    D = 45 kT/(2 pi gamma rho rc^3).  A rough guide, not a target."""
-    diffusion = 45 * kT / (2 * math.pi * gamma * density * rc**3)
-    return density * diffusion / 2 + 2 * math.pi * gamma * density**2 * rc**5 / 1575
-
 
 def autocorrelation(series, max_lag):
     """C(k) = <x(t) x(t+k)> for k = 0..max_lag of the columns of series (n, m), averaged over
@@ -270,7 +262,6 @@ def schedule(args):
 def run(args):
     """The runs of schedule(args); the outputs are rewritten after each, so that a run cut
     short leaves what it finished."""
-    from .viscosity_report import write_report
     os.makedirs(args.out, exist_ok=True)
     began = time.perf_counter()
     nemd, gk = [], {}
@@ -291,7 +282,6 @@ def run(args):
 def reanalyse(args):
     """Rewrites the outputs in args.out from what a run left there: nemd.csv and the saved
     Green–Kubo block series of each scene (a new plateau rule or --segments without rerunning)."""
-    from .viscosity_report import write_report
     nemd = []
     if os.path.exists(os.path.join(args.out, "nemd.csv")):
         with open(os.path.join(args.out, "nemd.csv")) as f:
@@ -374,7 +364,6 @@ def main(argv=None):
 
 
 def _print_flags(nemd, gk):
-    from .viscosity_report import flags
     for line in flags(nemd, gk):
         print(f"FLAGGED: {line}")
 

@@ -10,7 +10,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from .catalog import FRICTION  # noqa: E402
-from .viscosity import SCENES, groot_warren_estimate  # noqa: E402
+from .options import not_a_command  # noqa: E402
+from .viscosity_fluids import SCENES, groot_warren_estimate  # noqa: E402
 
 AGREEMENT_SIGMAS = 3  # NEMD at the lowest rate and Green–Kubo agree within this many combined standard errors
 TARGET_KT = 1.0  # the thermostat's kT, reduced units
@@ -261,7 +262,6 @@ def write_report(args, nemd, gk, seconds):
 
 
 if __name__ == "__main__":
-    from .options import not_a_command
     not_a_command("viscosity_report",
                   "It writes the report and charts of `python3 -m openmmdpd.viscosity`, which runs them; `python3 -m "
                   "openmmdpd.viscosity --reanalyse --out FOLDER` rewrites a finished run's report in seconds (see its "

@@ -13,7 +13,7 @@ from scipy.signal import lfilter
 from openmm import app, unit
 
 import openmmdpd
-from openmmdpd import pressure, viscosity
+from openmmdpd import pressure, viscosity, viscosity_fluids
 from openmmdpd.scenes import build_scene
 
 HAS_TENSOR = hasattr(openmmdpd.DPDThermostatIntegrator, "getAveragePressureTensor")
@@ -111,9 +111,10 @@ def test_autocorrelation_against_a_direct_sum():
 def test_groot_warren_estimate():
     """docs/theory/pressure-tensor.md: 45 kT/(4 pi gamma rc^3) + 2 pi gamma rho^2 rc^5/1575, 1.08 at rho 4,
     gamma 4.5 (1.0830); 0.9573 for Groot–Warren's own fluid at rho 3."""
-    assert viscosity.groot_warren_estimate(4.0, 4.5) == pytest.approx(45 / (4 * math.pi * 4.5) + 2 * math.pi * 4.5 * 16 / 1575)
-    assert round(viscosity.groot_warren_estimate(4.0, 4.5), 2) == 1.08
-    assert viscosity.groot_warren_estimate(3.0, 4.5) == pytest.approx(0.9573, abs=1e-4)
+    estimate = viscosity_fluids.groot_warren_estimate
+    assert estimate(4.0, 4.5) == pytest.approx(45 / (4 * math.pi * 4.5) + 2 * math.pi * 4.5 * 16 / 1575)
+    assert round(estimate(4.0, 4.5), 2) == 1.08
+    assert estimate(3.0, 4.5) == pytest.approx(0.9573, abs=1e-4)
 
 
 # --- the reporter ---------------------------------------------------------------------------------
