@@ -21,13 +21,11 @@ import sys
 import time
 from types import SimpleNamespace
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from openmmdpd import bench_timing, catalog, compare, scenes  # noqa: E402
+from openmmdpd import bench_timing, catalog, compare, scenes
+from openmmdpd.charts import figure_handles, integrator_style, legend_outside, log_axis, save
 
 # The paper's integrators (GW at lambda 1/2 and 0.65 as the usual VV baselines, S2, and Lowe
 # also at the paper's Gamma) and our middle scheme.
@@ -206,21 +204,27 @@ def _pm(row, key, digits=4):
 
 # --- charts -----------------------------------------------------------------------------------
 
+def _style(name):
+    """The package's style of each integrator; Lowe at the paper's Gamma, a name of this script
+    alone, a lighter orange than Lowe's, dashed."""
+    return dict(color="#fdb863", marker="H", ls="--") if name == "Lowe-paper" else integrator_style(name)
+
+
 def _panel(ax, rows, key, title):
     """One observable against dt (log), error bars; runs the strict criteria call unstable hollow."""
-    for k, name in enumerate(NAMES):
+    for name in NAMES:
         mine = sorted((r for r in rows if r["integrator"] == name and _finite(r.get(key))), key=lambda r: r["dt"])
         if not mine:
             continue
-        style = dict(color=f"C{k % 10}", marker="os^D"[k // 10])
+        style = _style(name)
         x, y = [r["dt"] for r in mine], [r[key] for r in mine]
         err = [r[key + "_err"] if _finite(r.get(key + "_err")) else 0 for r in mine]
         ax.errorbar(x, y, yerr=err, label=name, capsize=2, lw=1, ms=4, mfc="white", **style)
         ok = [(a, b) for a, b, r in zip(x, y, mine) if r["status"] == "ok"]
         if ok:
-            ax.plot(*zip(*ok), ls="none", ms=4, zorder=3, **style)
+            ax.plot(*zip(*ok), ms=4, zorder=3, **dict(style, ls="none"))
     ax.axhline(1, color="k", lw=0.5)
-    ax.set_xscale("log")
+    log_axis(ax, ticks=[r["dt"] for r in rows])
     ax.set_xlabel("dt")
     ax.set_title(title, fontsize=10)
 
@@ -235,12 +239,10 @@ def draw_scene(rows, scene_name, out):
         values = [r[key] for r in rows if _finite(r.get(key))]
         if values:  # keep the view near 1 as the paper's axes do; far-off points are in the tables
             ax.set_ylim(max(min(values) - 0.01, 0.85), min(max(values) + 0.01, 1.25))
-    axes[0][0].legend(fontsize=7, ncol=2)
+    legend_outside(fig, *figure_handles(fig))
     fig.suptitle(f"Nikunen et al. 2003, {FIGURE[scene_name]}: {MODEL[scene_name]} (scene {scene_name}); "
                  "hollow = unstable by the strict criteria", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, f"kT_vs_dt_{scene_name}.png"), dpi=110)
-    plt.close(fig)
+    save(fig, os.path.join(out, f"kT_vs_dt_{scene_name}.png"))
 
 
 # --- tables -----------------------------------------------------------------------------------

@@ -220,20 +220,19 @@ def write_rows(path, rows):
 
 
 def plot_extension(rows, out):
-    import matplotlib
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from openmmdpd.charts import legend_outside, log_axis, save
     fig, ax = plt.subplots(figsize=(6, 4))
     for (base, k) in sorted({(r["base"], r["K"]) for r in rows}):
         mine = [r for r in rows if r["base"] == base and r["K"] == k]
         ax.errorbar([r.get("Wi_own", r["Wi"]) * (1 + 0.02 * k) for r in mine], [r["extension"] for r in mine],
                     yerr=[r["error"] for r in mine], marker="o" if base == "lowe" else "s", capsize=3,
                     linestyle="-" if base == "lowe" else "--", label=f"{'Lowe' if base == 'lowe' else 'vV'} K = {k}")
-    ax.set(xscale="log", xlabel="Wi = rate tau (each base's own tau)" if "Wi_own" in rows[0] else "Wi = rate tau", ylabel="<x>/L", title="wlc-shear: mean fractional extension")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "extension.png"), dpi=120)
-    plt.close(fig)
+    log_axis(ax)
+    ax.set(xlabel="Wi = rate tau (each base's own tau)" if "Wi_own" in rows[0] else "Wi = rate tau", ylabel="<x>/L",
+           title="wlc-shear: mean fractional extension")
+    legend_outside(ax, fontsize=8)
+    save(fig, os.path.join(out, "extension.png"), dpi=120)
 
 
 def read_rows(path):

@@ -23,6 +23,7 @@ no bond longer than 2.5; an unstable run is recorded with its reason, not raised
 import csv
 import math
 import os
+import re
 import sys
 import time
 
@@ -37,7 +38,7 @@ from . import options
 from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
 from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS, R1_BLOCKS,
                        schedule)
-from .report import write_report
+from .report import read_gr, read_rows, write_report
 from .scenes import SCENES, build_scene
 from .units import KT_TEMPERATURE
 
@@ -431,6 +432,35 @@ def compare(args):
     return rows
 
 
+def redraw(args):
+    """The charts and report.md of the finished run in args.out, from its results.csv and gr.csv,
+    without running anything: the scene and the time steps come from results.csv, the other
+    settings the report describes from args, which must be the run's (its sampled steps are
+    checked against --time and --sample-every); the run's duration is kept from the report
+    being replaced.  Returns the rows."""
+    rows = read_rows(os.path.join(args.out, "results.csv"))
+    args.scene = rows[0]["scene"]
+    args.dts = sorted({row["dt"] for row in rows})
+    for row in rows:
+        stride, samples, _ = schedule(row["dt"], args)
+        if row["status"] == "ok" and row["steps"] != samples * stride:
+            raise SystemExit(f"{row['integrator']} at dt {row['dt']:g} sampled {row['steps']:g} steps, not the "
+                             f"{samples * stride} of --time {args.time:g} and --sample-every {args.sample_every:g}: "
+                             "give the options the run was made with")
+    r, g_of = read_gr(os.path.join(args.out, "gr.csv"))
+    write_report(args, rows, r, g_of, _duration(os.path.join(args.out, "report.md")))
+    return rows
+
+
+def _duration(path):
+    """The wall seconds a report says its run took (None without one): a redrawn report keeps it."""
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        found = re.search(r"The whole run took (\d+) s", f.read())
+    return float(found.group(1)) if found else None
+
+
 # How long a run with the defaults takes, for --help (docs/results/README.md: 452 s for scene soft
 # on a quiet 2-core machine, 257 s for ideal).
 DURATION = ("With the defaults (scene soft, N 2000, 100 time units per run, every integrator at 6 time steps: "
@@ -469,12 +499,20 @@ def _parser():
         help="stop a run when a particle's kinetic energy passes this many kT (0: off)")
     add("--out", default=None, help="output folder (default results/compare-SCENE)")
     add("--quiet", action="store_true", help="no progress bar")
+    add("--redraw", action="store_true",
+        help="no runs: redraw the charts and rewrite report.md of the run in --out from its results.csv and "
+             "gr.csv (seconds); the scene and time steps are read from results.csv, the other options must be "
+             "the run's, as the report states them")
     return parser
 
 
 def main(argv=None):
     args = options.parse_args(_parser(), argv, QUICK)
     args.out = args.out or os.path.join("results", f"compare-{args.scene}")
+    if args.redraw:
+        redraw(args)
+        print(f"charts and report in {args.out}/ redrawn from its results.csv and gr.csv")
+        return 0
     start = time.perf_counter()
     rows = compare(args)
     stable = sum(row["status"] == "ok" for row in rows)

@@ -3,14 +3,13 @@ import csv
 import math
 import os
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from .options import parser  # noqa: E402
-from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS,  # noqa: E402
-                       R1_BLOCKS, schedule)
+from .charts import figure_handles, integrator_style, legend_outside, log_axis, save
+from .options import parser
+from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS, R1_BLOCKS,
+                       schedule)
 
 
 def _ok(rows, name):
@@ -27,29 +26,35 @@ def _names(rows):
     return list(dict.fromkeys(row["integrator"] for row in rows))
 
 
-def _styles(rows):
-    """Colour and marker of each integrator: ten colours, then the same colours with squares."""
-    return {name: dict(color=f"C{k % 10}", marker="os^"[k // 10 % 3]) for k, name in enumerate(_names(rows))}
-
-
 def first_unstable(rows, name):
     """(smallest unstable dt, its reason), or None."""
     unstable = _unstable(rows, name)
     return (unstable[0]["dt"], unstable[0]["reason"]) if unstable else None
 
 
-def _mark_unstable(ax, points, style, label):
+def _mark_unstable(ax, points, color):
     """Unstable runs as crosses: at their value when it lies inside the axes drawn so far, on
     the top edge otherwise (blown-up runs have none, and far-off values would hide the rest)."""
     if not points:
         return
     bottom, top = ax.get_ylim()
-    for k, (x, y) in enumerate(points):
+    for x, y in points:
         inside = isinstance(y, float) and math.isfinite(y) and bottom <= y <= top
-        ax.plot(x, y if inside else top, marker="x", ls="none", color=style["color"], clip_on=False,
-                label=label if k == 0 else None)
+        ax.plot(x, y if inside else top, marker="x", ls="none", color=color, clip_on=False)
     if bottom > 0 or ax.get_yscale() != "log":
         ax.set_ylim(bottom, top)
+
+
+def _mark_all_unstable(ax, rows, x_key, y_key):
+    """Every integrator's unstable runs with an x value (_mark_unstable), in its colour, and one
+    grey cross in the legend for them all."""
+    marked = False
+    for name in _names(rows):
+        points = [(r[x_key], r[y_key]) for r in _unstable(rows, name) if math.isfinite(r[x_key])]
+        _mark_unstable(ax, points, integrator_style(name)["color"])
+        marked = marked or bool(points)
+    if marked:
+        ax.plot([], [], marker="x", ls="none", color="0.3", label="unstable (x; top edge: off the chart)")
 
 
 def stability(rows, name):
@@ -66,26 +71,21 @@ SECOND_PANEL = {"soft": ("kT_conf", "configurational kT (soft repulsion)"), "pol
 def _kT_chart(rows, path, scene):
     panels = [("kT", "<kT> (kinetic, 3N-3 dof)")] + ([SECOND_PANEL[scene]] if scene in SECOND_PANEL else [])
     fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.5), squeeze=False)
-    styles = _styles(rows)
     for ax, (key, label) in zip(axes.flat, panels):
         for name in _names(rows):
             ok = [row for row in _ok(rows, name) if math.isfinite(row[key])]
             if ok:
                 ax.errorbar([r["dt"] for r in ok], [r[key] for r in ok], yerr=[r[key + "_err"] for r in ok],
-                            ms=4, capsize=2, label=name, **styles[name])
+                            ms=5, capsize=2, label=name, **integrator_style(name))
         ax.axhline(1, color="k", lw=0.8)
         ax.axhspan(0.99, 1.01, color="0.9", zorder=0, label="±1 %")
-        for k, name in enumerate(_names(rows)):
-            _mark_unstable(ax, [(r["dt"], r[key]) for r in _unstable(rows, name)], styles[name],
-                           "unstable (x; top edge: off the chart)" if k == 0 else None)
-        ax.set_xscale("log")
+        _mark_all_unstable(ax, rows, "dt", key)
+        log_axis(ax, ticks=[row["dt"] for row in rows])
         ax.set_xlabel("dt (reduced units = ps)")
         ax.set_ylabel(label + ", ± 1 standard error")
-        _legend(ax, fontsize=7, ncol=2)
+    legend_outside(fig, *figure_handles(fig))
     fig.suptitle(f"Temperature against time step, scene {scene}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path)
 
 
 NOISE_FLOOR_SIGMAS = 3
@@ -96,39 +96,42 @@ def below_noise_floor(row):
     return row["kT_error"] < NOISE_FLOOR_SIGMAS * row["kT_err"]
 
 
+def _label_dt(ax, points, color):
+    """Each point's dt in small print beside it: the Pareto chart's axes hold no dt."""
+    for x, y, dt in points:
+        ax.annotate(f"{dt:g}", (x, y), xytext=(3, 2), textcoords="offset points", fontsize=6, color=color)
+
+
 def _pareto_chart(rows, path, scene):
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    styles = _styles(rows)
+    fig, ax = plt.subplots(figsize=(8, 5.5))
     floor = 1e-4  # the log axis needs a positive value
     for name in _names(rows):
+        style = integrator_style(name)
         ok = [r for r in _ok(rows, name) if math.isfinite(r["cost_per_time"])]
         if not ok:
             continue
         x = [r["cost_per_time"] for r in ok]
         y = [max(r["kT_error"], floor) for r in ok]
         low = [min(r["kT_err"], yk - floor) for r, yk in zip(ok, y)]
-        ax.errorbar(x, y, xerr=[r["cost_per_time_err"] for r in ok], yerr=[low, [r["kT_err"] for r in ok]], ms=4,
-                    capsize=2, label=name, **styles[name])
+        ax.errorbar(x, y, xerr=[r["cost_per_time_err"] for r in ok], yerr=[low, [r["kT_err"] for r in ok]], ms=5,
+                    capsize=2, label=name, **style)
         hidden = [(xk, yk) for xk, yk, r in zip(x, y, ok) if below_noise_floor(r)]
-        ax.plot([p[0] for p in hidden], [p[1] for p in hidden], ls="none", ms=7, mfc="white", **styles[name])
-        ax.plot(x, [NOISE_FLOOR_SIGMAS * r["kT_err"] for r in ok], ls="none", marker="_", ms=12,
-                color=styles[name]["color"])
+        ax.plot([p[0] for p in hidden], [p[1] for p in hidden], ls="none", ms=7, mfc="white", **style)
+        ax.plot(x, [NOISE_FLOOR_SIGMAS * r["kT_err"] for r in ok], ls="none", marker="_", ms=12, color=style["color"])
+        _label_dt(ax, [(xk, yk, r["dt"]) for xk, yk, r in zip(x, y, ok)], style["color"])
     ax.plot([], [], ls="none", marker="_", ms=12, color="0.3", label=f"noise floor ({NOISE_FLOOR_SIGMAS} std. errors)")
     ax.plot([], [], ls="none", marker="o", ms=7, mfc="white", color="0.3", label="below its noise floor")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+    ax.plot([], [], ls="none", marker="$0.02$", ms=14, color="0.3", label="beside a stable point: its dt")
+    log_axis(ax, "x")
+    log_axis(ax, "y")
     ax.axhline(0.01, color="k", lw=0.8, ls="--")
-    for k, name in enumerate(_names(rows)):
-        _mark_unstable(ax, [(r["cost_per_time"], r["kT_error"]) for r in _unstable(rows, name)
-                            if math.isfinite(r["cost_per_time"])], styles[name], "unstable (x)" if k == 0 else None)
+    _mark_all_unstable(ax, rows, "cost_per_time", "kT_error")
     ax.set_xlabel("cost: LangevinMiddleIntegrator steps per unit of simulated time\n"
                   "(step time / Langevin's, same System and dt, interleaved; divided by dt)")
     ax.set_ylabel(f"|<kT> - 1| ± 1 standard error (floored at {floor:g})")
     ax.set_title(f"Accuracy against cost, scene {scene} (lower left is better)")
-    ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    legend_outside(ax)
+    save(fig, path)
 
 
 def _gr_chart(rows, r, g_of, path, scene):
@@ -138,24 +141,20 @@ def _gr_chart(rows, r, g_of, path, scene):
     fig, axes = plt.subplots(lines, cols, figsize=(10, 2.6 * lines), squeeze=False, sharex=True, sharey=True)
     for ax, name in zip(axes.flat, names):
         ok = _ok(rows, name)
-        for row in (ok[0], ok[-1]) if len(ok) > 1 else ok:
-            ax.plot(r, g_of[(name, row["dt"])], label=f"dt {row['dt']:g}")
+        # the smallest dt as a thick grey reference, the largest over it in the integrator's colour
+        colour = ("colour", dict(color=integrator_style(name)["color"], lw=1))
+        shown = [(ok[0], ("grey", dict(color="0.8", lw=3))), (ok[-1], colour)] if len(ok) > 1 else [(ok[0], colour)]
+        for row, (_, look) in shown:
+            ax.plot(r, g_of[(name, row["dt"])], **look)
         ax.axhline(1, color="k", lw=0.6)
-        ax.set_title(name, fontsize=9)
-        ax.legend(fontsize=7)
+        # the dt of each line in the title: a legend would sit on the curves of so small a panel
+        ax.set_title(f"{name}: dt " + ", ".join(f"{row['dt']:g} {word}" for row, (word, _) in shown), fontsize=9)
     for ax in axes.flat[len(names):]:
         ax.axis("off")
     fig.supxlabel("r (nm = rc)")
     fig.supylabel("g(r)")
-    fig.suptitle(f"g(r) at the smallest and largest stable dt, scene {scene}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def _legend(ax, **kwargs):
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(**kwargs)
+    fig.suptitle(f"g(r) at the smallest (grey) and largest (colour) stable dt, scene {scene}")
+    save(fig, path)
 
 
 def _diffusion_chart(rows, path, scene):
@@ -163,41 +162,37 @@ def _diffusion_chart(rows, path, scene):
     for name in _names(rows):
         ok = [row for row in _ok(rows, name) if math.isfinite(row["D_ratio"])]
         if ok:
-            ax.plot([r["dt"] for r in ok], [r["D_ratio"] for r in ok], marker="o", label=name)
+            ax.plot([r["dt"] for r in ok], [r["D_ratio"] for r in ok], ms=5, label=name, **integrator_style(name))
+    if ax.lines:  # a log axis with nothing on it fails to draw
+        log_axis(ax, ticks=[row["dt"] for row in rows if row["status"] == "ok"])
     ax.axhline(1, color="k", lw=0.8)
-    ax.set_xscale("log")
     ax.set_xlabel("dt")
-    ax.set_ylabel("D(dt) / D(smallest dt)")
+    ax.set_ylabel("D(dt) / D(smallest dt) (no error estimated)")
     ax.set_title(f"Tracer diffusion against time step, scene {scene}")
-    _legend(ax, fontsize=7, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    legend_outside(ax)
+    save(fig, path)
 
 
 def _polymer_chart(rows, path, scene):
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
-    styles = _styles(rows)
     for name in _names(rows):
+        style = integrator_style(name)
         ok = [row for row in _ok(rows, name) if math.isfinite(row["Rg"])]
         if ok:
-            axes[0].errorbar([r["dt"] for r in ok], [r["Rg"] for r in ok], yerr=[r["Rg_err"] for r in ok], ms=4,
-                             capsize=2, label=name, **styles[name])
+            axes[0].errorbar([r["dt"] for r in ok], [r["Rg"] for r in ok], yerr=[r["Rg_err"] for r in ok], ms=5,
+                             capsize=2, label=name, **style)
         done = [row for row in rows if row["integrator"] == name and math.isfinite(row["bond_max"])]
         if done:
-            axes[1].plot([r["dt"] for r in done], [r["bond_max"] for r in done], label=name, **styles[name])
+            axes[1].plot([r["dt"] for r in done], [r["bond_max"] for r in done], ms=5, label=name, **style)
     for ax, label in ((axes[0], "chain Rg, ± 1 standard error"), (axes[1], "longest bond over the run")):
         if ax.lines:  # a log axis with nothing on it fails to draw
-            ax.set_xscale("log")
+            log_axis(ax, ticks=[row["dt"] for row in rows])
         ax.set_xlabel("dt")
         ax.set_ylabel(label)
     axes[1].axhline(BOND_LIMIT, color="tab:red", lw=0.8, ls="--", label=f"limit {BOND_LIMIT:g}")
-    for ax in axes:
-        _legend(ax, fontsize=7, ncol=2)
+    legend_outside(fig, *figure_handles(fig))
     fig.suptitle(f"The chain against time step, scene {scene} (left: stable runs; right: every run that finished)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path)
 
 
 def _stability_chart(rows, path, scene):
@@ -220,10 +215,8 @@ def _stability_chart(rows, path, scene):
     ax.set_yticklabels(names)
     ax.set_xlabel("dt (of those tried)")
     ax.set_title(f"Stability map, scene {scene}")
-    _legend(ax, fontsize=8, loc="lower right")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    legend_outside(ax, fontsize=8)
+    save(fig, path)
 
 
 def _fmt(x, digits=4):
@@ -321,6 +314,12 @@ def _precision(rows):
             f"{largest[2]:g}).")
 
 
+# What a chart cannot show by itself, said under it in the report.
+CAPTIONS = {"error_vs_cost.png": "The number beside each stable point is its dt.",
+            "diffusion.png": "No error bars: a run's D is one fit to its mean-square displacement, and no error of it "
+                             "is estimated (`results.csv` has no column for one)."}
+
+
 def write_report(args, rows, r, g_of, seconds=None):
     out, scene = args.out, args.scene
     second = {"soft": " and configurational", "polymer": " and chain"}.get(scene, "")
@@ -344,7 +343,8 @@ def write_report(args, rows, r, g_of, seconds=None):
                      + (f" | {first[0]:g}: {first[1]} |" if first else " | |"))
     lines.append("")
     for filename, title, _ in charts:
-        lines += [f"## {title}", "", f"![{title}]({filename})", ""]
+        lines += [f"## {title}", "", f"![{title}]({filename})", ""] + ([CAPTIONS[filename], ""] if filename in CAPTIONS
+                                                                       else [])
     lines += ["## All runs", ""] + _runs_table(rows)
     notes = [row for row in rows if row["note"]]
     if notes:
@@ -367,6 +367,19 @@ def read_rows(path):
         return [{key: _value(value) for key, value in row.items()} for row in csv.DictReader(f)]
 
 
+def read_gr(path):
+    """(r, {(integrator, dt): g}) from a gr.csv, whose columns after r are named "NAME dt=DT"."""
+    with open(path) as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        table = np.array([[float(x) for x in line] for line in reader]).reshape(-1, len(header))
+    g_of = {}
+    for k, column in enumerate(header[1:], 1):
+        name, dt = column.rsplit(" dt=", 1)
+        g_of[(name, float(dt))] = table[:, k]
+    return table[:, 0], g_of
+
+
 def stability_map(tables, path):
     """One stability map for several scenes: per integrator, a bar per scene to its largest
     stable dt, and a cross at its smallest unstable dt labelled with the reason.
@@ -387,19 +400,18 @@ def stability_map(tables, path):
     ax.set_yticks(range(len(names)))
     ax.set_yticklabels(names)
     ax.invert_yaxis()
-    ax.set_xscale("log")
+    log_axis(ax, ticks=[row["dt"] for rows in tables.values() for row in rows])
     ax.set_xlabel("dt: bar to the largest stable dt; x at the smallest unstable dt, with the reason")
     ax.set_title("Stability map: " + ", ".join(tables))
-    ax.legend(fontsize=8, loc="lower right")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    legend_outside(ax, fontsize=8)
+    save(fig, path)
 
 
 def _parser():
     result = parser("report", "One stability map (PNG) of several comparison runs: per integrator, a bar per "
                     "scene to its largest stable dt and a cross at its smallest unstable dt with the reason, "
-                    "from the results.csv that `python3 -m openmmdpd.compare` wrote.",
+                    "from the results.csv that `python3 -m openmmdpd.compare` wrote. (One run's own charts and "
+                    "report are redrawn by `python3 -m openmmdpd.compare --redraw --out FOLDER`.)",
                     "It only reads the CSV files and draws: a few seconds.")
     result.add_argument("out", metavar="OUT.png", help="the chart to write")
     result.add_argument("results", metavar="RESULTS.csv", nargs="+", help="results.csv of each run (one per scene)")

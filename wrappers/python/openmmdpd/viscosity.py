@@ -279,14 +279,38 @@ def run(args):
     return nemd, gk
 
 
+def _read_csv(path):
+    """The rows of one of write_csvs' files, numbers as floats; [] if there is no such file."""
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return [{k: v if k in ("scene", "integrator", "series") else float(v) for k, v in row.items()}
+                for row in csv.DictReader(f)]
+
+
+def green_kubo_from_csvs(out, scene):
+    """{series name: result} of the scene as gk.csv and gk_running.csv in `out` hold it (None if
+    they do not): the values of gk.csv, and the lags, C and running integral of the series that
+    gk_running.csv keeps (total, total - thermostat); not the segments' running integrals, which
+    only the block series gives."""
+    results = {row["series"]: dict(row, lag=round(row["plateau_time"] / row["block"]))
+               for row in _read_csv(os.path.join(out, "gk.csv")) if row["scene"] == scene}
+    running = [row for row in _read_csv(os.path.join(out, "gk_running.csv")) if row["scene"] == scene]
+    for name, result in results.items():
+        mine = [row for row in running if row["series"] == name]
+        if mine:
+            result.update(lags=np.array([row["lag_time"] for row in mine]),
+                          correlation=np.array([row["C"] for row in mine]),
+                          running=np.array([row["eta_running"] for row in mine]))
+    return results or None
+
+
 def reanalyse(args):
-    """Rewrites the outputs in args.out from what a run left there: nemd.csv and the saved
-    Green–Kubo block series of each scene (a new plateau rule or --segments without rerunning)."""
-    nemd = []
-    if os.path.exists(os.path.join(args.out, "nemd.csv")):
-        with open(os.path.join(args.out, "nemd.csv")) as f:
-            nemd = [{k: v if k in ("scene", "integrator") else float(v) for k, v in row.items()} for row in csv.DictReader(f)]
-    gk = {}
+    """Rewrites the outputs in args.out from what a run left there: nemd.csv, and for each scene
+    its saved Green–Kubo block series (a new plateau rule or --segments without rerunning) or,
+    where the series is not kept, the Green–Kubo values of gk.csv and gk_running.csv as they are."""
+    nemd = _read_csv(os.path.join(args.out, "nemd.csv"))
+    gk, sources = {}, set()
     for name in args.scene:
         path = os.path.join(args.out, f"gk_series_{name}.npz")
         if os.path.exists(path):
@@ -294,8 +318,12 @@ def reanalyse(args):
             volume = float(saved["volume"]) if "volume" in saved else args.particles / SCENES[name]["density"]
             kT = float(saved["kT"]) if "kT" in saved else 1.0
             gk[name] = green_kubo_results(saved["tensors"].astype(float), float(saved["interval"]), volume / kT, args)
+            sources.add("the saved series")
+        elif kept := green_kubo_from_csvs(args.out, name):
+            gk[name] = kept
+            sources.add("the CSV files")
     write_csvs(args, nemd, gk)
-    write_report(args, nemd, gk, None)
+    write_report(args, nemd, gk, None, " and ".join(sorted(sources, reverse=True)) or "the CSV files")
     return nemd, gk
 
 
@@ -340,7 +368,9 @@ def _parser():
     add("--seed", type=int, default=2024, help="seed of the start and of the integrator")
     add("--out", default=os.path.join("results", "viscosity"), help="output folder")
     add("--quiet", action="store_true", help="no progress lines")
-    add("--reanalyse", action="store_true", help="no runs: rewrite the outputs from --out's nemd.csv and saved series")
+    add("--reanalyse", action="store_true",
+        help="no runs: rewrite the outputs from --out's nemd.csv and saved series (a scene without its series: "
+             "from gk.csv and gk_running.csv, as they are)")
     return parser
 
 
@@ -353,7 +383,7 @@ def main(argv=None):
     start = time.perf_counter()
     if args.reanalyse:
         nemd, gk = reanalyse(args)
-        print(f"outputs in {args.out}/ rewritten from its nemd.csv and gk_series_*.npz")
+        print(f"outputs in {args.out}/ rewritten from its nemd.csv and gk_series_*.npz (else gk.csv, gk_running.csv)")
         _print_flags(nemd, gk)
         return 0
     nemd, gk = run(args)

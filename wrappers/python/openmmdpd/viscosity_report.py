@@ -3,15 +3,13 @@ import math
 import os
 import time
 
-import matplotlib
+import matplotlib.pyplot as plt
 import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from .catalog import FRICTION  # noqa: E402
-from .options import not_a_command  # noqa: E402
-from .viscosity_fluids import SCENES, groot_warren_estimate  # noqa: E402
+from .catalog import FRICTION
+from .charts import figure_handles, integrator_style, legend_outside, save
+from .options import not_a_command
+from .viscosity_fluids import SCENES, groot_warren_estimate
 
 AGREEMENT_SIGMAS = 3  # NEMD at the lowest rate and Green–Kubo agree within this many combined standard errors
 TARGET_KT = 1.0  # the thermostat's kT, reduced units
@@ -44,19 +42,21 @@ def viscosity_chart(path, nemd, gk):
         rows = _rows(nemd, scene)
         if rows:
             ax.errorbar([r["rate"] for r in rows], [r["eta"] for r in rows], yerr=[r["eta_err"] for r in rows],
-                        marker="o", capsize=3, label="NEMD -<P_xy>/rate")
+                        capsize=3, label=f"NEMD -<P_xy>/rate ({rows[0]['integrator']})",
+                        **integrator_style(rows[0]["integrator"]))
         if scene in gk:
             total = gk[scene]["total"]
-            ax.axhspan(total["eta"] - total["eta_err"], total["eta"] + total["eta_err"], color="C1", alpha=0.3,
-                       label=f"Green–Kubo {total['eta']:.3f} ± {total['eta_err']:.3f}")
+            ax.axhspan(total["eta"] - total["eta_err"], total["eta"] + total["eta_err"], color="0.75", alpha=0.6,
+                       label="Green–Kubo ± 1 standard error")
         ax.axhline(groot_warren_estimate(SCENES[scene]["density"]), color="k", ls="--", lw=1,
                    label="Groot–Warren estimate")
         ax.set_xlim(left=0)
         ax.set_xlabel("shear rate (1/ps)")
-        ax.set_ylabel("eta (kT ps / nm^3, reduced)")
-        ax.set_title(scene)
-        ax.legend(fontsize=8)
-    _save(fig, path)
+        ax.set_ylabel("eta (kT ps / nm^3, reduced), ± 1 standard error")
+        ax.set_title(f"{scene}: Green–Kubo {gk[scene]['total']['eta']:.3f} ± {gk[scene]['total']['eta_err']:.3f}"
+                     if scene in gk else scene)
+    legend_outside(fig, *figure_handles(fig), fontsize=8)
+    save(fig, path)
 
 
 def green_kubo_chart(path, gk):
@@ -74,8 +74,8 @@ def green_kubo_chart(path, gk):
         ax.set_xlabel("lag (ps)")
         ax.set_ylabel("V/kT Delta [C(0)/2 + sum C(k)]")
         ax.set_title(f"{scene}, Green–Kubo")
-        ax.legend(fontsize=8)
-    _save(fig, path)
+    legend_outside(fig, *figure_handles(fig), fontsize=8)
+    save(fig, path)
 
 
 def temperature_chart(path, nemd):
@@ -91,16 +91,10 @@ def temperature_chart(path, nemd):
             ax.plot(rates, [r[f"kT_{axis}"] for r in rows], marker="os^"[k], ls="--", color=f"C{k}", label=f"kT_{axis}")
         ax.axhline(1, color="0.5", lw=0.8)
         ax.set_xlabel("shear rate (1/ps)")
-        ax.set_ylabel("peculiar kT")
+        ax.set_ylabel("peculiar kT (kT: ± 1 standard error)")
         ax.set_title(scene)
-        ax.legend(fontsize=8)
-    _save(fig, path)
-
-
-def _save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    legend_outside(fig, *figure_handles(fig), fontsize=8)
+    save(fig, path)
 
 
 def _pm(value, error, digits=3):
@@ -122,7 +116,7 @@ def _nemd_table(rows):
 def _gk_table(results):
     lines = ["| series | sampled | Delta | plateau lag | eta (Green–Kubo) | at 2× lag | at 4× lag |", "|" + "---|" * 7]
     for name, r in results.items():
-        lines.append(f"| {name} | {r['time']:g} | {r['block']:g} | {r['lags'][r['lag']]:g} | "
+        lines.append(f"| {name} | {r['time']:g} | {r['block']:g} | {r['plateau_time']:g} | "
                      f"{_pm(r['eta'], r['eta_err'])} | {r['eta_2lag']:.3f} | {r['eta_4lag']:.3f} |")
     return lines
 
@@ -193,17 +187,28 @@ def _checks(rows, results):
         lines.append(f"- NEMD at the lowest rate ({low['rate']:g}) minus Green–Kubo: {diff:+.3f} ± {err:.3f} "
                      f"({z:.1f} combined standard errors): they {verdict} within {AGREEMENT_SIGMAS}.")
     if results:
-        total, without = results["total"], results["total - thermostat"]
-        lag = total["lag"]
+        lines.append(_thermostat_check(results["total"], results["total - thermostat"]))
+    return lines
+
+
+def _thermostat_check(total, without):
+    """The line of _checks on the thermostat part: Green–Kubo with and without it at the total's
+    plateau lag, the difference's error from the segments' paired differences where the segments
+    are known (a report re-read from the CSV files has only their running integrals)."""
+    lag = total["lag"]
+    diff = total["eta"] - without["running"][lag]
+    if "segment_running" in total:
         paired = total["segment_running"][:, lag] - without["segment_running"][:, lag]
         err = float(paired.std(ddof=1) / np.sqrt(len(paired)))
-        diff = total["eta"] - without["running"][lag]
-        lines.append(f"- The dissipative and random (thermostat) stress is present: at the total's plateau lag "
-                     f"{total['lags'][lag]:g}, Green–Kubo from the total {_pm(total['eta'], total['eta_err'])}, "
-                     f"without the thermostat part {without['running'][lag]:.3f}, difference {diff:+.3f} ± {err:.3f} "
-                     f"({abs(diff) / err:.1f} sigma, error from the segments' paired differences); without it, read "
-                     f"at its own plateau ({without['lags'][without['lag']]:g}): {_pm(without['eta'], without['eta_err'])}.")
-    return lines
+        difference = (f"difference {diff:+.3f} ± {err:.3f} ({abs(diff) / err:.1f} sigma, error from the segments' "
+                      "paired differences)")
+    else:
+        difference = (f"difference {diff:+.3f} (its error, from the segments' paired differences, needs the block "
+                      "series, gk_series_SCENE.npz, which the CSV files do not hold)")
+    return (f"- The dissipative and random (thermostat) stress is present: at the total's plateau lag "
+            f"{total['plateau_time']:g}, Green–Kubo from the total {_pm(total['eta'], total['eta_err'])}, without the "
+            f"thermostat part {without['running'][lag]:.3f}, {difference}; without it, read at its own plateau "
+            f"({without['plateau_time']:g}): {_pm(without['eta'], without['eta_err'])}.")
 
 
 def _scene_section(scene, rows, results):
@@ -231,8 +236,8 @@ independent consecutive segments. The values at 2× and 4× the plateau lag
 show how flat the plateau is."""
 
 
-def write_report(args, nemd, gk, seconds):
-    """report.md and the charts in args.out."""
+def write_report(args, nemd, gk, seconds, source="the saved series"):
+    """report.md and the charts in args.out; seconds None: re-read from `source`, not run."""
     out = args.out
     if nemd or gk:
         viscosity_chart(os.path.join(out, "viscosity.png"), nemd, gk)
@@ -242,7 +247,7 @@ def write_report(args, nemd, gk, seconds):
         temperature_chart(os.path.join(out, "temperature.png"), nemd)
     lines = ["# Shear viscosity: NEMD, Green–Kubo and the Groot–Warren estimate", "",
              f"`python3 -m openmmdpd.viscosity {' '.join(args.command)}` — {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
-             f"{'re-read from the saved series' if seconds is None else f'{seconds / 60:.1f} min'}; integrator {args.integrator}, dt {args.dt:g}, N {args.particles}, "
+             f"{f're-read from {source}' if seconds is None else f'{seconds / 60:.1f} min'}; integrator {args.integrator}, dt {args.dt:g}, N {args.particles}, "
              f"{args.platform} platform ({args.threads} thread(s)), block Delta {args.block:g}, "
              f"equilibration {args.equilibrate:g} per run, seed {args.seed}. Reduced units (kT, rc, m = 1).", "",
              METHODS, ""]

@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from openmmdpd import analysis, compare, report
+from openmmdpd import analysis, catalog, charts, compare, report
 
 
 def test_compare_smoke_run(tmp_path):
@@ -43,6 +43,23 @@ def test_compare_smoke_run(tmp_path):
     assert "above 40 kT" in report  # the instability sentinel is on by default
     assert "| Lowe | 0.1 | unstable (kT_conf) |" in report
     assert "LangevinMiddleIntegrator steps per unit of simulated time" in report
+    # --redraw, with the run's options, writes the same report from the CSV files
+    os.remove(os.path.join(out, "gr.png"))
+    compare.main(["--quick", "--threads", "1", "--out", out, "--redraw"])
+    assert open(os.path.join(out, "report.md")).read() == report
+    assert os.path.getsize(os.path.join(out, "gr.png")) > 0
+    with pytest.raises(SystemExit, match="give the options the run was made with"):
+        compare.main(["--quick", "--time", "5", "--out", out, "--redraw"])
+
+
+def test_every_integrator_has_a_colour_and_a_marker_of_its_own():
+    from matplotlib.colors import to_hex
+    names = set(catalog.integrators("soft")) | {"OpenMM-DPD"}
+    assert names <= set(charts.INTEGRATOR_STYLES)
+    styles = [charts.integrator_style(name) for name in charts.INTEGRATOR_STYLES]
+    assert len({to_hex(style["color"]) for style in styles}) == len(styles)
+    assert len({style["marker"] for style in styles}) == len(styles)
+    assert "x" not in {style["marker"] for style in styles}  # the unstable runs' cross
 
 
 def test_quick_preset_sets_defaults_that_explicit_options_override(monkeypatch):

@@ -254,6 +254,13 @@ def test_viscosity_quick_smoke(tmp_path):
     with open(os.path.join(out, "nemd.csv")) as f:
         assert float(next(csv.DictReader(f))["eta"]) == pytest.approx(float(rows[0]["eta"]))
     assert "re-read from the saved series" in open(os.path.join(out, "report.md")).read()
+    # without the series, --reanalyse redraws from the CSV files and leaves them as they are
+    saved = {name: open(os.path.join(out, name)).read() for name in ("gk.csv", "gk_running.csv", "nemd.csv")}
+    os.remove(os.path.join(out, "gk_series_model-b.npz"))
+    viscosity.main(["--quick", "--out", out, "--reanalyse"])
+    assert {name: open(os.path.join(out, name)).read() for name in saved} == saved
+    text = open(os.path.join(out, "report.md")).read()
+    assert "re-read from the CSV files" in text and "| total | " in text and "needs the block series" in text
 
 
 # --- the report's flags --------------------------------------------------------------------------
