@@ -12,7 +12,7 @@ from pymbar import timeseries
 
 __all__ = ["kinetic_temperature", "block_average", "standard_error", "ratio_with_error", "median_with_error",
            "radial_distribution",
-           "frame_radial_distributions", "mean_squared_displacement", "radius_of_gyration",
+           "frame_radial_distributions", "mean_squared_displacement", "grouped_squared_displacement", "radius_of_gyration",
            "velocity_autocorrelation"]
 
 
@@ -132,11 +132,26 @@ def radial_distribution(positions, box_length, r_max, nbins):
     return r, g[0]
 
 
+def _einstein_msd(frames, frame_time):
+    return _mdanalysis().analysis.msd.EinsteinMSD(_universe(frames, 1.0, frame_time), select="all", msd_type="xyz",
+                                                  fft=False).run()
+
+
 def mean_squared_displacement(frames, frame_time):
     """(lag times, MSD) of unwrapped frames x particles x 3 positions taken every frame_time,
     averaged over particles and every time origin (MDAnalysis's EinsteinMSD, windowed)."""
-    msd = _mdanalysis().analysis.msd.EinsteinMSD(_universe(frames, 1.0, frame_time), select="all", msd_type="xyz", fft=False).run()
+    msd = _einstein_msd(frames, frame_time)
     return np.asarray(msd.times), np.asarray(msd.results.timeseries)
+
+
+def grouped_squared_displacement(frames, frame_time, groups):
+    """(lag times, MSD, MSD of each group): mean_squared_displacement's two, and the MSD of
+    each of `groups` interleaved sets of particles (lags x groups), whose spread gives the
+    error of what is fitted to the MSD."""
+    msd = _einstein_msd(frames, frame_time)
+    by_particle = np.asarray(msd.results.msds_by_particle)
+    by_group = np.stack([by_particle[:, g::groups].mean(axis=1) for g in range(groups)], axis=1)
+    return np.asarray(msd.times), np.asarray(msd.results.timeseries), by_group
 
 
 def radius_of_gyration(positions_of_chain):

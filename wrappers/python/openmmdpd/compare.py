@@ -32,12 +32,12 @@ import openmm
 from openmm import unit
 from scipy.spatial import cKDTree
 
-from .analysis import (frame_radial_distributions, mean_squared_displacement, median_with_error, radius_of_gyration,
+from .analysis import (frame_radial_distributions, grouped_squared_displacement, median_with_error, radius_of_gyration,
                        ratio_with_error, standard_error)
 from . import options
 from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
-from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS, R1_BLOCKS,
-                       schedule)
+from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_GROUPS,
+                       OVERLAP_EXCESS, R1_BLOCKS, schedule)
 from .report import read_gr, read_rows, write_report
 from .scenes import SCENES, build_scene
 from .units import KT_TEMPERATURE
@@ -46,7 +46,7 @@ G_R_MAX, G_BIN = 2.0, 0.025  # g(r) to 2 rc (or half the box) in bins of 0.025 r
 FIXED_RADII = (1.0, 1.16)  # Nc at these radii: r1 sits on a minimum too flat to integrate to
 COLUMNS = ["scene", "integrator", "dt", "status", "reason", "steps", "kT", "kT_err", "kT_error", "kT_conf",
            "kT_conf_err", "g_core", "g_dev_ref", "g_dev_ideal", "Nc", "Nc_err", "r1", "r1_err", "Nc_1.0",
-           "Nc_1.0_err", "Nc_1.16", "Nc_1.16_err", "D", "D_ratio", "chain_kT", "chain_kT_err", "Rg", "Rg_err",
+           "Nc_1.0_err", "Nc_1.16", "Nc_1.16_err", "D", "D_err", "D_ratio", "D_ratio_err", "chain_kT", "chain_kT_err", "Rg", "Rg_err",
            "bond_max", "cost_ratio", "cost_ratio_err", "cost_per_time", "cost_per_time_err", "cpu_s_per_time",
            "wall_s_per_time", "langevin_cpu_s_per_time", "note"]
 
@@ -158,6 +158,14 @@ def diffusion(times, msd):
     return float(np.polyfit(np.asarray(times)[fit], np.asarray(msd)[fit], 1)[0] / 6)
 
 
+def diffusion_with_error(times, msd, group_msd):
+    """D of the MSD and its standard error from the spread of the groups' own D.  Momentum
+    conservation correlates the groups weakly (the centre of mass stays put), which this
+    error leaves out."""
+    per_group = [diffusion(times, group_msd[:, g]) for g in range(group_msd.shape[1])]
+    return diffusion(times, msd), standard_error(per_group)
+
+
 # --- stability --------------------------------------------------------------------------------
 
 def mark_unstable(row, reason, note):
@@ -244,7 +252,7 @@ class Sampler:
         if len(self.frames) < 2:
             return None
         frames = np.array(self.frames)
-        row["D"] = diffusion(*mean_squared_displacement(frames, frame_time))
+        row["D"], row["D_err"] = diffusion_with_error(*grouped_squared_displacement(frames, frame_time, DIFFUSION_GROUPS))
         # g(r) of gr_frames frames spread evenly over the run: InterRDF costs ~10 pair searches of cKDTree's
         chosen = np.unique(np.linspace(0, len(frames) - 1, gr_frames).round().astype(int))
         r, frame_g = frame_radial_distributions(frames[chosen], self.length, *g_r_range(self.length))
@@ -386,6 +394,9 @@ def _deviations(rows, names, g_of):
             g, g_ref = g_of[(name, row["dt"])], g_of[(name, ref["dt"])]
             row["g_dev_ref"] = float(np.sqrt(np.mean((g - g_ref) ** 2)))
             row["D_ratio"] = row["D"] / ref["D"] if ref["D"] else float("nan")
+            # the reference's own ratio is 1 by definition; another's carries both errors
+            both = [] if row is ref else [row["D_err"] / row["D"], ref["D_err"] / ref["D"]]
+            row["D_ratio_err"] = abs(row["D_ratio"]) * float(np.sqrt(np.sum(np.square(both))))
 
 
 def _write_csvs(out, rows, r, g_of):

@@ -1,7 +1,8 @@
 """The main job's protocol, shared by compare (which runs it) and report (which describes it):
-the sampling schedule, the blocks behind the errors of r1, and the thresholds of stability."""
+the sampling schedule, the blocks behind the errors of r1 and D, and the thresholds of stability."""
 
 R1_BLOCKS = 5              # blocks of g(r) frames whose spread gives the errors of r1 and Nc(r1)
+DIFFUSION_GROUPS = 8       # interleaved sets of particles whose spread in D gives its error
 CONF_KT_TOLERANCE = 0.1    # a stable run's configurational kT is within 10 % of 1 (soft scene)
 CHAIN_KT_TOLERANCE = 0.1   # and its chain <kT> within 10 % of 1 (polymer scene)
 # The longest bond a stable polymer run may have: a harmonic bond (k = 7 kT/rc^2, rest length 0)

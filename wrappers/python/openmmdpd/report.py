@@ -8,8 +8,8 @@ import numpy as np
 
 from .charts import figure_handles, integrator_style, legend_outside, log_axis, save
 from .options import parser
-from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, OVERLAP_EXCESS, R1_BLOCKS,
-                       schedule)
+from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_GROUPS,
+                       OVERLAP_EXCESS, R1_BLOCKS, schedule)
 
 
 def _ok(rows, name):
@@ -162,12 +162,13 @@ def _diffusion_chart(rows, path, scene):
     for name in _names(rows):
         ok = [row for row in _ok(rows, name) if math.isfinite(row["D_ratio"])]
         if ok:
-            ax.plot([r["dt"] for r in ok], [r["D_ratio"] for r in ok], ms=5, label=name, **integrator_style(name))
+            ax.errorbar([r["dt"] for r in ok], [r["D_ratio"] for r in ok], yerr=[r["D_ratio_err"] for r in ok],
+                        ms=5, capsize=2, label=name, **integrator_style(name))
     if ax.lines:  # a log axis with nothing on it fails to draw
         log_axis(ax, ticks=[row["dt"] for row in rows if row["status"] == "ok"])
     ax.axhline(1, color="k", lw=0.8)
     ax.set_xlabel("dt")
-    ax.set_ylabel("D(dt) / D(smallest dt) (no error estimated)")
+    ax.set_ylabel("D(dt) / D(smallest dt)")
     ax.set_title(f"Tracer diffusion against time step, scene {scene}")
     legend_outside(ax)
     save(fig, path)
@@ -248,7 +249,8 @@ def _unstable_means(threshold):
 def _conventions():
     return ("Errors (±) are one standard error: of the mean of a time series from its statistical inefficiency "
             "(pymbar; the configurational kT as the ratio <sum |F|^2> / <sum lap U>, linearised), of r1 and "
-            f"Nc(r1) from the spread over {R1_BLOCKS} blocks of frames. On the Pareto chart a point whose "
+            f"Nc(r1) from the spread over {R1_BLOCKS} blocks of frames, of D from the spread of the D of "
+            f"{DIFFUSION_GROUPS} interleaved sets of particles (D/D0 with the smallest dt's error too). On the Pareto chart a point whose "
             f"|<kT> - 1| is below {NOISE_FLOOR_SIGMAS} standard errors (its noise floor, a tick) is drawn hollow: "
             "it is not resolved from exact. Nc is given to the first minimum r1 and at the fixed radii 1.0 and 1.16: "
             "the minimum of a soft fluid's g(r) is so flat that r1 is poorly defined, and Nc grows there by "
@@ -264,7 +266,7 @@ def _runs_table(rows):
         lines.append("| " + " | ".join([row["integrator"], _fmt(row["dt"]), status, _pm(row, "kT"), _pm(row, "kT_conf"),
                                         _fmt(row["g_dev_ref"], 2), _fmt(row["g_dev_ideal"], 2), _pm(row, "r1", 3),
                                         _pm(row, "Nc"), _pm(row, "Nc_1.0"), _pm(row, "Nc_1.16"),
-                                        _fmt(row["D_ratio"], 3), _pm(row, "chain_kT"), _pm(row, "Rg"),
+                                        _pm(row, "D_ratio", 3), _pm(row, "chain_kT"), _pm(row, "Rg"),
                                         _fmt(row["bond_max"], 3), _pm(row, "cost_ratio", 3),
                                         _fmt(row["cpu_s_per_time"], 3)]) + " |")
     return lines
@@ -316,8 +318,8 @@ def _precision(rows):
 
 # What a chart cannot show by itself, said under it in the report.
 CAPTIONS = {"error_vs_cost.png": "The number beside each stable point is its dt.",
-            "diffusion.png": "No error bars: a run's D is one fit to its mean-square displacement, and no error of it "
-                             "is estimated (`results.csv` has no column for one)."}
+            "diffusion.png": f"Error bars: one standard error of D/D0, from the spread of D over {DIFFUSION_GROUPS} "
+                             "interleaved sets of particles."}
 
 
 def write_report(args, rows, r, g_of, seconds=None):

@@ -217,3 +217,16 @@ def test_diffusion_of_a_random_walk_from_the_library_msd():
     sigma = np.std(estimates, ddof=1) / np.sqrt(len(estimates))
     assert 0 < sigma < 0.01 * s ** 2 / (2 * frame_time)
     assert abs(np.mean(estimates) - s ** 2 / (2 * frame_time)) < 3 * sigma
+
+
+def test_error_of_diffusion_is_the_scatter_between_independent_walks():
+    # 60 independent walks: the mean of D's estimated error against the observed scatter of D.
+    # Their ratio has sigma ~0.1 (the scatter from 60 values, the estimates from 8 groups each),
+    # so 0.3 is 3 sigma; a missing sqrt(groups) (factor 2.8) fails it.
+    rng = np.random.default_rng(7)
+    s, frame_time, frames = 0.2, 0.5, 40
+    results = [compare.diffusion_with_error(*analysis.grouped_squared_displacement(
+        np.cumsum(rng.normal(0, s, (frames, 400, 3)), axis=0), frame_time, compare.DIFFUSION_GROUPS))
+        for _ in range(60)]
+    estimates, errors = np.array(results).T
+    assert np.mean(errors) / np.std(estimates, ddof=1) == pytest.approx(1, abs=0.3)
