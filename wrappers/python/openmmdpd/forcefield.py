@@ -1,0 +1,399 @@
+"""DPD force fields in OpenMM's own ForceField XML format (docs/guide/force-fields.md).
+
+Importing this module registers these tags with OpenMM's `app.forcefield.parsers`, so that
+`app.ForceField` reads them beside its own (`AtomTypes`, `Residues`, `HarmonicBondForce`,
+`HarmonicAngleForce`, ...):
+
+- `DPDSoftRepulsionForce`: `<Pair type1 type2 a cutoff/>` (kJ/mol/nm, nm), one
+  `DPDSoftRepulsionForce` with a particle type per bead type;
+- `DPDThermostat`: `<Pair type1 type2 friction cutoff/>` (1/ps, nm), the integrator's
+  type-pair table, which `apply_thermostat_parameters` copies into an integrator;
+- `FENEBondForce`: `<Bond class1 class2 k rmax/>`;
+- `WormLikeChainBondForce`: `<Bond class1 class2 persistenceLength springLength kT/>`;
+- `CosineAngleForce`: `<Angle class1 class2 class3 k theta0/>`, k (1 - cos(theta - theta0)).
+
+A pair or bond may name types (`type1`) or classes (`class1`), as OpenMM's tags do. Bead
+types are atom types without an element; a residue made only of beads is matched to the
+template with the same bead names and bonds (see `match_bead_residue`).
+"""
+import os
+import weakref
+
+import openmm
+from openmm import app
+from openmm.app import forcefield as _openmm_forcefield
+from openmm.app.internal import compiled
+
+from .dpdplugin import DPDSoftRepulsionForce, DPDThermostatIntegrator
+
+__all__ = ["data_path", "apply_thermostat_parameters", "bead_types", "match_bead_residue",
+           "SoftRepulsionGenerator", "ThermostatGenerator", "FENEBondGenerator", "WormLikeChainBondGenerator",
+           "CosineAngleGenerator"]
+
+# The folder of the force fields shipped with the package.
+DATA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
+
+
+def data_path(name):
+    """The path of a force field shipped with the package, e.g. data_path("groot-warren.xml")."""
+    path = os.path.join(DATA_DIR, name)
+    if not os.path.isfile(path):
+        shipped = sorted(f for f in os.listdir(DATA_DIR) if f.endswith(".xml")) if os.path.isdir(DATA_DIR) else []
+        raise ValueError(f"no force field {name!r} is shipped with openmmdpd; shipped: {', '.join(shipped) or 'none'}")
+    return path
+
+
+# --- Bead residues ---------------------------------------------------------------------------
+
+def _is_bead_template(template):
+    return all(atom.element is None for atom in template.atoms)
+
+
+# {ForceField: (number of templates, {sorted bead names: [templates]})}, so that matching a
+# residue looks at the few templates with its bead names rather than at all of them.
+_BEAD_TEMPLATES = weakref.WeakKeyDictionary()
+
+
+def _bead_templates_by_names(forcefield):
+    """{sorted bead names: [templates]} for the element-less templates, rebuilt when templates change."""
+    cached = _BEAD_TEMPLATES.get(forcefield)
+    if cached is None or cached[0] != len(forcefield._templates):
+        index = {}
+        for template in forcefield._templates.values():
+            if _is_bead_template(template):
+                index.setdefault(tuple(sorted(atom.name for atom in template.atoms)), []).append(template)
+        cached = _BEAD_TEMPLATES[forcefield] = (len(forcefield._templates), index)
+    return cached[1]
+
+
+def _describe_residue(residue):
+    return f"residue {residue.index} ({residue.name}) with beads {', '.join(atom.name for atom in residue.atoms())}"
+
+
+def match_bead_residue(forcefield, residue, bondedToAtom, ignoreExternalBonds, ignoreExtraParticles):
+    """OpenMM's template matcher for residues made only of element-less atoms (beads).
+
+    OpenMM's own matching keys templates by element counts, which are empty for every bead
+    template, and lets an element-less atom match any template atom whose name the template
+    lacks: a one-bead residue would match every one-bead template. Here a bead residue
+    matches only templates with exactly its bead names, then OpenMM's matcher checks the
+    bonds (internal and external). A residue none matches, or two match with different bead
+    types, is an error naming it. Residues with elements are left to OpenMM.
+    """
+    if any(atom.element is not None for atom in residue.atoms()):
+        return None
+    names = tuple(sorted(atom.name for atom in residue.atoms()))
+    matches = []
+    for template in _bead_templates_by_names(forcefield).get(names, ()):
+        match = compiled.matchResidueToTemplate(residue, template, bondedToAtom, ignoreExternalBonds,
+                                                ignoreExtraParticles)
+        if match is not None:
+            matches.append((template, match))
+    if not matches:
+        raise ValueError(f"no bead template matches {_describe_residue(residue)}: a template needs the same "
+                         f"bead names and the same bonds, external bonds included")
+    first, first_match = matches[0]
+    for template, match in matches[1:]:
+        if not first.areParametersIdentical(template, first_match, match):
+            raise ValueError(f"bead templates {first.name} and {template.name} both match "
+                             f"{_describe_residue(residue)} with different types; pass residueTemplates "
+                             f"to choose one")
+    return first
+
+
+def _register(forcefield, generator_class):
+    """The force field's generator of this class, created (with the bead matcher) on first use."""
+    for generator in forcefield.getGenerators():
+        if isinstance(generator, generator_class):
+            return generator
+    generator = generator_class(forcefield)
+    forcefield.registerGenerator(generator)
+    if match_bead_residue not in forcefield._templateMatchers:
+        forcefield.registerTemplateMatcher(match_bead_residue)
+    return generator
+
+
+def _is_periodic(data, nonbondedMethod, tag):
+    """Periodic when the topology has a box, unless CutoffNonPeriodic is asked for."""
+    if nonbondedMethod not in (app.NoCutoff, app.CutoffPeriodic, app.CutoffNonPeriodic):
+        raise ValueError(f"{tag}: nonbondedMethod {nonbondedMethod} does not apply to DPD forces; "
+                         f"use CutoffPeriodic (or NoCutoff: periodic in the topology's box) or CutoffNonPeriodic")
+    if nonbondedMethod == app.CutoffNonPeriodic or not data.atoms:
+        return False
+    return data.atoms[0].residue.chain.topology.getPeriodicBoxVectors() is not None
+
+
+# --- Type-pair tables --------------------------------------------------------------------------
+
+def bead_types(forcefield, type_names):
+    """The distinct type names among `type_names`, in the force field's order of <AtomTypes>.
+
+    A type's index in this list is the particle type the force and the integrator give it.
+    """
+    present = set(type_names)
+    return [name for name in forcefield._atomTypes if name in present]
+
+
+class _PairTable:
+    """Per-type-pair values of one tag, given by type or class; the first matching entry wins."""
+
+    def __init__(self, forcefield, tag, value_names):
+        self.forcefield, self.tag, self.value_names = forcefield, tag, value_names
+        self.entries = []
+
+    def add(self, attrib):
+        types = self.forcefield._findAtomTypes(attrib, 2)
+        if None in types:
+            raise ValueError(f"{self.tag}: Pair {dict(attrib)} names a type or class the force field lacks")
+        missing = [name for name in self.value_names if name not in attrib]
+        if missing:
+            raise ValueError(f"{self.tag}: Pair {dict(attrib)} lacks {', '.join(missing)}")
+        values = tuple(float(attrib[name]) for name in self.value_names)
+        self.entries.append((set(types[0]), set(types[1]), values))
+
+    def lookup(self, type1, type2):
+        for types1, types2, values in self.entries:
+            if (type1 in types1 and type2 in types2) or (type1 in types2 and type2 in types1):
+                return values
+        return None
+
+    def table(self, types):
+        """{(i, j): values} for i <= j indices into `types`; a pair without an entry is an error."""
+        result = {}
+        for i, type1 in enumerate(types):
+            for j in range(i, len(types)):
+                values = self.lookup(type1, types[j])
+                if values is None:
+                    raise ValueError(f"{self.tag}: no entry for the type pair ({type1}, {types[j]})")
+                result[(i, j)] = values
+        return result
+
+
+def _check_same_pairs(forcefield, types):
+    """Refuse a force field whose a_ij and friction tables cover different pairs of `types`."""
+    force = _generator(forcefield, SoftRepulsionGenerator)
+    thermostat = _generator(forcefield, ThermostatGenerator)
+    if force is None or thermostat is None:
+        return
+    for i, type1 in enumerate(types):
+        for type2 in types[i:]:
+            has_a = force.table.lookup(type1, type2) is not None
+            has_friction = thermostat.table.lookup(type1, type2) is not None
+            if has_a != has_friction:
+                lacking = "DPDThermostat (friction)" if has_a else "DPDSoftRepulsionForce (a_ij)"
+                raise ValueError(f"the type pair ({type1}, {type2}) is in one type-pair table but not in "
+                                 f"{lacking}: the force and the thermostat must cover the same pairs")
+
+
+def _generator(forcefield, generator_class):
+    return next((g for g in forcefield.getGenerators() if isinstance(g, generator_class)), None)
+
+
+class SoftRepulsionGenerator:
+    """`<DPDSoftRepulsionForce>`: a `DPDSoftRepulsionForce` with a_ij and cutoff per type pair.
+
+    Every bead is a particle type (bead_types' order); every pair of types in the topology
+    needs an entry. The XML's cutoffs are the model's: createSystem's nonbondedCutoff is not
+    used. Bonded beads repel too, as in Groot and Warren's chains (no exclusions).
+    """
+    tag = "DPDSoftRepulsionForce"
+
+    def __init__(self, forcefield):
+        self.forcefield = forcefield
+        self.table = _PairTable(forcefield, self.tag, ("a", "cutoff"))
+
+    @staticmethod
+    def parseElement(element, forcefield):
+        generator = _register(forcefield, SoftRepulsionGenerator)
+        for pair in element.findall("Pair"):
+            generator.table.add(pair.attrib)
+
+    def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
+        names = [data.atomType[atom] for atom in data.atoms]
+        types = bead_types(self.forcefield, names)
+        table = self.table.table(types)
+        force = DPDSoftRepulsionForce(*table[(0, 0)])
+        force.setNonbondedMethod(DPDSoftRepulsionForce.CutoffPeriodic if _is_periodic(data, nonbondedMethod, self.tag)
+                                 else DPDSoftRepulsionForce.CutoffNonPeriodic)
+        _set_particle_types(force, names, types)
+        for (i, j), (a, cutoff) in table.items():
+            if (i, j) != (0, 0):  # the defaults hold pair (0, 0)
+                force.addTypePair(i, j, a, cutoff)
+        system.addForce(force)
+
+
+def _set_particle_types(target, names, types):
+    index = {name: i for i, name in enumerate(types)}
+    for particle, name in enumerate(names):
+        target.setParticleType(particle, index[name])
+
+
+class ThermostatGenerator:
+    """`<DPDThermostat>`: the integrators' friction (1/ps) and cutoff (nm) per type pair.
+
+    It adds no force (the thermostat is the integrator's); createSystem only checks that
+    it covers the same type pairs as `<DPDSoftRepulsionForce>`.
+    """
+    tag = "DPDThermostat"
+
+    def __init__(self, forcefield):
+        self.forcefield = forcefield
+        self.table = _PairTable(forcefield, self.tag, ("friction", "cutoff"))
+
+    @staticmethod
+    def parseElement(element, forcefield):
+        generator = _register(forcefield, ThermostatGenerator)
+        for pair in element.findall("Pair"):
+            generator.table.add(pair.attrib)
+
+    def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
+        _check_same_pairs(self.forcefield, bead_types(self.forcefield, data.atomType.values()))
+
+
+class _CustomBondGenerator:
+    """A periodic CustomBondForce whose per-bond parameters come from type-pair <Bond> entries."""
+    tag = expression = name = None
+    attributes = ()  # (XML attribute, per-bond parameter)
+
+    def __init__(self, forcefield):
+        self.forcefield = forcefield
+        self.entries = []
+
+    @classmethod
+    def parseElement(cls, element, forcefield):
+        generator = _register(forcefield, cls)
+        for bond in element.findall("Bond"):
+            generator.add(bond.attrib)
+
+    def add(self, attrib):
+        types = self.forcefield._findAtomTypes(attrib, 2)
+        if None in types:
+            raise ValueError(f"{self.tag}: Bond {dict(attrib)} names a type or class the force field lacks")
+        missing = [name for name, _ in self.attributes if name not in attrib]
+        if missing:
+            raise ValueError(f"{self.tag}: Bond {dict(attrib)} lacks {', '.join(missing)}")
+        self.entries.append((set(types[0]), set(types[1]), [float(attrib[name]) for name, _ in self.attributes]))
+
+    def parameters(self, type1, type2):
+        for types1, types2, values in self.entries:
+            if (type1 in types1 and type2 in types2) or (type1 in types2 and type2 in types1):
+                return values
+        return None
+
+    def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
+        force = openmm.CustomBondForce(self.expression)
+        force.setName(self.name)
+        for _, parameter in self.attributes:
+            force.addPerBondParameter(parameter)
+        for bond in data.bonds:
+            values = self.parameters(data.atomType[data.atoms[bond.atom1]], data.atomType[data.atoms[bond.atom2]])
+            if values is not None:
+                force.addBond(bond.atom1, bond.atom2, values)
+        if force.getNumBonds():
+            force.setUsesPeriodicBoundaryConditions(_is_periodic(data, nonbondedMethod, self.tag))
+            system.addForce(force)
+
+
+class FENEBondGenerator(_CustomBondGenerator):
+    """`<FENEBondForce>`: -k/2 rmax^2 ln(1 - r^2/rmax^2), as scenes.fene_bond_force (NaN past rmax)."""
+    tag, name = "FENEBondForce", "FENE"
+    expression = "-k*rmax^2*log(sqrt(1 - (r/rmax)^2))"
+    attributes = (("k", "k"), ("rmax", "rmax"))
+
+
+class WormLikeChainBondGenerator(_CustomBondGenerator):
+    """`<WormLikeChainBondForce>`: Marko–Siggia springs as scenes.wlc_bond_force, with
+    persistenceLength lp (nm), springLength L (nm) and kT (kJ/mol) per type pair."""
+    tag, name = "WormLikeChainBondForce", "WormLikeChain"
+    expression = "kT/lp*L*(0.25*exp(-log(1 - R)) - 0.25 - 0.25*R + 0.5*R^2); R=r/L"
+    attributes = (("persistenceLength", "lp"), ("springLength", "L"), ("kT", "kT"))
+
+
+class CosineAngleGenerator:
+    """`<CosineAngleForce>`: k (1 - cos(theta - theta0)) per angle of bonded beads (k in kJ/mol,
+    theta0 in radians; theta0 = pi keeps a chain straight)."""
+    tag = "CosineAngleForce"
+
+    def __init__(self, forcefield):
+        self.forcefield = forcefield
+        self.entries = []
+
+    @staticmethod
+    def parseElement(element, forcefield):
+        generator = _register(forcefield, CosineAngleGenerator)
+        for angle in element.findall("Angle"):
+            types = forcefield._findAtomTypes(angle.attrib, 3)
+            if None in types or "k" not in angle.attrib or "theta0" not in angle.attrib:
+                raise ValueError(f"CosineAngleForce: Angle {dict(angle.attrib)} needs known types or classes, "
+                                 f"k and theta0")
+            generator.entries.append(([set(t) for t in types], (float(angle.attrib["k"]),
+                                                                 float(angle.attrib["theta0"]))))
+
+    def parameters(self, type1, type2, type3):
+        for (types1, types2, types3), values in self.entries:
+            if type2 in types2 and ((type1 in types1 and type3 in types3) or (type1 in types3 and type3 in types1)):
+                return values
+        return None
+
+    def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
+        force = openmm.CustomAngleForce("k*(1 - cos(theta - theta0))")
+        force.setName("CosineAngle")
+        force.addPerAngleParameter("k")
+        force.addPerAngleParameter("theta0")
+        for angle in data.angles:
+            values = self.parameters(*(data.atomType[data.atoms[i]] for i in angle))
+            if values is not None:
+                force.addAngle(*angle, values)
+        if force.getNumAngles():
+            force.setUsesPeriodicBoundaryConditions(_is_periodic(data, nonbondedMethod, self.tag))
+            system.addForce(force)
+
+
+# --- The thermostat's table into an integrator ---------------------------------------------------
+
+def _thermostat_integrator_classes():
+    # OpenMM 8.3 and later has a DPDIntegrator with the same type-pair model.
+    return (DPDThermostatIntegrator,) + ((openmm.DPDIntegrator,) if hasattr(openmm, "DPDIntegrator") else ())
+
+
+def _atom_type_names(forcefield, topology, residueTemplates, ignoreExternalBonds):
+    """Each atom's type name, by the same template matching createSystem does."""
+    data = app.ForceField._SystemData(topology)
+    forcefield._matchAllResiduesToTemplates(data, topology, residueTemplates, ignoreExternalBonds)
+    return [data.atomType[atom] for atom in topology.atoms()]
+
+
+def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplates=None, ignoreExternalBonds=False):
+    """Copy the force field's `<DPDThermostat>` table for the types in `topology` into `integrator`.
+
+    Sets every particle's type with the numbering the force's particle types have (bead_types),
+    the defaults to the friction and cutoff of type pair (0, 0) and a type pair for every other
+    pair, so no pair falls back on a default set elsewhere. Refuses an integrator that already
+    has type pairs, and a force field whose friction and a_ij tables cover different pairs.
+    residueTemplates and ignoreExternalBonds: as given to createSystem. Returns the integrator.
+    """
+    if not isinstance(integrator, _thermostat_integrator_classes()):
+        raise TypeError(f"apply_thermostat_parameters: {type(integrator).__name__} has no type-pair "
+                        f"thermostat; give one of openmmdpd's integrators")
+    thermostat = _generator(forcefield, ThermostatGenerator)
+    if thermostat is None:
+        raise ValueError("apply_thermostat_parameters: the force field has no <DPDThermostat>")
+    if integrator.getNumTypePairs():
+        raise ValueError(f"apply_thermostat_parameters: the integrator already has {integrator.getNumTypePairs()} "
+                         f"type pairs; give it a new integrator")
+    names = _atom_type_names(forcefield, topology, residueTemplates or {}, ignoreExternalBonds)
+    types = bead_types(forcefield, names)
+    _check_same_pairs(forcefield, types)
+    table = thermostat.table.table(types)
+    integrator.setDefaultFriction(table[(0, 0)][0])
+    integrator.setDefaultCutoff(table[(0, 0)][1])
+    for (i, j), (friction, cutoff) in table.items():
+        if (i, j) != (0, 0):
+            integrator.addTypePair(i, j, friction, cutoff)
+    _set_particle_types(integrator, names, types)
+    return integrator
+
+
+for _generator_class in (SoftRepulsionGenerator, ThermostatGenerator, FENEBondGenerator,
+                         WormLikeChainBondGenerator, CosineAngleGenerator):
+    _openmm_forcefield.parsers[_generator_class.tag] = _generator_class.parseElement
