@@ -1,0 +1,328 @@
+"""DPD force fields read by OpenMM's app.ForceField (openmmdpd.forcefield): the Systems they
+build against the same Systems built by hand from the scenes' forces, the thermostat table
+copied into an integrator, bead-residue matching and the errors; Reference platform."""
+import io
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import openmm
+import pytest
+from openmm import app, unit
+
+import openmmdpd
+from openmmdpd import forcefield, packer, scenes
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
+KT = openmmdpd.KT_TEMPERATURE
+
+# Three bead types with distinct a_ij, frictions and cutoffs, so that a misnumbered type
+# changes the energies; FENE between A beads, worm-like springs between A and B, cosine angles.
+TYPES = ("S", "A", "B")
+A_IJ = np.array([[25.0, 30.0, 35.0], [30.0, 40.0, 45.0], [35.0, 45.0, 50.0]])
+A_CUTOFF = np.array([[1.0, 0.9, 0.8], [0.9, 1.0, 0.95], [0.8, 0.95, 1.0]])
+FRICTION = np.array([[4.5, 3.0, 2.0], [3.0, 5.0, 6.0], [2.0, 6.0, 7.0]])
+FRICTION_CUTOFF = np.array([[1.0, 1.1, 0.9], [1.1, 1.0, 0.85], [0.9, 0.85, 1.2]])
+FENE = dict(k=7.0, rmax=3.0)
+WLC = dict(lp=0.5, l_spring=4.0, kT=1.0)
+COSINE = dict(k=2.0, theta0=np.pi)
+
+
+def pair_entries(tag, values, cutoffs, name, skip=()):
+    return "".join(f'<Pair type1="{TYPES[i]}" type2="{TYPES[j]}" {name}="{values[i, j]!r}" cutoff="{cutoffs[i, j]!r}"/>'
+                   for i in range(3) for j in range(i, 3) if (TYPES[i], TYPES[j]) not in skip)
+
+
+def xml(a=A_IJ, friction=FRICTION, skip_a=(), skip_friction=(), extra_residues=""):
+    return f"""<ForceField>
+ <AtomTypes><Type name="S" class="S" mass="1.0"/><Type name="A" class="A" mass="1.0"/>
+  <Type name="B" class="B" mass="1.0"/></AtomTypes>
+ <Residues>
+  <Residue name="SOL"><Atom name="S" type="S"/></Residue>
+  <Residue name="AB3"><Atom name="A1" type="A"/><Atom name="A2" type="A"/><Atom name="B1" type="B"/>
+   <Bond atomName1="A1" atomName2="A2"/><Bond atomName1="A2" atomName2="B1"/></Residue>
+  {extra_residues}
+ </Residues>
+ <DPDSoftRepulsionForce>{pair_entries("DPDSoftRepulsionForce", a, A_CUTOFF, "a", skip_a)}</DPDSoftRepulsionForce>
+ <DPDThermostat>{pair_entries("DPDThermostat", friction, FRICTION_CUTOFF, "friction", skip_friction)}</DPDThermostat>
+ <FENEBondForce><Bond class1="A" class2="A" k="{FENE['k']}" rmax="{FENE['rmax']}"/></FENEBondForce>
+ <WormLikeChainBondForce><Bond class1="A" class2="B" persistenceLength="{WLC['lp']}"
+   springLength="{WLC['l_spring']}" kT="{WLC['kT']}"/></WormLikeChainBondForce>
+ <CosineAngleForce><Angle class1="A" class2="A" class3="B" k="{COSINE['k']}" theta0="{COSINE['theta0']!r}"/>
+ </CosineAngleForce>
+</ForceField>"""
+
+
+def load(text):
+    return app.ForceField(io.StringIO(text))
+
+
+TRIMER = packer.Molecule.single("AB3", ["A1", "A2", "B1"], [(0, 1), (1, 2)])
+SOLVENT = packer.Molecule.single("SOL", ["S"])
+
+
+def trimers_in_solvent(seed=1):
+    return packer.pack([(TRIMER, 6), (SOLVENT, 100)], density=3.0, bond_length=0.8, seed=seed)
+
+
+def hand_built(topology, a=A_IJ):
+    """The System of the test force field, from the scenes' forces: S = 0, A = 1, B = 2."""
+    names = [atom.name[0] for atom in topology.atoms()]
+    types = [TYPES.index(name) for name in names]
+    system = openmm.System()
+    for _ in types:
+        system.addParticle(1.0)
+    system.setDefaultPeriodicBoxVectors(*topology.getPeriodicBoxVectors())
+    soft = scenes.soft_repulsion_force(len(types), a, types, cutoff=1.0)
+    for index in range(soft.getNumTypePairs()):  # per-pair cutoffs, which the helper takes as one
+        t1, t2, value, _ = soft.getTypePairParameters(index)
+        soft.setTypePairParameters(index, t1, t2, value, A_CUTOFF[t1, t2])
+    system.addForce(soft)
+    bonds = [(a.index, b.index) for a, b in topology.bonds()]
+    fene = [(i, j) for i, j in bonds if names[i] == names[j] == "A"]
+    system.addForce(scenes.fene_bond_force(fene, **FENE))
+    system.addForce(scenes.wlc_bond_force([b for b in bonds if b not in fene], WLC["lp"], WLC["l_spring"], WLC["kT"]))
+    angle = openmm.CustomAngleForce(f"{COSINE['k']!r}*(1 - cos(theta - {COSINE['theta0']!r}))")
+    for residue in topology.residues():
+        atoms = [atom.index for atom in residue.atoms()]
+        if len(atoms) == 3:
+            angle.addAngle(*atoms)
+    system.addForce(angle)
+    return system
+
+
+def energy_and_forces(system, positions):
+    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
+    context.setPositions(positions)
+    state = context.getState(getEnergy=True, getForces=True)
+    return (state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole),
+            state.getForces(asNumpy=True).value_in_unit(unit.kilojoule_per_mole / unit.nanometer))
+
+
+def soft_force(system):
+    # The proxy lives as long as the System that owns the force: keep the System referenced.
+    return next(f for f in system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
+
+
+def pair_table(obj, num_types, default):
+    """{(i, j): (value, cutoff)} that a force or an integrator applies to each pair of types."""
+    table = {(i, j): (default[0], default[1]) for i in range(num_types) for j in range(i, num_types)}
+    for index in range(obj.getNumTypePairs()):
+        t1, t2, value, cutoff = obj.getTypePairParameters(index)
+        table[tuple(sorted((t1, t2)))] = (value._value, cutoff._value)
+    return table
+
+
+def differences(system, expected, positions):
+    """What differs between two Systems' energies, forces, particle types and a_ij tables."""
+    found = []
+    (e1, f1), (e2, f2) = energy_and_forces(system, positions), energy_and_forces(expected, positions)
+    if abs(e1 - e2) > 1e-12 * max(1.0, abs(e2)):
+        found.append(f"energy {e1} != {e2}")
+    if np.max(np.abs(f1 - f2)) > 1e-12 * max(1.0, np.max(np.abs(f2))):
+        found.append("forces")
+    s1, s2 = soft_force(system), soft_force(expected)
+    if [s1.getParticleType(i) for i in range(system.getNumParticles())] != \
+            [s2.getParticleType(i) for i in range(expected.getNumParticles())]:
+        found.append("particle types")
+    defaults = [(s.getDefaultA()._value, s.getDefaultCutoff()._value) for s in (s1, s2)]
+    if pair_table(s1, 3, defaults[0]) != pair_table(s2, 3, defaults[1]):
+        found.append("a_ij table")
+    return found
+
+
+def test_created_system_equals_the_hand_built_one():
+    topology, positions = trimers_in_solvent()
+    system = load(xml()).createSystem(topology, nonbondedMethod=app.CutoffPeriodic, removeCMMotion=False)
+    assert differences(system, hand_built(topology), positions) == []
+    assert [system.getParticleMass(i) for i in range(3)] == [1.0 * unit.dalton] * 3
+    assert system.getNumConstraints() == 0
+    assert soft_force(system).getNonbondedMethod() == openmmdpd.DPDSoftRepulsionForce.CutoffPeriodic
+
+
+def test_a_mismatched_a_ij_table_is_detected():
+    topology, positions = trimers_in_solvent()
+    swapped = A_IJ.copy()
+    swapped[0, 1] = swapped[1, 0] = 33.0
+    system = load(xml(a=swapped)).createSystem(topology, removeCMMotion=False)
+    found = differences(system, hand_built(topology), positions)
+    assert "a_ij table" in found and any(item.startswith("energy") for item in found)
+
+
+def thermostat(topology, text):
+    return forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01), load(text), topology)
+
+
+def expected_friction_table():
+    return {(i, j): (FRICTION[i, j], FRICTION_CUTOFF[i, j]) for i in range(3) for j in range(i, 3)}
+
+
+def test_the_thermostat_table_and_types_agree_with_the_force():
+    topology, _ = trimers_in_solvent()
+    integrator = thermostat(topology, xml())
+    default = (integrator.getDefaultFriction()._value, integrator.getDefaultCutoff()._value)
+    assert pair_table(integrator, 3, default) == expected_friction_table()
+    system = load(xml()).createSystem(topology)
+    force = soft_force(system)
+    assert [integrator.getParticleType(i) for i in range(topology.getNumAtoms())] == \
+        [force.getParticleType(i) for i in range(topology.getNumAtoms())]
+    changed = FRICTION.copy()
+    changed[1, 2] = changed[2, 1] = 1.0
+    mismatched = thermostat(topology, xml(friction=changed))
+    default = (mismatched.getDefaultFriction()._value, mismatched.getDefaultCutoff()._value)
+    assert pair_table(mismatched, 3, default) != expected_friction_table()
+
+
+def test_types_are_numbered_in_the_force_fields_order_of_the_types_present():
+    solvent_only = packer.pack([(SOLVENT, 30)], density=3.0)[0]
+    system = load(xml()).createSystem(solvent_only)
+    force = soft_force(system)
+    assert force.getNumTypePairs() == 0 and force.getDefaultA()._value == A_IJ[0, 0]
+    trimers_only = packer.pack([(TRIMER, 10)], density=3.0)[0]
+    system = load(xml()).createSystem(trimers_only)
+    force = soft_force(system)
+    assert [force.getParticleType(i) for i in range(3)] == [0, 0, 1]  # A = 0, B = 1 here
+    assert force.getDefaultA()._value == A_IJ[1, 1]
+
+
+def test_groot_warren_matches_the_scenes_helpers():
+    water, chain = packer.Molecule.single("W", ["W"]), packer.Molecule.chain(5)
+    topology, positions = packer.pack([(chain, 3), (water, 60)], density=3.0, seed=2)
+    system = app.ForceField(forcefield.data_path("groot-warren.xml")).createSystem(topology, removeCMMotion=False)
+    types = [0 if atom.name == "W" else 1 for atom in topology.atoms()]
+    expected = openmm.System()
+    for _ in types:
+        expected.addParticle(1.0)
+    expected.setDefaultPeriodicBoxVectors(*topology.getPeriodicBoxVectors())
+    expected.addForce(scenes.soft_repulsion_force(len(types), [[25.0, 25.0], [25.0, 25.0]], types))
+    expected.addForce(scenes.harmonic_bond_force([(a.index, b.index) for a, b in topology.bonds()], k=4.0))
+    (e1, f1), (e2, f2) = energy_and_forces(system, positions), energy_and_forces(expected, positions)
+    assert e1 == pytest.approx(e2, rel=1e-12) and np.max(np.abs(f1 - f2)) < 1e-12 * np.max(np.abs(f2))
+    assert [soft_force(system).getParticleType(i) for i in range(len(types))] == types
+    assert [system.getParticleMass(i) for i in range(len(types))] == [1.0 * unit.dalton] * len(types)
+
+
+# --- Bead residues -------------------------------------------------------------------------
+
+LIPID = """<Residue name="H3T4"><Atom name="H1" type="A"/><Atom name="H2" type="A"/><Atom name="H3" type="A"/>
+ <Atom name="T1" type="B"/><Atom name="T2" type="B"/><Atom name="T3" type="B"/><Atom name="T4" type="B"/>
+ <Bond atomName1="H1" atomName2="H2"/><Bond atomName1="H2" atomName2="H3"/><Bond atomName1="H3" atomName2="T1"/>
+ <Bond atomName1="T1" atomName2="T2"/><Bond atomName1="T2" atomName2="T3"/><Bond atomName1="T3" atomName2="T4"/>
+</Residue>"""
+
+
+def test_bead_residues_match_by_bead_names_and_bonds():
+    # A one-bead residue named S matches SOL only, though every one-bead template has the same
+    # (empty) element signature; the lipid's head and tail beads take their types by name,
+    # listed in any order.
+    beads = ["T4", "T3", "T2", "T1", "H3", "H2", "H1"]
+    lipid = packer.Molecule.single("LIP", beads, [(i, i + 1) for i in range(6)])
+    topology, _ = packer.pack([(lipid, 4), (SOLVENT, 40)], density=3.0)
+    system = load(xml(extra_residues=LIPID)).createSystem(topology)
+    force = soft_force(system)
+    assert [force.getParticleType(i) for i in range(7)] == [2, 2, 2, 2, 1, 1, 1]
+    assert all(force.getParticleType(i) == 0 for i in range(28, 68))
+
+
+def test_a_residue_without_a_template_is_named():
+    topology, _ = packer.pack([(packer.Molecule.single("XYZ", ["Q"]), 1), (SOLVENT, 40)], density=3.0)
+    with pytest.raises(ValueError, match=r"residue 0 \(XYZ\) with beads Q"):
+        load(xml()).createSystem(topology)
+    broken = packer.Molecule.single("AB3", ["A1", "A2", "B1"], [(0, 1)])  # a bond missing
+    topology, _ = packer.pack([(broken, 1), (SOLVENT, 40)], density=3.0)
+    with pytest.raises(ValueError, match=r"no bead template matches residue 0 \(AB3\) with beads A1, A2, B1"):
+        load(xml()).createSystem(topology)
+
+
+def test_templates_that_match_alike_with_other_types_are_refused():
+    twin = '<Residue name="SOL2"><Atom name="S" type="A"/></Residue>'
+    topology, _ = packer.pack([(SOLVENT, 40)], density=3.0)
+    with pytest.raises(ValueError, match="bead templates SOL and SOL2 both match residue 0"):
+        load(xml(extra_residues=twin)).createSystem(topology)
+
+
+# --- Errors -------------------------------------------------------------------------------
+
+def test_a_type_pair_missing_from_a_ij_is_named():
+    topology, _ = trimers_in_solvent()
+    with pytest.raises(ValueError, match=r"type pair \(S, B\)"):
+        load(xml(skip_a={("S", "B")})).createSystem(topology)
+
+
+def test_thermostat_and_force_must_cover_the_same_pairs():
+    topology, _ = trimers_in_solvent()
+    with pytest.raises(ValueError, match=r"\(A, B\) is in one type-pair table but not in DPDThermostat"):
+        load(xml(skip_friction={("A", "B")})).createSystem(topology)
+    with pytest.raises(ValueError, match=r"\(A, B\) is in one type-pair table but not in DPDThermostat"):
+        thermostat(topology, xml(skip_friction={("A", "B")}))
+    with pytest.raises(ValueError, match=r"\(S, A\) is in one type-pair table but not in DPDSoftRepulsionForce"):
+        thermostat(topology, xml(skip_a={("S", "A")}))
+
+
+def test_apply_thermostat_parameters_refuses_what_it_cannot_fill():
+    topology, _ = trimers_in_solvent()
+    with pytest.raises(TypeError, match="LangevinMiddleIntegrator has no type-pair thermostat"):
+        forcefield.apply_thermostat_parameters(openmm.LangevinMiddleIntegrator(KT, 1.0, 0.01), load(xml()), topology)
+    used = openmmdpd.ShardlowIntegrator(KT, 1.0, 1.0, 0.01)
+    used.addTypePair(0, 1, 2.0, 1.0)
+    with pytest.raises(ValueError, match="already has 1 type pairs"):
+        forcefield.apply_thermostat_parameters(used, load(xml()), topology)
+    no_thermostat = re.sub(r"<DPDThermostat>.*</DPDThermostat>", "", xml(), flags=re.S)
+    with pytest.raises(ValueError, match="has no <DPDThermostat>"):
+        forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01), load(no_thermostat),
+                                               topology)
+
+
+def test_pairs_naming_unknown_types_and_ewald_are_refused():
+    with pytest.raises(ValueError, match="DPDSoftRepulsionForce: Pair .*'X'.* names a type or class"):
+        load(xml().replace('type1="S" type2="S"', 'type1="X" type2="S"', 1))
+    topology, _ = trimers_in_solvent()
+    with pytest.raises(ValueError, match="nonbondedMethod .* does not apply to DPD forces"):
+        load(xml()).createSystem(topology, nonbondedMethod=app.PME)
+
+
+def test_non_periodic_on_request_or_without_a_box():
+    topology, _ = trimers_in_solvent()
+    system = load(xml()).createSystem(topology, nonbondedMethod=app.CutoffNonPeriodic)
+    assert soft_force(system).getNonbondedMethod() == openmmdpd.DPDSoftRepulsionForce.CutoffNonPeriodic
+    topology.setPeriodicBoxVectors(None)
+    assert not load(xml()).createSystem(topology).usesPeriodicBoundaryConditions()
+
+
+def test_data_path_names_what_is_shipped():
+    assert os.path.isfile(forcefield.data_path("groot-warren.xml"))
+    with pytest.raises(ValueError, match="no force field 'nothing.xml'.*groot-warren.xml"):
+        forcefield.data_path("nothing.xml")
+
+
+# --- The guide's script ---------------------------------------------------------------------
+
+def guide_script():
+    with open(os.path.join(ROOT, "docs", "guide", "force-fields.md")) as f:
+        code = re.findall(r"^```python\n(.*?)^```", f.read(), re.S | re.M)[0]
+    return re.sub(r"num_particles=\d+", "num_particles=500", re.sub(r"\.step\(\d+\)", ".step(100)", code))
+
+
+def run_script(code, tmp_path):
+    path = [os.path.dirname(os.path.dirname(openmmdpd.__file__))] + os.environ.get("PYTHONPATH", "").split(os.pathsep)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in path if p))
+    result = subprocess.run([sys.executable, "-c", code], cwd=str(tmp_path), env=env,
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    return np.loadtxt(tmp_path / "log.csv", delimiter=",", usecols=1)
+
+
+def test_the_guide_script_runs_with_a_dpd_integrator_and_with_langevin_by_one_line(tmp_path):
+    code = guide_script()
+    assert len(code.splitlines()) <= 30
+    energies = run_script(code, tmp_path)
+    assert np.all(np.isfinite(energies))
+    lines = code.splitlines()
+    dpd = [k for k, line in enumerate(lines) if line.startswith("integrator = ")]
+    langevin = [line[2:] for line in lines if line.startswith("# integrator = openmm.LangevinMiddleIntegrator")]
+    assert len(dpd) == 1 and len(langevin) == 1
+    lines[dpd[0]] = langevin[0]
+    energies = run_script("\n".join(lines), tmp_path)
+    assert np.all(np.isfinite(energies))
