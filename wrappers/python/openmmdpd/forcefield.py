@@ -211,6 +211,8 @@ class SoftRepulsionGenerator:
     def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
         names = [data.atomType[atom] for atom in data.atoms]
         types = bead_types(self.forcefield, names)
+        if not types:
+            return
         table = self.table.table(types)
         force = DPDSoftRepulsionForce(*table[(0, 0)])
         force.setNonbondedMethod(DPDSoftRepulsionForce.CutoffPeriodic if _is_periodic(data, nonbondedMethod, self.tag)
@@ -383,6 +385,8 @@ def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplat
                          f"type pairs; give it a new integrator")
     names = _atom_type_names(forcefield, topology, residueTemplates or {}, ignoreExternalBonds)
     types = bead_types(forcefield, names)
+    if not types:
+        return integrator
     _check_same_pairs(forcefield, types)
     table = thermostat.table.table(types)
     integrator.setDefaultFriction(table[(0, 0)][0])

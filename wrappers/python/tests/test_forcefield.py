@@ -38,7 +38,7 @@ def pair_entries(tag, values, cutoffs, name, skip=()):
 def xml(a=A_IJ, friction=FRICTION, skip_a=(), skip_friction=(), extra_residues=""):
     return f"""<ForceField>
  <AtomTypes><Type name="S" class="S" mass="1.0"/><Type name="A" class="A" mass="1.0"/>
-  <Type name="B" class="B" mass="1.0"/></AtomTypes>
+  <Type name="B" class="B" mass="2.0"/></AtomTypes>
  <Residues>
   <Residue name="SOL"><Atom name="S" type="S"/></Residue>
   <Residue name="AB3"><Atom name="A1" type="A"/><Atom name="A2" type="A"/><Atom name="B1" type="B"/>
@@ -106,12 +106,18 @@ def soft_force(system):
     return next(f for f in system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
 
 
-def pair_table(obj, num_types, default):
-    """{(i, j): (value, cutoff)} that a force or an integrator applies to each pair of types."""
-    table = {(i, j): (default[0], default[1]) for i in range(num_types) for j in range(i, num_types)}
+def number(quantity):
+    return quantity.value_in_unit(quantity.unit)
+
+
+def pair_table(obj, num_types):
+    """{(i, j): (a or friction, cutoff)} that a force or an integrator applies to each pair of types."""
+    default = obj.getDefaultA() if isinstance(obj, openmmdpd.DPDSoftRepulsionForce) else obj.getDefaultFriction()
+    table = {(i, j): (number(default), number(obj.getDefaultCutoff()))
+             for i in range(num_types) for j in range(i, num_types)}
     for index in range(obj.getNumTypePairs()):
         t1, t2, value, cutoff = obj.getTypePairParameters(index)
-        table[tuple(sorted((t1, t2)))] = (value._value, cutoff._value)
+        table[tuple(sorted((t1, t2)))] = (number(value), number(cutoff))
     return table
 
 
@@ -127,8 +133,7 @@ def differences(system, expected, positions):
     if [s1.getParticleType(i) for i in range(system.getNumParticles())] != \
             [s2.getParticleType(i) for i in range(expected.getNumParticles())]:
         found.append("particle types")
-    defaults = [(s.getDefaultA()._value, s.getDefaultCutoff()._value) for s in (s1, s2)]
-    if pair_table(s1, 3, defaults[0]) != pair_table(s2, 3, defaults[1]):
+    if pair_table(s1, 3) != pair_table(s2, 3):
         found.append("a_ij table")
     return found
 
@@ -137,8 +142,9 @@ def test_created_system_equals_the_hand_built_one():
     topology, positions = trimers_in_solvent()
     system = load(xml()).createSystem(topology, nonbondedMethod=app.CutoffPeriodic, removeCMMotion=False)
     assert differences(system, hand_built(topology), positions) == []
-    assert [system.getParticleMass(i) for i in range(3)] == [1.0 * unit.dalton] * 3
-    assert system.getNumConstraints() == 0
+    # element-less beads: their type's mass, and no constraints even where HBonds asks for them
+    assert [system.getParticleMass(i) for i in range(3)] == [1.0 * unit.dalton, 1.0 * unit.dalton, 2.0 * unit.dalton]
+    assert load(xml()).createSystem(topology, constraints=app.HBonds).getNumConstraints() == 0
     assert soft_force(system).getNonbondedMethod() == openmmdpd.DPDSoftRepulsionForce.CutoffPeriodic
 
 
@@ -162,8 +168,7 @@ def expected_friction_table():
 def test_the_thermostat_table_and_types_agree_with_the_force():
     topology, _ = trimers_in_solvent()
     integrator = thermostat(topology, xml())
-    default = (integrator.getDefaultFriction()._value, integrator.getDefaultCutoff()._value)
-    assert pair_table(integrator, 3, default) == expected_friction_table()
+    assert pair_table(integrator, 3) == expected_friction_table()
     system = load(xml()).createSystem(topology)
     force = soft_force(system)
     assert [integrator.getParticleType(i) for i in range(topology.getNumAtoms())] == \
@@ -171,20 +176,19 @@ def test_the_thermostat_table_and_types_agree_with_the_force():
     changed = FRICTION.copy()
     changed[1, 2] = changed[2, 1] = 1.0
     mismatched = thermostat(topology, xml(friction=changed))
-    default = (mismatched.getDefaultFriction()._value, mismatched.getDefaultCutoff()._value)
-    assert pair_table(mismatched, 3, default) != expected_friction_table()
+    assert pair_table(mismatched, 3) != expected_friction_table()
 
 
 def test_types_are_numbered_in_the_force_fields_order_of_the_types_present():
     solvent_only = packer.pack([(SOLVENT, 30)], density=3.0)[0]
     system = load(xml()).createSystem(solvent_only)
     force = soft_force(system)
-    assert force.getNumTypePairs() == 0 and force.getDefaultA()._value == A_IJ[0, 0]
+    assert force.getNumTypePairs() == 0 and number(force.getDefaultA()) == A_IJ[0, 0]
     trimers_only = packer.pack([(TRIMER, 10)], density=3.0)[0]
     system = load(xml()).createSystem(trimers_only)
     force = soft_force(system)
     assert [force.getParticleType(i) for i in range(3)] == [0, 0, 1]  # A = 0, B = 1 here
-    assert force.getDefaultA()._value == A_IJ[1, 1]
+    assert number(force.getDefaultA()) == A_IJ[1, 1]
 
 
 def test_groot_warren_matches_the_scenes_helpers():
@@ -200,7 +204,14 @@ def test_groot_warren_matches_the_scenes_helpers():
     expected.addForce(scenes.harmonic_bond_force([(a.index, b.index) for a, b in topology.bonds()], k=4.0))
     (e1, f1), (e2, f2) = energy_and_forces(system, positions), energy_and_forces(expected, positions)
     assert e1 == pytest.approx(e2, rel=1e-12) and np.max(np.abs(f1 - f2)) < 1e-12 * np.max(np.abs(f2))
-    assert [soft_force(system).getParticleType(i) for i in range(len(types))] == types
+    force = soft_force(system)
+    assert [force.getParticleType(i) for i in range(len(types))] == types
+    assert pair_table(force, 2) == pair_table(soft_force(expected), 2) == \
+        {(0, 0): (25.0, 1.0), (0, 1): (25.0, 1.0), (1, 1): (25.0, 1.0)}
+    integrator = forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 2.0, 0.04),
+                                                        app.ForceField(forcefield.data_path("groot-warren.xml")),
+                                                        topology)
+    assert pair_table(integrator, 2) == {(0, 0): (4.5, 1.0), (0, 1): (4.5, 1.0), (1, 1): (4.5, 1.0)}
     assert [system.getParticleMass(i) for i in range(len(types))] == [1.0 * unit.dalton] * len(types)
 
 
@@ -289,6 +300,12 @@ def test_non_periodic_on_request_or_without_a_box():
     assert soft_force(system).getNonbondedMethod() == openmmdpd.DPDSoftRepulsionForce.CutoffNonPeriodic
     topology.setPeriodicBoxVectors(None)
     assert not load(xml()).createSystem(topology).usesPeriodicBoundaryConditions()
+
+
+def test_an_empty_topology_gets_no_soft_force_and_no_types():
+    topology = app.Topology()
+    assert load(xml()).createSystem(topology).getNumForces() == 1  # the CMMotionRemover
+    assert thermostat(topology, xml()).getNumTypePairs() == 0
 
 
 def test_data_path_names_what_is_shipped():
