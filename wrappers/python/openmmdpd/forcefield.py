@@ -134,22 +134,33 @@ def bead_types(forcefield, type_names):
     return [name for name in forcefield._atomTypes if name in present]
 
 
-class _PairTable:
-    """Per-type-pair values of one tag, given by type or class; the first matching entry wins."""
+def _entry(forcefield, tag, kind, attrib, num_types, value_names):
+    """(type sets, values) of one <Pair>, <Bond> or <Angle>; an unknown type or class, or a
+    missing or non-numeric value, is an error naming the entry."""
+    types = forcefield._findAtomTypes(attrib, num_types)
+    if None in types:
+        raise ValueError(f"{tag}: {kind} {dict(attrib)} names a type or class the force field lacks")
+    missing = [name for name in value_names if name not in attrib]
+    if missing:
+        raise ValueError(f"{tag}: {kind} {dict(attrib)} lacks {', '.join(missing)}")
+    try:
+        values = tuple(float(attrib[name]) for name in value_names)
+    except ValueError:
+        raise ValueError(f"{tag}: {kind} {dict(attrib)}: {', '.join(value_names)} must be numbers") from None
+    return [set(t) for t in types], values
 
-    def __init__(self, forcefield, tag, value_names):
-        self.forcefield, self.tag, self.value_names = forcefield, tag, value_names
+
+class _PairTable:
+    """Per-type-pair values of one tag's <Pair> or <Bond> entries, given by type or class; the
+    first matching entry wins."""
+
+    def __init__(self, forcefield, tag, kind, value_names):
+        self.forcefield, self.tag, self.kind, self.value_names = forcefield, tag, kind, value_names
         self.entries = []
 
     def add(self, attrib):
-        types = self.forcefield._findAtomTypes(attrib, 2)
-        if None in types:
-            raise ValueError(f"{self.tag}: Pair {dict(attrib)} names a type or class the force field lacks")
-        missing = [name for name in self.value_names if name not in attrib]
-        if missing:
-            raise ValueError(f"{self.tag}: Pair {dict(attrib)} lacks {', '.join(missing)}")
-        values = tuple(float(attrib[name]) for name in self.value_names)
-        self.entries.append((set(types[0]), set(types[1]), values))
+        (types1, types2), values = _entry(self.forcefield, self.tag, self.kind, attrib, 2, self.value_names)
+        self.entries.append((types1, types2, values))
 
     def lookup(self, type1, type2):
         for types1, types2, values in self.entries:
@@ -167,6 +178,19 @@ class _PairTable:
                     raise ValueError(f"{self.tag}: no entry for the type pair ({type1}, {types[j]})")
                 result[(i, j)] = values
         return result
+
+
+class _RateTable(_PairTable):
+    """A <Pair> table of (a strength >= 0, a cutoff > 0), as the force and the integrators take them."""
+
+    def __init__(self, forcefield, tag, value_names):
+        super().__init__(forcefield, tag, "Pair", value_names)
+
+    def add(self, attrib):
+        super().add(attrib)
+        strength, cutoff = self.entries[-1][2]
+        if not (strength >= 0 and cutoff > 0):
+            raise ValueError(f"{self.tag}: Pair {dict(attrib)} needs {self.value_names[0]} >= 0 and cutoff > 0")
 
 
 def _check_same_pairs(forcefield, types):
@@ -200,7 +224,7 @@ class SoftRepulsionGenerator:
 
     def __init__(self, forcefield):
         self.forcefield = forcefield
-        self.table = _PairTable(forcefield, self.tag, ("a", "cutoff"))
+        self.table = _RateTable(forcefield, self.tag, ("a", "cutoff"))
 
     @staticmethod
     def parseElement(element, forcefield):
@@ -240,7 +264,7 @@ class ThermostatGenerator:
 
     def __init__(self, forcefield):
         self.forcefield = forcefield
-        self.table = _PairTable(forcefield, self.tag, ("friction", "cutoff"))
+        self.table = _RateTable(forcefield, self.tag, ("friction", "cutoff"))
 
     @staticmethod
     def parseElement(element, forcefield):
@@ -258,29 +282,13 @@ class _CustomBondGenerator:
     attributes = ()  # (XML attribute, per-bond parameter)
 
     def __init__(self, forcefield):
-        self.forcefield = forcefield
-        self.entries = []
+        self.table = _PairTable(forcefield, self.tag, "Bond", [name for name, _ in self.attributes])
 
     @classmethod
     def parseElement(cls, element, forcefield):
         generator = _register(forcefield, cls)
         for bond in element.findall("Bond"):
-            generator.add(bond.attrib)
-
-    def add(self, attrib):
-        types = self.forcefield._findAtomTypes(attrib, 2)
-        if None in types:
-            raise ValueError(f"{self.tag}: Bond {dict(attrib)} names a type or class the force field lacks")
-        missing = [name for name, _ in self.attributes if name not in attrib]
-        if missing:
-            raise ValueError(f"{self.tag}: Bond {dict(attrib)} lacks {', '.join(missing)}")
-        self.entries.append((set(types[0]), set(types[1]), [float(attrib[name]) for name, _ in self.attributes]))
-
-    def parameters(self, type1, type2):
-        for types1, types2, values in self.entries:
-            if (type1 in types1 and type2 in types2) or (type1 in types2 and type2 in types1):
-                return values
-        return None
+            generator.table.add(bond.attrib)
 
     def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
         force = openmm.CustomBondForce(self.expression)
@@ -288,7 +296,7 @@ class _CustomBondGenerator:
         for _, parameter in self.attributes:
             force.addPerBondParameter(parameter)
         for bond in data.bonds:
-            values = self.parameters(data.atomType[data.atoms[bond.atom1]], data.atomType[data.atoms[bond.atom2]])
+            values = self.table.lookup(data.atomType[data.atoms[bond.atom1]], data.atomType[data.atoms[bond.atom2]])
             if values is not None:
                 force.addBond(bond.atom1, bond.atom2, values)
         if force.getNumBonds():
@@ -317,19 +325,14 @@ class CosineAngleGenerator:
     tag = "CosineAngleForce"
 
     def __init__(self, forcefield):
-        self.forcefield = forcefield
         self.entries = []
 
     @staticmethod
     def parseElement(element, forcefield):
         generator = _register(forcefield, CosineAngleGenerator)
         for angle in element.findall("Angle"):
-            types = forcefield._findAtomTypes(angle.attrib, 3)
-            if None in types or "k" not in angle.attrib or "theta0" not in angle.attrib:
-                raise ValueError(f"CosineAngleForce: Angle {dict(angle.attrib)} needs known types or classes, "
-                                 f"k and theta0")
-            generator.entries.append(([set(t) for t in types], (float(angle.attrib["k"]),
-                                                                 float(angle.attrib["theta0"]))))
+            generator.entries.append(_entry(forcefield, CosineAngleGenerator.tag, "Angle", angle.attrib, 3,
+                                            ("k", "theta0")))
 
     def parameters(self, type1, type2, type3):
         for (types1, types2, types3), values in self.entries:

@@ -286,9 +286,18 @@ def test_apply_thermostat_parameters_refuses_what_it_cannot_fill():
                                                topology)
 
 
-def test_pairs_naming_unknown_types_and_ewald_are_refused():
+def test_entries_naming_unknown_types_or_bad_values_are_refused_by_name():
     with pytest.raises(ValueError, match="DPDSoftRepulsionForce: Pair .*'X'.* names a type or class"):
         load(xml().replace('type1="S" type2="S"', 'type1="X" type2="S"', 1))
+    with pytest.raises(ValueError, match="DPDThermostat: Pair .*'S'.* needs friction >= 0 and cutoff > 0"):
+        load(xml().replace('friction="4.5"', 'friction="-4.5"', 1))
+    with pytest.raises(ValueError, match="FENEBondForce: Bond .*'A'.*: k, rmax must be numbers"):
+        load(xml().replace('rmax="3.0"', 'rmax="far"'))
+    with pytest.raises(ValueError, match="CosineAngleForce: Angle .* lacks theta0"):
+        load(re.sub(r' theta0="[^"]*"', "", xml()))
+
+
+def test_ewald_is_refused():
     topology, _ = trimers_in_solvent()
     with pytest.raises(ValueError, match="nonbondedMethod .* does not apply to DPD forces"):
         load(xml()).createSystem(topology, nonbondedMethod=app.PME)
