@@ -326,7 +326,10 @@ def test_data_path_names_what_is_shipped():
 # --- The guide's script ---------------------------------------------------------------------
 
 def guide_script():
-    with open(os.path.join(ROOT, "docs", "guide", "force-fields.md")) as f:
+    page = os.path.join(ROOT, "docs", "guide", "force-fields.md")
+    if not os.path.isfile(page):
+        pytest.skip("the documentation is not in this copy of the tests")
+    with open(page) as f:
         code = re.findall(r"^```python\n(.*?)^```", f.read(), re.S | re.M)[0]
     return re.sub(r"num_particles=\d+", "num_particles=500", re.sub(r"\.step\(\d+\)", ".step(100)", code))
 
