@@ -252,6 +252,14 @@ def test_templates_that_match_alike_with_other_types_are_refused():
     topology, _ = packer.pack([(SOLVENT, 40)], density=3.0)
     with pytest.raises(ValueError, match="bead templates SOL and SOL2 both match residue 0"):
         load(xml(extra_residues=twin)).createSystem(topology)
+    # residueTemplates chooses, in createSystem and in apply_thermostat_parameters alike
+    chosen = {residue: "SOL2" if residue.index < 10 else "SOL" for residue in topology.residues()}
+    system = load(xml(extra_residues=twin)).createSystem(topology, residueTemplates=chosen)
+    force = soft_force(system)
+    assert [force.getParticleType(i) for i in range(12)] == [1] * 10 + [0] * 2  # A (from SOL2) after S here
+    integrator = forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01),
+                                                        load(xml(extra_residues=twin)), topology, chosen)
+    assert [integrator.getParticleType(i) for i in range(12)] == [1] * 10 + [0] * 2
 
 
 # --- Errors -------------------------------------------------------------------------------
