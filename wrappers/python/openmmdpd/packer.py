@@ -128,9 +128,10 @@ def _add_copies(topology, molecule, count):
     for _ in range(count):
         if not one_residue:
             chain = topology.addChain()
-        atoms = [topology.addAtom(bead, None, residue)
-                 for name, beads in molecule.residues
-                 for residue in [topology.addResidue(name, chain)] for bead in beads]
+        atoms = []
+        for name, beads in molecule.residues:
+            residue = topology.addResidue(name, chain)
+            atoms += [topology.addAtom(bead, None, residue) for bead in beads]
         for i, j in molecule.bonds:
             topology.addBond(atoms[i], atoms[j])
 
