@@ -2,14 +2,16 @@
 
 Taking rc = 1 nm, m = 1 amu and kT = 1 kJ/mol makes the reduced time unit
 rc*sqrt(m/kT) exactly 1 ps, so reduced numbers can be passed to OpenMM unchanged;
-only the temperature needs converting (kT = 1 is T = 120.27236 K).
+only the temperature needs converting (kT = 1 is T = 120.27236 K).  DPDUnits maps the
+reduced numbers of a model with another r_c, m or kT.
 """
+import math
 import numbers
 
 from openmm import unit
 
 __all__ = ["MOLAR_GAS_CONSTANT", "KT_TEMPERATURE", "reduced_temperature",
-           "kT_from_temperature", "strip_units"]
+           "kT_from_temperature", "strip_units", "DPDUnits"]
 
 #: R in kJ/mol/K, the value the design fixes (2019 SI).
 MOLAR_GAS_CONSTANT = 0.008314462618
@@ -63,3 +65,97 @@ def strip_units(value, target_unit, name="value", where="strip_units"):
         expected = f"{what} (a Quantity in {unit_name} or a number)"
     got = str(value) if unit.is_quantity(value) else repr(value)
     raise TypeError(f"{where}: {name} must be {expected}, got {got}")
+
+
+class DPDUnits:
+    """A DPD model's reduced units, as the OpenMM Quantities its numbers stand for.
+
+    DPD states a model in units of the cutoff r_c (length), the bead mass m and the thermal
+    energy kT, whose time unit is tau = r_c sqrt(m/kT).  Each method takes a reduced number
+    (a plain float) and gives the Quantity in OpenMM's units to pass to OpenMM and openmmdpd.
+    The defaults, r_c = 1 nm, m = 1 amu and kT = 1 kJ/mol, make tau exactly 1 ps (1 kJ/mol
+    is 1 amu nm^2/ps^2), so every reduced number but the temperature is then its own value in
+    OpenMM's units.
+
+    :param kT: the energy unit: an energy Quantity (per mole), a temperature Quantity (then
+        kT = R T), or a number in kJ/mol; > 0.
+    :param cutoff: the length unit r_c: a length Quantity or a number in nm; > 0.
+    :param mass: the mass unit m, a bead's mass: a mass Quantity or a number in amu
+        (dalton); > 0.
+
+    ``DPDUnits().temperature(1.0)`` is ``KT_TEMPERATURE`` (120.27 K) and
+    ``DPDUnits().time(0.04)`` is 0.04 ps.  Arguments that are not finite plain numbers, or
+    outside a method's range, raise TypeError or ValueError naming the method and the value.
+    """
+
+    def __init__(self, kT=1.0, cutoff=1.0, mass=1.0):
+        if unit.is_quantity(kT) and kT.unit.is_compatible(unit.kelvin):
+            kT = kT_from_temperature(kT)
+        self._kT = _positive(strip_units(kT, unit.kilojoule_per_mole, "kT", "DPDUnits"), "kT", "kJ/mol")
+        self._cutoff = _positive(strip_units(cutoff, unit.nanometer, "cutoff", "DPDUnits"), "cutoff", "nm")
+        self._mass = _positive(strip_units(mass, unit.dalton, "mass", "DPDUnits"), "mass", "amu")
+        self._tau = self._cutoff * math.sqrt(self._mass / self._kT)
+
+    def __repr__(self):
+        return f"DPDUnits(kT={self._kT!r}, cutoff={self._cutoff!r}, mass={self._mass!r})"
+
+    def temperature(self, kT=1.0):
+        """The temperature (Quantity, K) of a reduced kT (in units of the model's kT; >= 0):
+        what an integrator's ``temperature`` argument takes."""
+        return reduced_temperature(_reduced(kT, "temperature", "kT", 0.0) * self._kT)
+
+    def time(self, t):
+        """A time (Quantity, ps) for a reduced time ``t`` (in units of tau; >= 0), e.g. a step
+        size ``dt``."""
+        return _reduced(t, "time", "t", 0.0) * self._tau * unit.picosecond
+
+    def friction(self, gamma):
+        """The integrators' friction rate (Quantity, 1/ps) for DPD's friction ``gamma`` (in
+        units of m/tau; >= 0): gamma/tau.
+
+        The integrators take a rate and make the pair coefficient 2 mu_ij times it (mu_ij the
+        pair's reduced mass), which is gamma m/tau for two beads of mass m.  The same rule
+        gives a Lowe-Andersen collision rate Gamma (in units of 1/tau).
+        """
+        return _reduced(gamma, "friction", "gamma", 0.0) / self._tau / unit.picosecond
+
+    def length(self, x):
+        """A length (Quantity, nm) for a reduced length ``x`` (in units of r_c)."""
+        return _reduced(x, "length", "x") * self._cutoff * unit.nanometer
+
+    def mass(self, x):
+        """A mass (Quantity, amu) for a reduced mass ``x`` (in units of m; >= 0)."""
+        return _reduced(x, "mass", "x", 0.0) * self._mass * unit.dalton
+
+    def energy(self, x):
+        """An energy (Quantity, kJ/mol) for a reduced energy ``x`` (in units of kT)."""
+        return _reduced(x, "energy", "x") * self._kT * unit.kilojoule_per_mole
+
+    def force(self, a):
+        """A force (Quantity, kJ/mol/nm) for a reduced force ``a`` (in units of kT/r_c), such
+        as the repulsion parameter a_ij that DPDSoftRepulsionForce takes."""
+        return _reduced(a, "force", "a") * self._kT / self._cutoff * unit.kilojoule_per_mole / unit.nanometer
+
+    def pressure(self, p):
+        """A pressure (Quantity, kJ/mol/nm^3, the unit of the integrators' pressure tensor) for
+        a reduced pressure ``p`` (in units of kT/r_c^3).
+
+        A barostat takes bar: ``(units.pressure(p) / unit.AVOGADRO_CONSTANT_NA).in_units_of(unit.bar)``
+        (1 kJ/mol/nm^3 is 16.6054 bar).
+        """
+        return _reduced(p, "pressure", "p") * self._kT / self._cutoff**3 * unit.kilojoule_per_mole / unit.nanometer**3
+
+
+def _positive(value, name, unit_name):
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"DPDUnits: {name} must be > 0 and finite ({unit_name}), got {value!r}")
+    return value
+
+
+def _reduced(value, method, name, minimum=None):
+    """`value`, a reduced number, as a float: finite and, if `minimum` is given, >= it."""
+    value = strip_units(value, None, name, f"DPDUnits.{method}")
+    if not math.isfinite(value) or (minimum is not None and value < minimum):
+        allowed = "a finite number" if minimum is None else f"finite and >= {minimum:g}"
+        raise ValueError(f"DPDUnits.{method}: {name} must be {allowed} (a reduced number), got {value!r}")
+    return value
