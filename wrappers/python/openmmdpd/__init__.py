@@ -39,6 +39,7 @@ from .dpdplugin import (DenOtterClarkeIntegrator, DPDSoftRepulsionForce, DPDTher
                         DPDVVIntegrator, EDPDIntegrator, LoweAndersenIntegrator, ShardlowIntegrator,
                         StaggeredDPDIntegrator)
 from .units import DPDUnits, KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units  # noqa: E402
+from .flory_huggins import a_from_chi, chi_from_a  # noqa: E402
 from . import _downcast  # noqa: E402
 
 # XmlSerializer.deserialize / clone, System.getForce(s) and CompoundIntegrator.getIntegrator
@@ -51,8 +52,8 @@ __version__ = _build.version
 __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
            "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "DenOtterClarkeIntegrator",
            "calibrate_den_otter_clarke", "load_checkpoint", "KT_TEMPERATURE", "kT_from_temperature",
-           "reduced_temperature", "strip_units", "DPDUnits", "loaded_plugins", "skipped_plugins", "scenes",
-           "__version__"]
+           "reduced_temperature", "strip_units", "DPDUnits", "a_from_chi", "chi_from_a", "loaded_plugins",
+           "skipped_plugins", "scenes", "__version__"]
 
 
 def _load_kernel_plugins():
