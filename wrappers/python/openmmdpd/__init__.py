@@ -40,20 +40,24 @@ from .dpdplugin import (DenOtterClarkeIntegrator, DPDSoftRepulsionForce, DPDTher
                         StaggeredDPDIntegrator)
 from .units import DPDUnits, KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units  # noqa: E402
 from .flory_huggins import a_from_chi, chi_from_a  # noqa: E402
-from . import _downcast  # noqa: E402
+from . import _downcast, _low_temperature  # noqa: E402
+from ._low_temperature import LowTemperatureWarning  # noqa: E402
 
+_INTEGRATORS = (DPDVVIntegrator, ShardlowIntegrator, LoweAndersenIntegrator, EDPDIntegrator,
+                DenOtterClarkeIntegrator, StaggeredDPDIntegrator)
 # XmlSerializer.deserialize / clone, System.getForce(s) and CompoundIntegrator.getIntegrator
 # give our integrators and forces back as their own classes, not as base Integrator / Force.
-_downcast.install((DPDVVIntegrator, ShardlowIntegrator, LoweAndersenIntegrator, EDPDIntegrator,
-                   DenOtterClarkeIntegrator, StaggeredDPDIntegrator), (DPDSoftRepulsionForce,))
+_downcast.install(_INTEGRATORS, (DPDSoftRepulsionForce,))
+# A temperature of 0-10 K given to an integrator is almost surely a reduced kT read as kelvin.
+_low_temperature.install(DPDThermostatIntegrator, _INTEGRATORS)
 
 __version__ = _build.version
 
 __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
            "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "DenOtterClarkeIntegrator",
            "calibrate_den_otter_clarke", "load_checkpoint", "KT_TEMPERATURE", "kT_from_temperature",
-           "reduced_temperature", "strip_units", "DPDUnits", "a_from_chi", "chi_from_a", "loaded_plugins",
-           "skipped_plugins", "scenes", "__version__"]
+           "reduced_temperature", "strip_units", "DPDUnits", "LowTemperatureWarning", "a_from_chi", "chi_from_a",
+           "loaded_plugins", "skipped_plugins", "scenes", "__version__"]
 
 
 def _load_kernel_plugins():

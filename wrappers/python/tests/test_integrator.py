@@ -302,7 +302,7 @@ def test_cast_keeps_the_deserialized_object_alive():
     restored = DPDVV.cast(openmm.XmlSerializer.deserialize(openmm.XmlSerializer.serialize(original)))
     gc.collect()
     for _ in range(10):
-        DPDVV(1.0, 2.0, 0.5, 0.1)  # reuse freed memory, if any was freed
+        DPDVV(KT, 2.0, 0.5, 0.1)  # reuse freed memory, if any was freed
     check_same(restored, original)
 
 
