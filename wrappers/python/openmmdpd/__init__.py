@@ -57,7 +57,8 @@ __all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator"
            "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "DenOtterClarkeIntegrator",
            "calibrate_den_otter_clarke", "load_checkpoint", "KT_TEMPERATURE", "kT_from_temperature",
            "reduced_temperature", "strip_units", "DPDUnits", "LowTemperatureWarning", "a_from_chi", "chi_from_a",
-           "loaded_plugins", "skipped_plugins", "scenes", "__version__"]
+           "apply_thermostat_parameters", "loaded_plugins", "skipped_plugins", "scenes", "forcefield", "packer",
+           "__version__"]
 
 
 def _load_kernel_plugins():
@@ -87,5 +88,8 @@ loaded_plugins, skipped_plugins = _load_kernel_plugins()
 
 # After the plugins: `openmmdpd.scenes` works after a plain `import openmmdpd`.
 from . import scenes  # noqa: E402
+# Registers the DPD tags with app.ForceField: a DPD force field read before this would lose them.
+from . import forcefield, packer  # noqa: E402
+from .forcefield import apply_thermostat_parameters  # noqa: E402
 from .calibration import calibrate_den_otter_clarke  # noqa: E402
 from .checkpoints import load_checkpoint  # noqa: E402

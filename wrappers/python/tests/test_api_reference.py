@@ -1,7 +1,7 @@
 """The API reference (docs/api/) documents the whole public API: every class of the public
 C++ headers openmmapi/include/openmmdpd/*.h with each of its public methods, every free
 function there, and every name of `openmmdpd.__all__` (the classes with their methods, the
-module openmmdpd.scenes with its `__all__`).
+modules (openmmdpd.scenes, ...) with their `__all__`).
 
 Reads the site that scripts/docs.sh built into docs/_build/html, and is skipped when there
 is none, or when it is older than the headers, the docs/api pages or the package it is built
@@ -15,6 +15,7 @@ interfaces between the API and the platforms (docs/api/index.md says so).  Destr
 the protected and private members, are not required."""
 import functools
 import glob
+import inspect
 import os
 import re
 
@@ -255,11 +256,11 @@ def test_every_name_of_openmmdpd_all_is_in_the_reference():
     missing = []
     for name in openmmdpd.__all__:
         obj = getattr(openmmdpd, name)
-        if name == "scenes":
-            if "module-openmmdpd.scenes" not in anchors:
-                missing.append("the module openmmdpd.scenes")
-            missing += [f"openmmdpd.scenes.{member}" for member in obj.__all__
-                        if f"openmmdpd.scenes.{member}" not in anchors]
+        if inspect.ismodule(obj):
+            if f"module-openmmdpd.{name}" not in anchors:
+                missing.append(f"the module openmmdpd.{name}")
+            missing += [f"openmmdpd.{name}.{member}" for member in obj.__all__
+                        if f"openmmdpd.{name}.{member}" not in anchors]
             continue
         if f"openmmdpd.{name}" not in anchors:
             missing.append(f"openmmdpd.{name}")
