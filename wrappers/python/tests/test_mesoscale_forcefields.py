@@ -1,0 +1,185 @@
+"""The mesoscale force fields the package ships (groot-madden-diblock.xml, groot-rabone-lipid.xml,
+binary-mixture.xml): each loads with app.ForceField, builds on a small packed system the a_ij,
+friction and bonded tables its XML states (and the papers' numbers), equals a System built by
+hand, gives an integrator its thermostat, and runs stable at dt 0.04 after packer.relax."""
+import math
+import xml.etree.ElementTree as ElementTree
+
+import numpy as np
+import openmm
+import pytest
+from openmm import app, unit
+
+import openmmdpd
+from openmmdpd import forcefield, packer, scenes
+
+KT = openmmdpd.KT_TEMPERATURE
+FILES = ("groot-madden-diblock.xml", "groot-rabone-lipid.xml", "binary-mixture.xml")
+
+DIBLOCK = packer.Molecule([(name, [name[0]]) for name in ["AE", "AM", "AM", "BM", "BE"]], [(i, i + 1) for i in range(4)])
+LIPID = packer.Molecule.single("LIPID", ["h1", "h2", "h3"] + [f"t{i}" for i in range(1, 9)],
+                               [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 6), (2, 7), (7, 8), (8, 9), (9, 10)])
+
+
+def molecules(name):
+    """A small mix of each file's molecules: (molecule, count) pairs, about 600 beads at rho = 3."""
+    if name == "groot-madden-diblock.xml":
+        # A3B2 chains, a lone A and a lone B: every template of the file in one topology.
+        return [(DIBLOCK, 118), (packer.Molecule.single("A", ["A"]), 5), (packer.Molecule.single("B", ["B"]), 5)]
+    if name == "groot-rabone-lipid.xml":
+        return [(LIPID, 20), (packer.Molecule.single("w", ["w"]), 380)]
+    return [(packer.Molecule.single("A", ["A"]), 300), (packer.Molecule.single("B", ["B"]), 300)]
+
+
+def packed(name, seed=1):
+    bond_length = 0.7 if name == "groot-rabone-lipid.xml" else 0.8
+    return packer.pack(molecules(name), density=3.0, bond_length=bond_length, seed=seed)
+
+
+def xml_table(name, tag, value):
+    """{(type1, type2): (value, cutoff)} of a tag's <Pair> entries as the file writes them."""
+    root = ElementTree.parse(forcefield.data_path(name)).getroot()
+    return {(p.get("type1"), p.get("type2")): (float(p.get(value)), float(p.get("cutoff")))
+            for p in root.find(tag).findall("Pair")}
+
+
+def number(quantity):
+    return quantity.value_in_unit(quantity.unit)
+
+
+def pair_table(obj, types):
+    """{(type name, type name): (a or friction, cutoff)} that a force or an integrator applies."""
+    default = obj.getDefaultA() if isinstance(obj, openmmdpd.DPDSoftRepulsionForce) else obj.getDefaultFriction()
+    table = {(i, j): (number(default), number(obj.getDefaultCutoff()))
+             for i in range(len(types)) for j in range(i, len(types))}
+    for index in range(obj.getNumTypePairs()):
+        t1, t2, value, cutoff = obj.getTypePairParameters(index)
+        table[tuple(sorted((t1, t2)))] = (number(value), number(cutoff))
+    return {(types[i], types[j]): values for (i, j), values in table.items()}
+
+
+def soft_force(system):
+    return next(f for f in system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
+
+
+def created(name, seed=1):
+    ff = app.ForceField(forcefield.data_path(name))
+    topology, positions = packed(name, seed)
+    return ff, topology, positions, ff.createSystem(topology, nonbondedMethod=app.CutoffPeriodic, removeCMMotion=False)
+
+
+def energy_and_forces(system, positions):
+    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
+    context.setPositions(positions)
+    state = context.getState(getEnergy=True, getForces=True)
+    return (state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole),
+            state.getForces(asNumpy=True).value_in_unit(unit.kilojoule_per_mole / unit.nanometer))
+
+
+def test_the_files_are_shipped_and_load():
+    for name in FILES:
+        assert app.ForceField(forcefield.data_path(name)) is not None
+
+
+def type_names(ff, topology):
+    """The bead types present, in the force's numbering; each bead's name starts with its type."""
+    return forcefield.bead_types(ff, [atom.name[0] for atom in topology.atoms()])
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_the_force_and_the_thermostat_have_the_files_tables(name):
+    ff, topology, _, system = created(name)
+    types = type_names(ff, topology)
+    expected_a = xml_table(name, "DPDSoftRepulsionForce", "a")
+    force_table = pair_table(soft_force(system), types)
+    assert len(force_table) == len(expected_a)
+    for (t1, t2), values in force_table.items():
+        assert values == expected_a.get((t1, t2), expected_a.get((t2, t1)))
+    integrator = forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 2.0, 0.04), ff, topology)
+    assert set(pair_table(integrator, types).values()) == {(4.5, 1.0)}
+    particle_types = [soft_force(system).getParticleType(i) for i in range(system.getNumParticles())]
+    assert [integrator.getParticleType(i) for i in range(system.getNumParticles())] == particle_types
+    assert [system.getParticleMass(i) for i in range(3)] == [1.0 * unit.dalton] * 3
+
+
+def a_table(name):
+    ff, topology, _, system = created(name)
+    return pair_table(soft_force(system), type_names(ff, topology))
+
+
+def test_the_papers_numbers():
+    tables = {name: a_table(name) for name in FILES}
+    # Like beads 75 kT/rho = 25 at rho = 3 (Groot and Warren 1997) in every file.
+    for table in tables.values():
+        assert {value for (t1, t2), (value, _) in table.items() if t1 == t2} == {25.0}
+    # Groot and Madden: a_AB = 25 + 3.27 chi; the file's chi = 4.59 gives chi N = 46 for N = 10.
+    chi = (tables["groot-madden-diblock.xml"][("A", "B")][0] - 25.0) / 3.27
+    assert chi == pytest.approx(4.59, abs=0.005) and 10 * chi > 10.5
+    # Groot and Warren's monomer mixtures: chi = 0.286 (a_AB - 25) at rho = 3; chi = 3 here.
+    assert 0.286 * (tables["binary-mixture.xml"][("A", "B")][0] - 25.0) == pytest.approx(3.0, abs=0.002)
+    lipid = tables["groot-rabone-lipid.xml"]
+    assert (lipid[("w", "h")][0], lipid[("h", "t")][0], lipid[("w", "t")][0]) == (25.0, 50.0, 75.0)
+
+
+def test_the_diblock_system_equals_a_hand_built_one():
+    _, topology, positions, system = created("groot-madden-diblock.xml")
+    types = [0 if atom.name == "A" else 1 for atom in topology.atoms()]
+    expected = openmm.System()
+    for _ in types:
+        expected.addParticle(1.0)
+    expected.setDefaultPeriodicBoxVectors(*topology.getPeriodicBoxVectors())
+    expected.addForce(scenes.soft_repulsion_force(len(types), [[25.0, 40.0], [40.0, 25.0]], types))
+    expected.addForce(scenes.harmonic_bond_force([(a.index, b.index) for a, b in topology.bonds()], k=4.0))
+    (e1, f1), (e2, f2) = energy_and_forces(system, positions), energy_and_forces(expected, positions)
+    assert e1 == pytest.approx(e2, rel=1e-12) and np.max(np.abs(f1 - f2)) < 1e-12 * np.max(np.abs(f2))
+    bonds = next(f for f in system.getForces() if isinstance(f, openmm.HarmonicBondForce))
+    assert bonds.getNumBonds() == 118 * 4  # no bond to the lone beads
+    assert {tuple(number(v) for v in bonds.getBondParameters(i)[2:]) for i in range(bonds.getNumBonds())} == {(0.0, 4.0)}
+
+
+def test_the_lipid_system_equals_a_hand_built_one():
+    _, topology, positions, system = created("groot-rabone-lipid.xml")
+    kinds = [atom.name[0] for atom in topology.atoms()]
+    types = ["wht".index(kind) for kind in kinds]
+    a = [[25.0, 25.0, 75.0], [25.0, 25.0, 50.0], [75.0, 50.0, 25.0]]
+    expected = openmm.System()
+    for _ in types:
+        expected.addParticle(1.0)
+    expected.setDefaultPeriodicBoxVectors(*topology.getPeriodicBoxVectors())
+    expected.addForce(scenes.soft_repulsion_force(len(types), a, types))
+    expected.addForce(scenes.harmonic_bond_force([(a.index, b.index) for a, b in topology.bonds()], k=100.0, length=0.7))
+    angles = openmm.CustomAngleForce("6*(1 - cos(theta - pi)); pi=3.141592653589793")
+    for lipid in range(20):
+        first = 11 * lipid  # h1; the tails t1-t4 and t5-t8 hang on h3 = first + 2
+        for tail in (first + 3, first + 7):
+            for start in (first + 2, tail, tail + 1):  # h3-t-t, t-t-t, t-t-t
+                chain = [first + 2, tail, tail + 1, tail + 2, tail + 3]
+                i = chain.index(start)
+                angles.addAngle(*chain[i:i + 3])
+    expected.addForce(angles)
+    (e1, f1), (e2, f2) = energy_and_forces(system, positions), energy_and_forces(expected, positions)
+    assert e1 == pytest.approx(e2, rel=1e-12) and np.max(np.abs(f1 - f2)) < 1e-12 * np.max(np.abs(f2))
+    cosine = next(f for f in system.getForces() if f.getName() == "CosineAngle")
+    assert cosine.getNumAngles() == 20 * 6
+    assert {tuple(cosine.getAngleParameters(i)[3]) for i in range(cosine.getNumAngles())} == {(6.0, math.pi)}
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_a_relaxed_start_runs_stable_at_dt_004(name):
+    ff, topology, positions, system = created(name, seed=2)
+    integrator = forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 4.5, 1.0, 0.04), ff, topology)
+    integrator.setRandomNumberSeed(5)
+    simulation = app.Simulation(topology, system, integrator, openmm.Platform.getPlatformByName("CPU"))
+    simulation.context.setPositions(positions)
+    packer.relax(simulation)
+    simulation.context.setVelocitiesToTemperature(KT, 3)
+    simulation.step(200)
+    dof = 3 * system.getNumParticles() - 3
+    samples = []
+    for _ in range(20):
+        simulation.step(10)
+        state = simulation.context.getState(getEnergy=True)
+        samples.append(2 * state.getKineticEnergy().value_in_unit(unit.kilojoule_per_mole) / dof)
+        assert math.isfinite(state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole))
+    # GW-type velocity Verlet at dt 0.04 runs ~2-5 % hot; ~600 beads give kT to ~1 %.
+    assert 0.95 < np.mean(samples) < 1.12
