@@ -16,7 +16,8 @@ from openmmdpd import forcefield, packer, scenes
 KT = openmmdpd.KT_TEMPERATURE
 FILES = ("groot-madden-diblock.xml", "groot-rabone-lipid.xml", "binary-mixture.xml")
 
-DIBLOCK = packer.Molecule([(name, [name[0]]) for name in ["AE", "AM", "AM", "BM", "BE"]], [(i, i + 1) for i in range(4)])
+DIBLOCK = packer.Molecule([(name, [name[0]]) for name in ["AE", "AM", "AM", "BM", "BE"]],  # A3B2
+                          [(i, i + 1) for i in range(4)])
 LIPID = packer.Molecule.single("LIPID", ["h1", "h2", "h3"] + [f"t{i}" for i in range(1, 9)],
                                [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 6), (2, 7), (7, 8), (8, 9), (9, 10)])
 
@@ -134,27 +135,28 @@ def test_the_diblock_system_equals_a_hand_built_one():
     assert e1 == pytest.approx(e2, rel=1e-12) and np.max(np.abs(f1 - f2)) < 1e-12 * np.max(np.abs(f2))
     bonds = next(f for f in system.getForces() if isinstance(f, openmm.HarmonicBondForce))
     assert bonds.getNumBonds() == 118 * 4  # no bond to the lone beads
-    assert {tuple(number(v) for v in bonds.getBondParameters(i)[2:]) for i in range(bonds.getNumBonds())} == {(0.0, 4.0)}
+    parameters = {tuple(number(v) for v in bonds.getBondParameters(i)[2:]) for i in range(bonds.getNumBonds())}
+    assert parameters == {(0.0, 4.0)}
 
 
 def test_the_lipid_system_equals_a_hand_built_one():
     _, topology, positions, system = created("groot-rabone-lipid.xml")
     kinds = [atom.name[0] for atom in topology.atoms()]
     types = ["wht".index(kind) for kind in kinds]
-    a = [[25.0, 25.0, 75.0], [25.0, 25.0, 50.0], [75.0, 50.0, 25.0]]
+    repulsion = [[25.0, 25.0, 75.0], [25.0, 25.0, 50.0], [75.0, 50.0, 25.0]]  # w, h, t
     expected = openmm.System()
     for _ in types:
         expected.addParticle(1.0)
     expected.setDefaultPeriodicBoxVectors(*topology.getPeriodicBoxVectors())
-    expected.addForce(scenes.soft_repulsion_force(len(types), a, types))
-    expected.addForce(scenes.harmonic_bond_force([(a.index, b.index) for a, b in topology.bonds()], k=100.0, length=0.7))
+    expected.addForce(scenes.soft_repulsion_force(len(types), repulsion, types))
+    bonds = [(a.index, b.index) for a, b in topology.bonds()]
+    expected.addForce(scenes.harmonic_bond_force(bonds, k=100.0, length=0.7))
     angles = openmm.CustomAngleForce("6*(1 - cos(theta - pi)); pi=3.141592653589793")
     for lipid in range(20):
         first = 11 * lipid  # h1; the tails t1-t4 and t5-t8 hang on h3 = first + 2
         for tail in (first + 3, first + 7):
-            for start in (first + 2, tail, tail + 1):  # h3-t-t, t-t-t, t-t-t
-                chain = [first + 2, tail, tail + 1, tail + 2, tail + 3]
-                i = chain.index(start)
+            chain = [first + 2, tail, tail + 1, tail + 2, tail + 3]  # h3 and the tail's beads
+            for i in range(3):  # h3-t-t, t-t-t, t-t-t
                 angles.addAngle(*chain[i:i + 3])
     expected.addForce(angles)
     (e1, f1), (e2, f2) = energy_and_forces(system, positions), energy_and_forces(expected, positions)
