@@ -49,21 +49,26 @@ def _is_bead_template(template):
     return all(atom.element is None for atom in template.atoms)
 
 
-# {ForceField: (number of templates, {sorted bead names: [templates]})}, so that matching a
-# residue looks at the few templates with its bead names rather than at all of them.
+# {ForceField: (template ids, templates, {sorted bead names: [templates]})}, so that matching a
+# residue looks at the few templates with its bead names rather than at all of them. The key is
+# the templates' identities, not their number: a template registered with a higher override
+# level replaces one of the same name, leaving the number unchanged. The cache holds the
+# templates themselves so that none of their ids can be reused while it stands.
 _BEAD_TEMPLATES = weakref.WeakKeyDictionary()
 
 
 def _bead_templates_by_names(forcefield):
     """{sorted bead names: [templates]} for the element-less templates, rebuilt when templates change."""
+    templates = tuple(forcefield._templates.values())
+    key = tuple(map(id, templates))
     cached = _BEAD_TEMPLATES.get(forcefield)
-    if cached is None or cached[0] != len(forcefield._templates):
+    if cached is None or cached[0] != key:
         index = {}
-        for template in forcefield._templates.values():
+        for template in templates:
             if _is_bead_template(template):
                 index.setdefault(tuple(sorted(atom.name for atom in template.atoms)), []).append(template)
-        cached = _BEAD_TEMPLATES[forcefield] = (len(forcefield._templates), index)
-    return cached[1]
+        cached = _BEAD_TEMPLATES[forcefield] = (key, templates, index)
+    return cached[2]
 
 
 def _describe_residue(residue):

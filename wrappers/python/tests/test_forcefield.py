@@ -262,6 +262,27 @@ def test_templates_that_match_alike_with_other_types_are_refused():
     assert [integrator.getParticleType(i) for i in range(12)] == [1] * 10 + [0] * 2
 
 
+def test_a_template_overridden_after_matching_is_the_one_used():
+    # A template of a higher override level replaces the one of its name, leaving the number of
+    # templates as it was: the bead-name index must still see the new one.
+    override = io.StringIO('<ForceField><Residues><Residue name="SOL" override="1"><Atom name="S" type="B"/>'
+                           '</Residue></Residues></ForceField>')
+    topology, _ = trimers_in_solvent()
+    ff = load(xml())
+    before = soft_force(ff.createSystem(topology))
+    assert before.getParticleType(18) == 0  # the first solvent bead: S
+    ff.loadFile(override)
+    system = ff.createSystem(topology)
+    after = soft_force(system)
+    fresh = load(xml())
+    fresh.loadFile(io.StringIO(override.getvalue()))
+    expected_system = fresh.createSystem(topology)
+    expected = soft_force(expected_system)
+    types = [after.getParticleType(i) for i in range(topology.getNumAtoms())]
+    assert types == [expected.getParticleType(i) for i in range(topology.getNumAtoms())]
+    assert types[18] == 1 and system.getParticleMass(18) == 2.0 * unit.dalton  # B among A, B
+
+
 # --- Errors -------------------------------------------------------------------------------
 
 def test_a_type_pair_missing_from_a_ij_is_named():
