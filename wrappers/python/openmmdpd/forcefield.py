@@ -16,6 +16,7 @@ A pair or bond may name types (`type1`) or classes (`class1`), as OpenMM's tags 
 types are atom types without an element; a residue made only of beads is matched to the
 template with the same bead names and bonds (see `match_bead_residue`).
 """
+import math
 import os
 import weakref
 
@@ -139,36 +140,50 @@ def bead_types(forcefield, type_names):
     return [name for name in forcefield._atomTypes if name in present]
 
 
-def _entry(forcefield, tag, kind, attrib, num_types, value_names):
-    """(type sets, values) of one <Pair>, <Bond> or <Angle>; an unknown type or class, or a
-    missing or non-numeric value, is an error naming the entry."""
+# A value's allowed range, as an entry's error message states it.
+_CONDITIONS = {">= 0": lambda value: value >= 0, "> 0": lambda value: value > 0, None: lambda value: True}
+
+
+def _parse_entry(forcefield, tag, kind, attrib, num_types, values):
+    """(type sets, values) of one <Pair>, <Bond> or <Angle>, checked in full before anything keeps
+    it. values: {attribute: its range (">= 0", "> 0" or None)}. An unknown type or class, or a
+    missing, non-numeric or non-finite value, or one out of its range, is an error naming the entry."""
     types = forcefield._findAtomTypes(attrib, num_types)
     if None in types:
         raise ValueError(f"{tag}: {kind} {dict(attrib)} names a type or class the force field lacks")
-    missing = [name for name in value_names if name not in attrib]
+    missing = [name for name in values if name not in attrib]
     if missing:
         raise ValueError(f"{tag}: {kind} {dict(attrib)} lacks {', '.join(missing)}")
     try:
-        values = tuple(float(attrib[name]) for name in value_names)
+        numbers = tuple(float(attrib[name]) for name in values)
     except ValueError:
-        raise ValueError(f"{tag}: {kind} {dict(attrib)}: {', '.join(value_names)} must be numbers") from None
-    return [set(t) for t in types], values
+        numbers = (math.nan,)
+    if not all(math.isfinite(number) for number in numbers):
+        raise ValueError(f"{tag}: {kind} {dict(attrib)}: {', '.join(values)} must be finite numbers")
+    if not all(_CONDITIONS[condition](number) for number, condition in zip(numbers, values.values())):
+        needs = " and ".join(f"{name} {condition}" for name, condition in values.items() if condition)
+        raise ValueError(f"{tag}: {kind} {dict(attrib)} needs {needs}")
+    return [set(t) for t in types], numbers
+
+
+def _parse_entries(forcefield, generator_class, element):
+    """Every entry of a tag, parsed before the generator is created or given any, so that a bad
+    entry leaves the force field as it was."""
+    return [_parse_entry(forcefield, generator_class.tag, generator_class.kind, child.attrib,
+                         generator_class.num_types, generator_class.values)
+            for child in element.findall(generator_class.kind)]
 
 
 class _PairTable:
     """Per-type-pair values of one tag's <Pair> or <Bond> entries, given by type or class; the
-    first matching entry wins."""
+    first matching entry wins, whichever order the pair's types come in."""
 
-    def __init__(self, forcefield, tag, kind, value_names):
-        self.forcefield, self.tag, self.kind, self.value_names = forcefield, tag, kind, value_names
+    def __init__(self, tag):
+        self.tag = tag
         self.entries = []
 
-    def add(self, attrib):
-        (types1, types2), values = _entry(self.forcefield, self.tag, self.kind, attrib, 2, self.value_names)
-        self.entries.append((types1, types2, values))
-
     def lookup(self, type1, type2):
-        for types1, types2, values in self.entries:
+        for (types1, types2), values in self.entries:
             if (type1 in types1 and type2 in types2) or (type1 in types2 and type2 in types1):
                 return values
         return None
@@ -185,17 +200,20 @@ class _PairTable:
         return result
 
 
-class _RateTable(_PairTable):
-    """A <Pair> table of (a strength >= 0, a cutoff > 0), as the force and the integrators take them."""
+class _PairTableGenerator:
+    """A generator whose tag holds <Pair> or <Bond> entries of a type pair (a _PairTable)."""
+    tag = kind = None
+    num_types = 2
+    values = {}  # attribute: its range
 
-    def __init__(self, forcefield, tag, value_names):
-        super().__init__(forcefield, tag, "Pair", value_names)
+    def __init__(self, forcefield):
+        self.forcefield = forcefield
+        self.table = _PairTable(self.tag)
 
-    def add(self, attrib):
-        super().add(attrib)
-        strength, cutoff = self.entries[-1][2]
-        if not (strength >= 0 and cutoff > 0):
-            raise ValueError(f"{self.tag}: Pair {dict(attrib)} needs {self.value_names[0]} >= 0 and cutoff > 0")
+    @classmethod
+    def parseElement(cls, element, forcefield):
+        entries = _parse_entries(forcefield, cls, element)
+        _register(forcefield, cls).table.entries.extend(entries)
 
 
 def _check_same_pairs(forcefield, types):
@@ -218,24 +236,15 @@ def _generator(forcefield, generator_class):
     return next((g for g in forcefield.getGenerators() if isinstance(g, generator_class)), None)
 
 
-class SoftRepulsionGenerator:
+class SoftRepulsionGenerator(_PairTableGenerator):
     """`<DPDSoftRepulsionForce>`: a `DPDSoftRepulsionForce` with a_ij and cutoff per type pair.
 
     Every bead is a particle type (bead_types' order); every pair of types in the topology
     needs an entry. The XML's cutoffs are the model's: createSystem's nonbondedCutoff is not
     used. Bonded beads repel too, as in Groot and Warren's chains (no exclusions).
     """
-    tag = "DPDSoftRepulsionForce"
-
-    def __init__(self, forcefield):
-        self.forcefield = forcefield
-        self.table = _RateTable(forcefield, self.tag, ("a", "cutoff"))
-
-    @staticmethod
-    def parseElement(element, forcefield):
-        generator = _register(forcefield, SoftRepulsionGenerator)
-        for pair in element.findall("Pair"):
-            generator.table.add(pair.attrib)
+    tag, kind = "DPDSoftRepulsionForce", "Pair"
+    values = {"a": ">= 0", "cutoff": "> 0"}
 
     def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
         names = [data.atomType[atom] for atom in data.atoms]
@@ -259,46 +268,29 @@ def _set_particle_types(target, names, types):
         target.setParticleType(particle, index[name])
 
 
-class ThermostatGenerator:
+class ThermostatGenerator(_PairTableGenerator):
     """`<DPDThermostat>`: the integrators' friction (1/ps) and cutoff (nm) per type pair.
 
     It adds no force (the thermostat is the integrator's); createSystem only checks that
     it covers the same type pairs as `<DPDSoftRepulsionForce>`.
     """
-    tag = "DPDThermostat"
-
-    def __init__(self, forcefield):
-        self.forcefield = forcefield
-        self.table = _RateTable(forcefield, self.tag, ("friction", "cutoff"))
-
-    @staticmethod
-    def parseElement(element, forcefield):
-        generator = _register(forcefield, ThermostatGenerator)
-        for pair in element.findall("Pair"):
-            generator.table.add(pair.attrib)
+    tag, kind = "DPDThermostat", "Pair"
+    values = {"friction": ">= 0", "cutoff": "> 0"}
 
     def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
         _check_same_pairs(self.forcefield, bead_types(self.forcefield, data.atomType.values()))
 
 
-class _CustomBondGenerator:
+class _CustomBondGenerator(_PairTableGenerator):
     """A periodic CustomBondForce whose per-bond parameters come from type-pair <Bond> entries."""
-    tag = expression = name = None
-    attributes = ()  # (XML attribute, per-bond parameter)
-
-    def __init__(self, forcefield):
-        self.table = _PairTable(forcefield, self.tag, "Bond", [name for name, _ in self.attributes])
-
-    @classmethod
-    def parseElement(cls, element, forcefield):
-        generator = _register(forcefield, cls)
-        for bond in element.findall("Bond"):
-            generator.table.add(bond.attrib)
+    kind = "Bond"
+    expression = name = None
+    parameters = ()  # the per-bond parameter of each of `values`, in order
 
     def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
         force = openmm.CustomBondForce(self.expression)
         force.setName(self.name)
-        for _, parameter in self.attributes:
+        for parameter in self.parameters:
             force.addPerBondParameter(parameter)
         for bond in data.bonds:
             values = self.table.lookup(data.atomType[data.atoms[bond.atom1]], data.atomType[data.atoms[bond.atom2]])
@@ -313,7 +305,8 @@ class FENEBondGenerator(_CustomBondGenerator):
     """`<FENEBondForce>`: -k/2 rmax^2 ln(1 - r^2/rmax^2), as scenes.fene_bond_force (NaN past rmax)."""
     tag, name = "FENEBondForce", "FENE"
     expression = "-k*rmax^2*log(sqrt(1 - (r/rmax)^2))"
-    attributes = (("k", "k"), ("rmax", "rmax"))
+    values = {"k": ">= 0", "rmax": "> 0"}
+    parameters = ("k", "rmax")
 
 
 class WormLikeChainBondGenerator(_CustomBondGenerator):
@@ -321,23 +314,23 @@ class WormLikeChainBondGenerator(_CustomBondGenerator):
     persistenceLength lp (nm), springLength L (nm) and kT (kJ/mol) per type pair."""
     tag, name = "WormLikeChainBondForce", "WormLikeChain"
     expression = "kT/lp*L*(0.25*exp(-log(1 - R)) - 0.25 - 0.25*R + 0.5*R^2); R=r/L"
-    attributes = (("persistenceLength", "lp"), ("springLength", "L"), ("kT", "kT"))
+    values = {"persistenceLength": "> 0", "springLength": "> 0", "kT": ">= 0"}
+    parameters = ("lp", "L", "kT")
 
 
 class CosineAngleGenerator:
     """`<CosineAngleForce>`: k (1 - cos(theta - theta0)) per angle of bonded beads (k in kJ/mol,
     theta0 in radians; theta0 = pi keeps a chain straight)."""
-    tag = "CosineAngleForce"
+    tag, kind, num_types = "CosineAngleForce", "Angle", 3
+    values = {"k": ">= 0", "theta0": None}
 
     def __init__(self, forcefield):
         self.entries = []
 
-    @staticmethod
-    def parseElement(element, forcefield):
-        generator = _register(forcefield, CosineAngleGenerator)
-        for angle in element.findall("Angle"):
-            generator.entries.append(_entry(forcefield, CosineAngleGenerator.tag, "Angle", angle.attrib, 3,
-                                            ("k", "theta0")))
+    @classmethod
+    def parseElement(cls, element, forcefield):
+        entries = _parse_entries(forcefield, cls, element)
+        _register(forcefield, cls).entries.extend(entries)
 
     def parameters(self, type1, type2, type3):
         for (types1, types2, types3), values in self.entries:

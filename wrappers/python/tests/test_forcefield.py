@@ -320,10 +320,44 @@ def test_entries_naming_unknown_types_or_bad_values_are_refused_by_name():
         load(xml().replace('type1="S" type2="S"', 'type1="X" type2="S"', 1))
     with pytest.raises(ValueError, match="DPDThermostat: Pair .*'S'.* needs friction >= 0 and cutoff > 0"):
         load(xml().replace('friction="4.5"', 'friction="-4.5"', 1))
-    with pytest.raises(ValueError, match="FENEBondForce: Bond .*'A'.*: k, rmax must be numbers"):
+    with pytest.raises(ValueError, match="FENEBondForce: Bond .*'A'.*: k, rmax must be finite numbers"):
         load(xml().replace('rmax="3.0"', 'rmax="far"'))
     with pytest.raises(ValueError, match="CosineAngleForce: Angle .* lacks theta0"):
         load(re.sub(r' theta0="[^"]*"', "", xml()))
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ('a="25.0"', 'a="nan"', "DPDSoftRepulsionForce: Pair .*: a, cutoff must be finite numbers"),
+    ('a="25.0"', 'a="inf"', "DPDSoftRepulsionForce: Pair .*: a, cutoff must be finite numbers"),
+    ('a="25.0"', 'a="-1"', "DPDSoftRepulsionForce: Pair .* needs a >= 0 and cutoff > 0"),
+    ('rmax="3.0"', 'rmax="0"', "FENEBondForce: Bond .* needs k >= 0 and rmax > 0"),
+    ('rmax="3.0"', 'rmax="-3.0"', "FENEBondForce: Bond .* needs k >= 0 and rmax > 0"),
+    ('k="7.0"', 'k="-7.0"', "FENEBondForce: Bond .* needs k >= 0 and rmax > 0"),
+    ('springLength="4.0"', 'springLength="0"',
+     "WormLikeChainBondForce: Bond .* needs persistenceLength > 0 and springLength > 0 and kT >= 0"),
+    ('persistenceLength="0.5"', 'persistenceLength="-0.5"', "WormLikeChainBondForce: Bond .* needs persistenceLength > 0"),
+    ('kT="1.0"', 'kT="-1.0"', "WormLikeChainBondForce: Bond .* needs .*kT >= 0"),
+    ('k="2.0"', 'k="-2.0"', "CosineAngleForce: Angle .* needs k >= 0"),
+])
+def test_values_out_of_range_are_refused_by_name(old, new, message):
+    assert old in xml()
+    with pytest.raises(ValueError, match=message):
+        load(xml().replace(old, new, 1))
+
+
+def test_a_refused_entry_leaves_the_force_field_as_it_was():
+    # The good entry before the bad one is not kept, and no generator is left behind empty.
+    ff = load(xml())
+    with pytest.raises(ValueError, match="needs a >= 0"):
+        ff.loadFile(io.StringIO('<ForceField><DPDSoftRepulsionForce><Pair type1="S" type2="A" a="99" cutoff="1"/>'
+                                '<Pair type1="A" type2="A" a="-1" cutoff="1"/></DPDSoftRepulsionForce></ForceField>'))
+    assert len(forcefield._generator(ff, forcefield.SoftRepulsionGenerator).table.entries) == 6
+    empty = app.ForceField()
+    empty.loadFile(io.StringIO('<ForceField><AtomTypes><Type name="S" class="S" mass="1"/></AtomTypes></ForceField>'))
+    with pytest.raises(ValueError, match="needs friction >= 0"):
+        empty.loadFile(io.StringIO('<ForceField><DPDThermostat><Pair type1="S" type2="S" friction="-1" cutoff="1"/>'
+                                   '</DPDThermostat></ForceField>'))
+    assert empty.getGenerators() == [] and forcefield.match_bead_residue not in empty._templateMatchers
 
 
 def test_ewald_is_refused():
