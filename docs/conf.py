@@ -59,7 +59,8 @@ if os.path.exists(os.path.join(here, "_static", "mathjax", "MathJax.js")):
 # --- HTML ---------------------------------------------------------------------------------
 html_theme = "sphinx_rtd_theme"
 html_title = f"openmm-dpd {release}"
-html_static_path = ["_static"] if os.path.isdir(os.path.join(here, "_static")) else []
+html_static_path = ["_static"]
+html_css_files = ["wide.css"]
 html_theme_options = {"navigation_depth": 3}
 html_show_sourcelink = False
 
