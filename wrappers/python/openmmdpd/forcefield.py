@@ -83,8 +83,14 @@ def match_bead_residue(forcefield, residue, bondedToAtom, ignoreExternalBonds, i
     template, and lets an element-less atom match any template atom whose name the template
     lacks: a one-bead residue would match every one-bead template. Here a bead residue
     matches only templates with exactly its bead names, then OpenMM's matcher checks the
-    bonds (internal and external). A residue none matches, or two match with different bead
-    types, is an error naming it. Residues with elements are left to OpenMM.
+    bonds (internal and external).
+
+    A residue none of them matches is left to OpenMM (None) when OpenMM's own matching finds
+    no template either: createSystem then tries patches and template generators and reports
+    "No template found", and getUnmatchedResidues lists the residue. Where OpenMM's matching
+    would take a template with other bead names, that would give the beads wrong types
+    silently, so it is an error naming the residue, its beads and that template; so are two
+    matching templates with different bead types. Residues with elements are left to OpenMM.
     """
     if any(atom.element is not None for atom in residue.atoms()):
         return None
@@ -96,8 +102,17 @@ def match_bead_residue(forcefield, residue, bondedToAtom, ignoreExternalBonds, i
         if match is not None:
             matches.append((template, match))
     if not matches:
+        # The templates OpenMM's own matching would try next: those with no element, by the
+        # signature it gives them (no elements, the empty signature).
+        loose = next((template for template in forcefield._templateSignatures.get("", ())
+                      if compiled.matchResidueToTemplate(residue, template, bondedToAtom, ignoreExternalBonds,
+                                                         ignoreExtraParticles) is not None), None)
+        if loose is None:
+            return None
         raise ValueError(f"no bead template matches {_describe_residue(residue)}: a template needs the same "
-                         f"bead names and the same bonds, external bonds included")
+                         f"bead names and the same bonds, external bonds included (OpenMM's matching by "
+                         f"elements would take {loose.name}, with beads "
+                         f"{', '.join(atom.name for atom in loose.atoms)})")
     first, first_match = matches[0]
     for template, match in matches[1:]:
         if not first.areParametersIdentical(template, first_match, match):

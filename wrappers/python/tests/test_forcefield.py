@@ -241,10 +241,25 @@ def test_a_residue_without_a_template_is_named():
     topology, _ = packer.pack([(packer.Molecule.single("XYZ", ["Q"]), 1), (SOLVENT, 40)], density=3.0)
     with pytest.raises(ValueError, match=r"residue 0 \(XYZ\) with beads Q"):
         load(xml()).createSystem(topology)
+    with pytest.raises(ValueError, match=r"OpenMM's matching by elements would take SOL, with beads S"):
+        load(xml()).getUnmatchedResidues(topology)  # not a silent match to SOL
+    # A residue no template fits even by OpenMM's rule is OpenMM's to report, and to list
+    # (with the matcher raising here, OpenMM's patches and template generators were never tried).
     broken = packer.Molecule.single("AB3", ["A1", "A2", "B1"], [(0, 1)])  # a bond missing
     topology, _ = packer.pack([(broken, 1), (SOLVENT, 40)], density=3.0)
-    with pytest.raises(ValueError, match=r"no bead template matches residue 0 \(AB3\) with beads A1, A2, B1"):
+    assert [residue.index for residue in load(xml()).getUnmatchedResidues(topology)] == [0]
+    with pytest.raises(ValueError, match=r"No template found for residue 1 \(AB3\).*matches AB3, but the bonds"):
         load(xml()).createSystem(topology)
+    ff = load(xml())
+
+    def generator(forcefield, residue):  # a template for the residue as it is
+        forcefield.loadFile(io.StringIO('<ForceField><Residues><Residue name="AB2"><Atom name="A1" type="A"/>'
+                                        '<Atom name="A2" type="A"/><Atom name="B1" type="B"/>'
+                                        '<Bond atomName1="A1" atomName2="A2"/></Residue></Residues></ForceField>'))
+        return True
+    ff.registerTemplateGenerator(generator)
+    system = ff.createSystem(topology)
+    assert [soft_force(system).getParticleType(i) for i in range(4)] == [1, 1, 2, 0]
 
 
 def test_templates_that_match_alike_with_other_types_are_refused():
