@@ -8,12 +8,13 @@ import sys
 import threading
 import time
 
-import openmm
-
 from .bench_timing import factory, median_ratio, started_context, two_places, warm_up
 from .scenes import soft_scene
 
 COPY_TIMEOUT = 600.0  # s: the longest one copy may wait for the others (their setup at a million particles included)
+# What a copy reports when the barrier broke under it: another copy stopped (its own error says
+# why) or never came.
+BROKEN_BARRIER = "failed: another copy stopped"
 
 
 def measure_copies(names, args):
@@ -56,7 +57,10 @@ def run_copies(n, name, copies, args):
 
 def combine_copy_rounds(rounds, copies):
     """copies_speedup from each copy's ([steps/s alone], [steps/s at once]) (alone: copy 0's only), or the error."""
-    failed = [result for result in rounds.values() if isinstance(result, str)]
+    # The copy that stopped first reports why; the others only that the barrier broke, and may
+    # report before it, so its error goes first.
+    failed = sorted((result for result in rounds.values() if isinstance(result, str)),
+                    key=lambda result: result == BROKEN_BARRIER)
     if failed or len(rounds) < copies:
         return failed[0] if failed else "failed: a copy stopped"
     alone = rounds[0][0]
@@ -80,9 +84,14 @@ def copy_rounds(n, name, index, barrier, results, args):
             barrier.wait(COPY_TIMEOUT)
             together.append(steps_for_seconds(integrator, args.seconds))
         results.put((index, (alone, together)))
-    except (openmm.OpenMMException, threading.BrokenBarrierError) as error:
+    except threading.BrokenBarrierError:
+        results.put((index, BROKEN_BARRIER))
+    except Exception as error:  # noqa: BLE001
+        # Whatever stops this copy (an OpenMM error, a bug, no memory in Python) must break the
+        # barrier: the other copies would otherwise wait at it COPY_TIMEOUT each.  Its error is
+        # what the table shows for the copies.
         barrier.abort()
-        results.put((index, f"failed: {error}"))
+        results.put((index, f"failed: {type(error).__name__}: {error}"))
 
 
 def steps_for_seconds(integrator, seconds):

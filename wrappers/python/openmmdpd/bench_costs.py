@@ -5,6 +5,9 @@ times, medians side by side (the two may differ by less than the noise).
 
     python3 -m openmmdpd.bench sentinel --sizes 32000 --threads 1 --repeats 9
     python3 -m openmmdpd.bench shear --rate 0.1 --integrators GW S1 --sizes 32000 --threads 1 --repeats 9
+
+Shear takes only the integrators that have a shear rate (every one of this plugin's; not
+OpenMM's Langevin), by default those of the rates mode.
 """
 import statistics
 
@@ -19,7 +22,7 @@ from .units import KT_TEMPERATURE
 
 SENTINEL_SUMMARY = ("the instability sentinel's cost to GW's step (N 4000 32000, 1 and 2 threads, medians of 3: "
                     "about half a minute)")
-SHEAR_SUMMARY = ("Lees-Edwards shear's cost to each integrator's step (rate 0.1, 9 integrators, N 4000 32000, "
+SHEAR_SUMMARY = ("Lees-Edwards shear's cost to each integrator's step (rate 0.1, 8 integrators, N 4000 32000, "
                  "1 and 2 threads, medians of 3: about 5 minutes)")
 # Estimates: about 1 s per integrator, size, thread count, round and setting (as is and changed),
 # plus building each System.
@@ -31,6 +34,13 @@ SHEAR_DURATION = ("With the defaults a run takes about 5 minutes on 2 cores (an 
                   "time grows with the sizes, the integrators and --repeats.")
 
 
+def shear_integrators():
+    """The names of the catalog (scene soft, as run_shear builds them) whose integrator has a
+    shear rate to set: asked of each integrator, so that one added to the catalog is offered
+    as soon as it can shear."""
+    return [name for name, make in integrators("soft").items() if hasattr(make(0.04), "setShearRate")]
+
+
 def add_parsers(modes):
     sentinel = add_mode(modes, "sentinel", SENTINEL_SUMMARY, f"GW with the instability threshold off and at "
                         f"{INSTABILITY_THRESHOLD:g} kT, alternated. {SENTINEL_DURATION}", run_sentinel)
@@ -38,7 +48,8 @@ def add_parsers(modes):
     shear = add_mode(modes, "shear", SHEAR_SUMMARY, f"Each of --integrators unsheared and sheared at --rate, "
                      f"alternated. {SHEAR_DURATION}", run_shear)
     shear.add_argument("--rate", type=float, default=0.1, help="the shear rate (1/ps)")
-    add_integrators_argument(shear, DEFAULT_INTEGRATORS)
+    sheared = shear_integrators()
+    add_integrators_argument(shear, [name for name in DEFAULT_INTEGRATORS if name in sheared], names=sheared)
     add_cost_arguments(shear)
 
 
@@ -76,7 +87,7 @@ def measure_paired(n, threads, args, name, change):
     scene = soft_scene(num_particles=n)
     runs = []
     for changed in (False, True):
-        integrator = integrators()[name](args.dt)
+        integrator = integrators("soft")[name](args.dt)  # the scene's catalog: OC has its averages
         if changed:
             change(integrator)
         context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})

@@ -14,7 +14,7 @@ import openmm
 
 from .bench_timing import (add_integrators_argument, add_mode, add_platform_argument, add_round_arguments,
                            add_system_arguments, measure, steps_per_second, warm_up)
-from .catalog import integrators
+from .catalog import FRICTION, integrators
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
 
@@ -44,7 +44,7 @@ def run(args):
     catalog = integrators("soft")  # with den Otter-Clarke ("OC") at model B's averages from Nikunen et al. 2003
     rows = measure_sizes([(name, catalog[name]) for name in args.integrators], args)
     print(f"scene soft (rho=4, a=25, DPDSoftRepulsionForce), {args.platform} platform, dt={args.dt:g}, "
-          f"gamma=4.5, best of {args.repeats}")
+          f"gamma={FRICTION:g}, best of {args.repeats}")
     print_table(rows)
     if args.soft_force:
         print_soft_force(args)

@@ -18,6 +18,7 @@ import openmm
 from .bench_timing import (add_integrators_argument, add_mode, add_platform_argument, add_round_arguments,
                            add_system_arguments, best_round, factory, in_fresh_process, joined, measure_repeats,
                            median_ratio, ratio, two_places)
+from .catalog import FRICTION
 from .scenes import soft_scene
 
 SCALE_INTEGRATORS = ["GW", "DPD-VV", "S1", "Lowe", "Langevin"]
@@ -68,9 +69,9 @@ def measure_in_groups(n, names, threads, args):
     alone, then each other integrator timed interleaved with them, so that every ratio comes
     from runs side by side (the median over the rounds of each round's ratio) and at most three
     Contexts share the memory (all of them at once slow one another down at a million
-    particles: see the README). Each group runs in a fresh process (measure_group). The
-    references run in every group: their rates and their ratio to each other come from all
-    those rounds (a slow spell of the host can take a whole group)."""
+    particles: docs/benchmarks.md, "How scale times"). Each group runs in a fresh process
+    (measure_group). The references run in every group: their rates and their ratio to each
+    other come from all those rounds (a slow spell of the host can take a whole group)."""
     references = [name for name in names if name in SCALE_REFERENCES]
     others = [name for name in names if name not in SCALE_REFERENCES]
     groups = [references] + [references + [name] for name in others] if references else [[name] for name in others]
@@ -98,7 +99,8 @@ def scale_figures(own, rounds):
 def measure_group(n, names, threads, args):
     """measure_repeats's rates of `names` on model B with n particles, in a fresh process: in
     one that has made and dropped Contexts, GW at a million read up to a third slower (its
-    passes over whole per-particle arrays took 1.3-7 times the samples; see the README)."""
+    passes over whole per-particle arrays took 1.3-7 times the samples; docs/benchmarks.md, "How
+    scale times")."""
     try:
         return in_fresh_process(group_rates, n, names, threads, args)
     except BrokenProcessPool as error:  # killed (memory?)
@@ -114,10 +116,10 @@ def print_scale_table(rows, args):
     """Particle-steps/s (best round); speed against GW and cost against Langevin at the same N,
     from the rounds interleaved with it; cost per particle-step against the first N's."""
     print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), {args.platform} platform, dt={args.dt:g}, "
-          f"gamma=4.5, {args.repeats} rounds of {args.seconds:g} s blocks, each integrator interleaved with GW and "
-          f"Langevin; steps/s: best round; speed/GW = steps/s / GW's, cost/Langevin = time per step / Langevin's: "
-          f"medians over the rounds of each round's ratio; cost/particle = time per particle-step (best round) / "
-          f"the integrator's at N={rows[0][0]}")
+          f"gamma={FRICTION:g}, {args.repeats} rounds of {args.seconds:g} s blocks, each integrator interleaved with "
+          f"GW and Langevin; steps/s: best round; speed/GW = steps/s / GW's, cost/Langevin = time per step / "
+          f"Langevin's: medians over the rounds of each round's ratio; cost/particle = time per particle-step (best "
+          f"round) / the integrator's at N={rows[0][0]}")
     print(f"{'N':>8} {'threads':>7}  {'integrator':<10} {'steps/s':>9} {'Mparticle-steps/s':>17}  "
           f"{'speed/GW':>8} {'cost/Langevin':>13} {'cost/particle':>13}")
     first = {}

@@ -14,6 +14,7 @@ from .bench_copies import measure_copies, print_copies_table
 from .bench_scale import SCALE_DT, SCALE_SECONDS
 from .bench_timing import (add_integrators_argument, add_mode, add_round_arguments, add_system_arguments, best_round,
                            factory, in_fresh_process, measure_repeats, median_ratio, two_places)
+from .catalog import FRICTION
 from .scenes import soft_scene
 
 THREAD_SCALING_INTEGRATORS = ["GW", "S1", "Langevin"]
@@ -64,10 +65,10 @@ def thread_rates(n, name, args):
 
 
 def print_thread_scaling_table(rows, args):
-    print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, gamma=4.5; "
-          f"each integrator at {', '.join(map(str, args.threads))} threads interleaved, {args.repeats} rounds of "
-          f"{args.seconds:g} s blocks; steps/s: best round; speed-up: median over the rounds of the round's "
-          f"rate / its rate at {args.threads[0]} thread(s)")
+    print(f"scene soft (model B: rho=4, a=25, DPDSoftRepulsionForce), CPU platform, dt={args.dt:g}, "
+          f"gamma={FRICTION:g}; each integrator at {', '.join(map(str, args.threads))} threads interleaved, "
+          f"{args.repeats} rounds of {args.seconds:g} s blocks; steps/s: best round; speed-up: median over the rounds "
+          f"of the round's rate / its rate at {args.threads[0]} thread(s)")
     print(f"{'N':>8}  {'integrator':<10} {'threads':>7} {'steps/s':>9} {'speed-up':>8}")
     for n, name, best, speedup in rows:
         for threads in args.threads:

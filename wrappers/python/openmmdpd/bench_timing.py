@@ -134,13 +134,15 @@ def add_mode(modes, name, summary, description, run):
     return parser
 
 
-def add_list_argument(parser, flag, default, what, type=str):
-    """A list option. A default given as text is left None and said in the help: the mode picks
-    it once it knows --platform."""
+def add_list_argument(parser, flag, default, what, type=str, choices=None):
+    """A list option (of `choices` only, where given). A default given as text is left None and
+    said in the help: the mode picks it once it knows --platform."""
+    # The metavar keeps a long list of choices out of the usage line; the help names them.
+    named = dict(choices=choices, metavar=flag.lstrip("-").upper().replace("-", "_")) if choices else {}
     if isinstance(default, str):
-        parser.add_argument(flag, type=type, nargs="+", help=f"{what}; default {default}")
+        parser.add_argument(flag, type=type, nargs="+", help=f"{what}; default {default}", **named)
     else:
-        parser.add_argument(flag, type=type, nargs="+", default=default, help=what)
+        parser.add_argument(flag, type=type, nargs="+", default=default, help=what, **named)
 
 
 def add_system_arguments(parser, sizes, threads, dt, threads_help="threads of the CPU platform"):
@@ -149,10 +151,12 @@ def add_system_arguments(parser, sizes, threads, dt, threads_help="threads of th
     parser.add_argument("--dt", type=float, default=dt, help="time step (ps = reduced units)")
 
 
-def add_integrators_argument(parser, default, edpd=False):
-    """--integrators; with edpd, EDPD (not in the catalog) among them, and its --edpd-alpha."""
-    names = list(integrators("soft")) + (["EDPD"] if edpd else [])
-    add_list_argument(parser, "--integrators", default, f"from: {', '.join(names)}")
+def add_integrators_argument(parser, default, edpd=False, names=None):
+    """--integrators, from `names` (default: the catalog of scene soft, the one every mode runs);
+    with edpd, EDPD (not in the catalog) among them, and its --edpd-alpha.  Only those names are
+    accepted: any other stops the parser with a message that lists them, before a System is built."""
+    names = (list(integrators("soft")) if names is None else list(names)) + (["EDPD"] if edpd else [])
+    add_list_argument(parser, "--integrators", default, f"from: {', '.join(names)}", choices=names)
     if edpd:
         parser.add_argument("--edpd-alpha", type=float, default=20.0,
                             help="EDPD's alpha (1/ps); its pair memory grows as alpha falls")

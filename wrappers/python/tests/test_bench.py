@@ -1,9 +1,14 @@
 """The bench's modes run and print one row per integrator, size and thread count; scale's
 ratios agree with its rates; memory reads a Context's resident memory."""
+import argparse
+import queue
+import threading
+
 import numpy as np
+import pytest
 from pytest import approx
 
-from openmmdpd import bench, bench_copies, bench_memory, bench_scale, bench_threads, bench_timing
+from openmmdpd import bench, bench_copies, bench_memory, bench_rates, bench_scale, bench_threads, bench_timing
 
 
 def test_rates_table_against_langevin_and_the_soft_force_table(capsys):
@@ -23,6 +28,26 @@ def test_shear_cost_is_measured_for_each_integrator(capsys):
     rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:]]
     assert [row[:3] for row in rows] == [["GW", "500", "1"], ["S1", "500", "1"]]
     assert all(float(row[3]) > 0 and float(row[4]) > 0 for row in rows)
+
+
+def test_shear_runs_with_its_default_integrators(capsys):
+    """Without --integrators, shear takes the rates mode's that can shear: not Langevin, which
+    has no shear rate, and OC with the soft scene's averages."""
+    bench.main(["shear", "--rate", "0.1", "--sizes", "500", "--threads", "1", "--seconds", "0.02", "--repeats", "1",
+                "--warmup", "2"])
+    rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:]]
+    assert [row[0] for row in rows] == ["GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU", "OC"]
+    assert all(float(row[3]) > 0 and float(row[4]) > 0 for row in rows)
+
+
+@pytest.mark.parametrize("mode, name", [("rates", "GWW"), ("scale", "GWW"), ("thread-scaling", "GWW"),
+                                        ("memory", "GWW"), ("shear", "GWW"), ("shear", "Langevin")])
+def test_an_integrator_a_mode_cannot_run_is_refused_with_the_names_it_can(mode, name, capsys):
+    with pytest.raises(SystemExit) as stopped:
+        bench.main([mode, "--integrators", "GW", name])
+    assert stopped.value.code == 2
+    error = capsys.readouterr().err
+    assert f"invalid choice: '{name}'" in error and "'GW'" in error
 
 
 def test_sentinel_cost_is_measured(capsys):
@@ -104,6 +129,45 @@ def test_copies_speedup_reports_a_copy_that_failed_or_stopped():
     assert bench_copies.combine_copy_rounds({0: ([1.0], [1.0])}, 2) == "failed: a copy stopped"
 
 
+def test_copies_speedup_reports_why_a_copy_stopped_before_the_broken_barrier():
+    """The copies that found the barrier broken may report before the one that broke it."""
+    rounds = {1: bench_copies.BROKEN_BARRIER, 0: "failed: MemoryError: "}
+    assert bench_copies.combine_copy_rounds(rounds, 2) == "failed: MemoryError: "
+
+
+def test_a_copy_that_stops_on_any_error_releases_the_others_and_says_why(monkeypatch):
+    """Not only an OpenMM error: whatever stops a copy breaks the barrier, so that the others do
+    not wait there COPY_TIMEOUT each, and is reported."""
+    def no_scene(num_particles):
+        raise ValueError("no scene")
+
+    monkeypatch.setattr(bench_copies, "soft_scene", no_scene)
+    barrier, results = threading.Barrier(2), queue.Queue()
+    args = argparse.Namespace(edpd_alpha=20.0)
+    bench_copies.copy_rounds(500, "GW", 0, barrier, results, args)
+    assert barrier.broken
+    assert results.get_nowait() == (0, "failed: ValueError: no scene")
+
+
+def test_a_copy_that_finds_the_barrier_broken_says_so():
+    barrier, results = threading.Barrier(2), queue.Queue()
+    barrier.abort()
+    args = argparse.Namespace(edpd_alpha=20.0, dt=0.05, platform="CPU", warmup=2, seconds=0.01, repeats=1)
+    bench_copies.copy_rounds(500, "GW", 1, barrier, results, args)
+    assert results.get_nowait() == (1, bench_copies.BROKEN_BARRIER)
+
+
+@pytest.mark.parametrize("mode, module, measure, rows", [
+    ("rates", bench_rates, "measure_sizes", []),
+    ("scale", bench_scale, "measure_scale", [(500, 1, {"GW": (100.0, 1.0, 1.2)})]),
+    ("thread-scaling", bench_threads, "measure_thread_scaling", [])])
+def test_a_table_gives_the_catalogs_friction(mode, module, measure, rows, capsys, monkeypatch):
+    monkeypatch.setattr(module, "FRICTION", 3.25)
+    monkeypatch.setattr(module, measure, lambda *arguments: rows)
+    bench.main([mode, "--integrators", "GW", "--threads", "1"])
+    assert "gamma=3.25," in capsys.readouterr().out.splitlines()[0].replace(";", ",")
+
+
 def test_thread_speedup_is_the_median_of_each_rounds_ratio(capsys, monkeypatch):
     """Round by round, not best against best: one thread's best round (100) and two threads'
     (170) would give 1.70; the rounds' ratios are 1.5, 1.9 and 1.89."""
@@ -137,7 +201,6 @@ def test_memory_table_counts_each_context_with_edpd_pairs(capsys):
 def test_scale_table_on_opencl(capsys):
     """scale --platform OpenCL measures there (POCL here: the numbers say nothing about a GPU)."""
     import openmm
-    import pytest
     names = {openmm.Platform.getPlatform(i).getName() for i in range(openmm.Platform.getNumPlatforms())}
     if "OpenCL" not in names:
         pytest.skip("OpenMM has no OpenCL platform here")
