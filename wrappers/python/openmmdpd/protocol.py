@@ -6,7 +6,8 @@ DIFFUSION_GROUPS = 8       # interleaved sets of particles whose spread in D giv
 CONF_KT_TOLERANCE = 0.1    # a stable run's configurational kT is within 10 % of 1 (soft scene)
 CHAIN_KT_TOLERANCE = 0.1   # and its chain <kT> within 10 % of 1 (polymer scene)
 # The longest bond a stable polymer run may have: a harmonic bond (k = 7 kT/rc^2, rest length 0)
-# has rms length sqrt(3/7) = 0.65 and passes 2.5 with probability 1e-8 per bond and sample.
+# has rms length sqrt(3/7) = 0.65 and passes 2.5 with probability 1.7e-9 per bond and sample
+# (k r^2 / kT is chi-squared with 3 degrees of freedom: chi2.sf(2.5**2 * 7, 3)).
 BOND_LIMIT = 2.5
 CORE_RADIUS = 0.2          # g(r < 0.2 rc): pairs overlapping by 80 % (8 kT of repulsion at a = 25)
 OVERLAP_EXCESS = 0.2       # how far above the smallest-dt g(r < 0.2 rc) means overlapping particles
