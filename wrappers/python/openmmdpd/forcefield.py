@@ -21,7 +21,7 @@ import os
 import weakref
 
 import openmm
-from openmm import app
+from openmm import app, unit
 from openmm.app import forcefield as _openmm_forcefield
 from openmm.app.internal import compiled
 
@@ -381,14 +381,21 @@ def _atom_type_names(forcefield, topology, residueTemplates, ignoreExternalBonds
     return [data.atomType[atom] for atom in topology.atoms()]
 
 
-def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplates=None, ignoreExternalBonds=False):
+def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplates=None, ignoreExternalBonds=False,
+                                system=None):
     """Copy the force field's `<DPDThermostat>` table for the types in `topology` into `integrator`.
 
     Sets every particle's type with the numbering the force's particle types have (bead_types),
     the defaults to the friction and cutoff of type pair (0, 0) and a type pair for every other
     pair, so no pair falls back on a default set elsewhere. Refuses an integrator that already
     has type pairs, and a force field whose friction and a_ij tables cover different pairs.
-    residueTemplates and ignoreExternalBonds: as given to createSystem. Returns the integrator.
+    residueTemplates and ignoreExternalBonds: as given to createSystem.
+
+    The types come from matching the topology's residues again. system: the System createSystem
+    made; given, each particle's type is checked against its DPDSoftRepulsionForce, and a
+    particle whose two types differ (other residueTemplates or ignoreExternalBonds, or a force
+    field changed since) is an error naming it, before the integrator is changed. Returns the
+    integrator.
     """
     if not isinstance(integrator, _thermostat_integrator_classes()):
         raise TypeError(f"apply_thermostat_parameters: {type(integrator).__name__} has no type-pair "
@@ -401,6 +408,8 @@ def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplat
                          f"type pairs; give it a new integrator")
     names = _atom_type_names(forcefield, topology, residueTemplates or {}, ignoreExternalBonds)
     types = bead_types(forcefield, names)
+    if system is not None:
+        _check_system_types(forcefield, system, names, types)
     if not types:
         return integrator
     _check_same_pairs(forcefield, types)
@@ -412,6 +421,46 @@ def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplat
             integrator.addTypePair(i, j, friction, cutoff)
     _set_particle_types(integrator, names, types)
     return integrator
+
+
+def _check_system_types(forcefield, system, names, types):
+    """Refuse a System whose DPDSoftRepulsionForce gives the particles other types than matching
+    the topology did (names: each particle's type name; types: their numbering)."""
+    where = "apply_thermostat_parameters"
+    advice = "give the ForceField, residueTemplates and ignoreExternalBonds that createSystem was given"
+    if system.getNumParticles() != len(names):
+        raise ValueError(f"{where}: system has {system.getNumParticles()} particles, the topology "
+                         f"{len(names)} atoms; give the System createSystem made from this topology")
+    force = next((f for f in system.getForces() if isinstance(f, DPDSoftRepulsionForce)), None)
+    if force is None:
+        if types:
+            raise ValueError(f"{where}: system has no DPDSoftRepulsionForce to take the particle types from")
+        return
+    index = {name: i for i, name in enumerate(types)}
+    for particle, name in enumerate(names):
+        if force.getParticleType(particle) != index[name]:
+            raise ValueError(f"{where}: particle {particle} is type {index[name]} ({name}) by matching the "
+                             f"topology but type {force.getParticleType(particle)} in the System's "
+                             f"DPDSoftRepulsionForce; {advice}")
+    # The same numbers can stand for other types (a template overridden since createSystem):
+    # the force's a_ij and cutoffs must then be the force field's for the types matched.
+    generator = _generator(forcefield, SoftRepulsionGenerator)
+    if generator is None or not types:
+        return
+    applied = {(i, j): (_number(force.getDefaultA()), _number(force.getDefaultCutoff()))
+               for i in range(len(types)) for j in range(i, len(types))}
+    for k in range(force.getNumTypePairs()):
+        i, j, a, cutoff = force.getTypePairParameters(k)
+        applied[(min(i, j), max(i, j))] = (_number(a), _number(cutoff))
+    for (i, j), values in generator.table.table(types).items():
+        if not all(math.isclose(x, y, rel_tol=1e-12) for x, y in zip(values, applied.get((i, j), (math.nan,) * 2))):
+            raise ValueError(f"{where}: the System's DPDSoftRepulsionForce has a, cutoff = {applied.get((i, j))} "
+                             f"for type pair ({i}, {j}), the force field {values} for ({types[i]}, {types[j]}) "
+                             f"as the topology matches; {advice}")
+
+
+def _number(value):
+    return value.value_in_unit(value.unit) if unit.is_quantity(value) else float(value)
 
 
 for _generator_class in (SoftRepulsionGenerator, ThermostatGenerator, FENEBondGenerator,

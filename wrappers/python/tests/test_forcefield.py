@@ -298,6 +298,38 @@ def test_a_template_overridden_after_matching_is_the_one_used():
     assert types[18] == 1 and system.getParticleMass(18) == 2.0 * unit.dalton  # B among A, B
 
 
+def test_the_system_given_checks_the_thermostat_types():
+    twin = '<Residue name="SOL2"><Atom name="S" type="A"/></Residue>'
+    topology, _ = packer.pack([(SOLVENT, 40)], density=3.0)
+    chosen = {residue: "SOL2" if residue.index < 10 else "SOL" for residue in topology.residues()}
+    ff = load(xml(extra_residues=twin))
+    system = ff.createSystem(topology, residueTemplates=chosen)
+    integrator = forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01), ff, topology,
+                                                        chosen, system=system)
+    assert [integrator.getParticleType(i) for i in range(12)] == [1] * 10 + [0] * 2
+    # Other residueTemplates than createSystem's: every bead A, type 0 of the one type present,
+    # where the force has S = 0 and A = 1. Refused before the integrator is changed.
+    others = {residue: "SOL2" for residue in topology.residues()}
+    fresh = openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01)
+    with pytest.raises(ValueError, match=r"particle 0 is type 0 \(A\) by matching the topology but type 1 in the "
+                                         r"System's DPDSoftRepulsionForce"):
+        forcefield.apply_thermostat_parameters(fresh, ff, topology, others, system=system)
+    assert fresh.getNumTypePairs() == 0 and number(fresh.getDefaultFriction()) == 1.0
+    # A force field changed since createSystem: SOL's bead overridden to B.
+    ff = load(xml())
+    system = ff.createSystem(topology)
+    ff.loadFile(io.StringIO('<ForceField><Residues><Residue name="SOL" override="1"><Atom name="S" type="B"/>'
+                            '</Residue></Residues></ForceField>'))
+    with pytest.raises(ValueError, match=r"has a, cutoff = \(25.0, 1.0\) for type pair \(0, 0\), the force field "
+                                         r"\(50.0, 1.0\) for \(B, B\)"):
+        forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01), ff, topology,
+                                               system=system)
+    with pytest.raises(ValueError, match="system has 40 particles, the topology 41 atoms"):
+        bigger, _ = packer.pack([(SOLVENT, 41)], density=3.0)
+        forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01), ff, bigger,
+                                               system=system)
+
+
 # --- Errors -------------------------------------------------------------------------------
 
 def test_a_type_pair_missing_from_a_ij_is_named():
