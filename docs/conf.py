@@ -57,6 +57,9 @@ if os.path.exists(os.path.join(here, "_static", "mathjax", "MathJax.js")):
     }
 
 # --- HTML ---------------------------------------------------------------------------------
+# Docstrings write `name` for code, as Markdown does; reStructuredText's default would be italics.
+default_role = "code"
+
 html_theme = "sphinx_rtd_theme"
 html_title = f"openmm-dpd {release}"
 html_static_path = ["_static"]
