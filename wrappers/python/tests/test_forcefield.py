@@ -148,6 +148,20 @@ def test_created_system_equals_the_hand_built_one():
     assert soft_force(system).getNonbondedMethod() == openmmdpd.DPDSoftRepulsionForce.CutoffPeriodic
 
 
+def test_bonds_and_angles_listed_in_reverse_find_their_entries():
+    # The entries name (A, B) and (A, A, B); these trimers list their beads B1, A2, A1, so
+    # their bonds and angles come in the other order.
+    reversed_trimer = packer.Molecule.single("AB3", ["B1", "A2", "A1"], [(0, 1), (1, 2)])
+    topology, positions = packer.pack([(reversed_trimer, 6), (SOLVENT, 100)], density=3.0, seed=4)
+    system = load(xml()).createSystem(topology, removeCMMotion=False)
+    assert differences(system, hand_built(topology), positions) == []
+    counts = {force.getName(): force for force in system.getForces()}
+    assert counts["WormLikeChain"].getNumBonds() == counts["FENE"].getNumBonds() == 6
+    assert counts["CosineAngle"].getNumAngles() == 6
+    assert [counts["WormLikeChain"].getBondParameters(0)[:2], counts["CosineAngle"].getAngleParameters(0)[:3]] \
+        == [[0, 1], [0, 1, 2]]
+
+
 def test_a_mismatched_a_ij_table_is_detected():
     topology, positions = trimers_in_solvent()
     swapped = A_IJ.copy()
@@ -177,6 +191,24 @@ def test_the_thermostat_table_and_types_agree_with_the_force():
     changed[1, 2] = changed[2, 1] = 1.0
     mismatched = thermostat(topology, xml(friction=changed))
     assert pair_table(mismatched, 3) != expected_friction_table()
+
+
+def test_ignore_external_bonds_reaches_the_thermostat_matching():
+    # Solvent beads bonded in pairs match SOL (which has no external bond) only when external
+    # bonds are ignored, in apply_thermostat_parameters as in createSystem.
+    pair = packer.Molecule([("SOL", ["S"]), ("SOL", ["S"])], [(0, 1)])
+    topology, _ = packer.pack([(TRIMER, 6), (pair, 50)], density=3.0, seed=5)
+    ff = load(xml())
+    system = ff.createSystem(topology, ignoreExternalBonds=True)
+    integrator = forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01), ff, topology,
+                                                        ignoreExternalBonds=True, system=system)
+    force = soft_force(system)
+    types = [integrator.getParticleType(i) for i in range(topology.getNumAtoms())]
+    assert types == [force.getParticleType(i) for i in range(topology.getNumAtoms())]
+    assert types[:4] == [1, 1, 2, 1] and types[18:] == [0] * 100
+    assert pair_table(integrator, 3) == expected_friction_table()
+    with pytest.raises(ValueError, match=r"No template found for residue 7 \(SOL\)"):
+        forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01), ff, topology)
 
 
 def test_types_are_numbered_in_the_force_fields_order_of_the_types_present():
@@ -411,6 +443,15 @@ def test_ewald_is_refused():
     topology, _ = trimers_in_solvent()
     with pytest.raises(ValueError, match="nonbondedMethod .* does not apply to DPD forces"):
         load(xml()).createSystem(topology, nonbondedMethod=app.PME)
+
+
+def test_no_cutoff_with_a_box_is_periodic():
+    topology, _ = trimers_in_solvent()
+    system = load(xml()).createSystem(topology, nonbondedMethod=app.NoCutoff)
+    assert soft_force(system).getNonbondedMethod() == openmmdpd.DPDSoftRepulsionForce.CutoffPeriodic
+    assert system.usesPeriodicBoundaryConditions()
+    assert all(force.usesPeriodicBoundaryConditions() for force in system.getForces()
+               if force.getName() in ("FENE", "WormLikeChain", "CosineAngle"))
 
 
 def test_non_periodic_on_request_or_without_a_box():
