@@ -1,10 +1,12 @@
 """The look every chart of the tools shares: one colour and marker per integrator, legends
-outside the axes, plain numbers on log axes."""
-import matplotlib
+outside the axes, plain numbers on log axes.
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.ticker import LogFormatter, NullFormatter  # noqa: E402
+Importing it leaves matplotlib's backend alone (a notebook keeps its own); the command-line
+tools that draw call use_file_backend first."""
+import matplotlib
+from matplotlib.figure import Figure
+import matplotlib.pyplot as plt
+from matplotlib.ticker import LogFormatter, NullFormatter
 
 # Each name of openmmdpd.catalog, and its colour and marker: the same on every chart, and no two
 # alike, so a point is told by its colour or by its marker alone (in grey print too).  Related
@@ -27,6 +29,12 @@ INTEGRATOR_STYLES = {
 }
 
 
+def use_file_backend():
+    """Makes pyplot draw with Agg: the tools only write PNG files, and Agg needs no display
+    (a headless machine, CI), whatever backend the user's setup would otherwise pick."""
+    matplotlib.use("Agg")
+
+
 def integrator_style(name):
     """The colour and marker of the integrator called `name` (a copy: callers may add to it)."""
     return dict(INTEGRATOR_STYLES[name])
@@ -34,10 +42,11 @@ def integrator_style(name):
 
 class PlainLogFormatter(LogFormatter):
     """Tick labels of a log axis as plain numbers (0.02, 0.1, 300), not 2×10⁻²; matplotlib's own
-    choice of which ticks to label is kept."""
+    choice of which ticks to label is kept: a tick LogFormatter leaves blank stays blank.  Only
+    its public call is used, so the labels do not hang on how matplotlib formats numbers inside."""
 
-    def _num_to_string(self, x, vmin, vmax):
-        return f"{x:g}"
+    def __call__(self, x, pos=None):
+        return self.fix_minus(f"{x:g}") if super().__call__(x, pos) else ""
 
 
 def log_axis(ax, which="x", ticks=None):
@@ -62,7 +71,7 @@ def legend_outside(target, handles=None, labels=None, **kwargs):
     if not handles:
         return
     kwargs.setdefault("fontsize", 7)
-    if isinstance(target, plt.Figure):
+    if isinstance(target, Figure):
         target.legend(handles, labels, loc="center left", bbox_to_anchor=(1.0, 0.5), **kwargs)
     else:
         target.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0, **kwargs)

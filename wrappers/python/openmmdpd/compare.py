@@ -36,6 +36,7 @@ from .analysis import (frame_radial_distributions, grouped_squared_displacement,
                        ratio_with_error, standard_error)
 from . import options
 from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
+from .charts import use_file_backend
 from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_GROUPS,
                        OVERLAP_EXCESS, R1_BLOCKS, schedule)
 from .report import read_gr, read_rows, write_report
@@ -518,6 +519,7 @@ def _parser():
 
 
 def main(argv=None):
+    use_file_backend()
     args = options.parse_args(_parser(), argv, QUICK)
     args.out = args.out or os.path.join("results", f"compare-{args.scene}")
     if args.redraw:

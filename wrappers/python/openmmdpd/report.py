@@ -6,7 +6,7 @@ import os
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .charts import figure_handles, integrator_style, legend_outside, log_axis, save
+from .charts import figure_handles, integrator_style, legend_outside, log_axis, save, use_file_backend
 from .options import parser
 from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_GROUPS,
                        OVERLAP_EXCESS, R1_BLOCKS, schedule)
@@ -422,6 +422,7 @@ def _parser():
 
 def main(argv=None):
     """python3 -m openmmdpd.report OUT.png RESULTS.csv...: one stability map of several runs."""
+    use_file_backend()
     args = _parser().parse_args(argv)
     tables = {}
     for path in args.results:

@@ -40,6 +40,7 @@ from openmm import unit
 from . import options, shear
 from .analysis import standard_error
 from .catalog import integrators
+from .charts import use_file_backend
 from .pressure import PARTS, check_integrator, pressure_tensor
 from .scenes import build_scene
 from .units import KT_TEMPERATURE, kT_from_temperature
@@ -375,6 +376,7 @@ def _parser():
 
 
 def main(argv=None):
+    use_file_backend()
     args = options.parse_args(_parser(), argv, QUICK)
     args.command = list(sys.argv[1:] if argv is None else argv)
     if args.integrator not in integrators(None) or args.integrator == "Langevin":

@@ -1,6 +1,7 @@
 """What `python3 -m openmmdpd.TOOL --help` tells a new user: what the tool does, roughly how long
 a run with the defaults takes, and every option's default; a library module run as a command
-says what to run instead."""
+says what to run instead.  The tools that draw do so with Agg, and importing the package's chart
+helpers leaves an importer's backend (a notebook's) alone; log axes read as plain numbers."""
 import argparse
 import os
 import subprocess
@@ -9,7 +10,7 @@ import sys
 import pytest
 
 import openmmdpd
-from openmmdpd import bench, compare, options, report, viscosity
+from openmmdpd import bench, charts, compare, options, report, viscosity
 
 PARSERS = {"compare": compare._parser, "viscosity": viscosity._parser, "bench": bench._parser,
            "report": report._parser}
@@ -76,3 +77,58 @@ def test_a_library_module_says_what_to_run_instead(module):
 def test_report_names_what_is_missing():
     result = run_module("report")
     assert result.returncode == 2 and "OUT.png, RESULTS.csv" in result.stderr
+
+
+def test_importing_the_chart_helpers_keeps_the_backend_in_use():
+    code = ("import matplotlib; matplotlib.use('svg'); import openmmdpd.charts, openmmdpd.report; "
+            "print(matplotlib.get_backend())")
+    path = [os.path.dirname(os.path.dirname(openmmdpd.__file__))] + os.environ.get("PYTHONPATH", "").split(os.pathsep)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in path if p))
+    result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "svg"
+
+
+class Drawn(Exception):
+    pass
+
+
+@pytest.mark.parametrize("tool", [compare, report, viscosity])
+def test_a_tool_that_draws_chooses_agg_first(tool, monkeypatch):
+    """Before anything else, so that no chart is drawn with another backend."""
+    def use_file_backend():
+        raise Drawn
+
+    monkeypatch.setattr(tool, "use_file_backend", use_file_backend)
+    with pytest.raises(Drawn):
+        tool.main([])
+
+
+def test_use_file_backend_is_agg(monkeypatch):
+    import matplotlib
+    chosen = []
+    monkeypatch.setattr(matplotlib, "use", chosen.append)
+    charts.use_file_backend()
+    assert [name.lower() for name in chosen] == ["agg"]
+
+
+def test_log_axes_read_as_plain_numbers():
+    """At the time steps of a sweep, and where matplotlib puts the ticks (its choice of which
+    to label kept: here the decades and 2, 3, 4 and 6 between them)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    def labels(ticks=None, minor=False):
+        fig = Figure()
+        FigureCanvasAgg(fig)
+        ax = fig.subplots()
+        ax.plot([0.02, 0.15], [1, 2])
+        charts.log_axis(ax, ticks=ticks)
+        fig.canvas.draw()
+        lo, hi = ax.get_xlim()
+        return [label.get_text() for label in ax.get_xticklabels(minor=minor)
+                if label.get_text() and lo <= label.get_position()[0] <= hi]
+
+    assert labels([0.1, 0.02, 0.05, 0.02]) == ["0.02", "0.05", "0.1"]
+    assert labels() == ["0.1"]
+    assert labels(minor=True) == ["0.02", "0.03", "0.04", "0.06"]
