@@ -2,15 +2,20 @@
 
 `pack` places copies of each `Molecule` at random (seeded): a molecule's first bead uniformly
 in the box, every other bead one bond length from the bead it is bonded to, in a random
-direction (chains as random walks, nothing avoided). It returns an `app.Topology` with the
+direction (chains as random walks, nothing avoided; a molecule with a ring is refused,
+since its ring-closing bond would be left at any length). It returns an `app.Topology` with the
 box set and the positions, which `app.PDBFile.writeFile`, `ForceField.createSystem` and
 `Context.setPositions` take. Soft beads may overlap; `relax` minimises the energy before a run.
 """
+import math
+import numbers
 from collections import deque
 
 import numpy as np
 import openmm
 from openmm import app, unit
+
+from .units import strip_units
 
 __all__ = ["Molecule", "pack", "relax", "MAX_DENSITY"]
 
@@ -22,18 +27,38 @@ MAX_DENSITY = 10.0
 class Molecule:
     """A molecule of beads: residues, each a name and its bead (atom) names, and bonds.
 
-    bonds: pairs of bead indices counted over the whole molecule, in residue order.
-    Bead names are what force-field templates match, so they must be the templates' names.
+    bonds: pairs of bead indices counted over the whole molecule, in residue order; each pair
+    of beads at most once, in either order. Bead names are what force-field templates match,
+    so they must be the templates' names. A bond that closes a ring is refused: pack grows
+    each molecule bead by bead along a tree of its bonds, and could not give a bond closing
+    a ring its length (it would be any length, and a FENE spring past rmax is NaN).
     """
 
     def __init__(self, residues, bonds=()):
         self.residues = [(str(name), tuple(str(bead) for bead in beads)) for name, beads in residues]
         self.num_beads = sum(len(beads) for _, beads in self.residues)
-        self.bonds = [(int(i), int(j)) for i, j in bonds]
+        self.bonds = [_bead_pair(bond, self.name) for bond in bonds]
+        joined = set()
+        group = list(range(self.num_beads))  # union-find of the beads the bonds so far join
+
+        def root(bead):
+            while group[bead] != bead:
+                group[bead] = group[group[bead]]
+                bead = group[bead]
+            return bead
+
         for i, j in self.bonds:
             if not (0 <= i < self.num_beads and 0 <= j < self.num_beads) or i == j:
                 raise ValueError(f"molecule {self.name}: bond ({i}, {j}) does not join two of its "
-                                 f"{self.num_beads} beads")
+                                 f"{self.num_beads} beads (indices 0 to {self.num_beads - 1})")
+            if (min(i, j), max(i, j)) in joined:
+                raise ValueError(f"molecule {self.name}: bond ({i}, {j}) is given twice (each pair of beads "
+                                 f"once, in either order); twice would make two springs")
+            joined.add((min(i, j), max(i, j)))
+            if root(i) == root(j):
+                raise ValueError(f"molecule {self.name}: bond ({i}, {j}) closes a ring; pack places beads along "
+                                 f"a tree of bonds and cannot give a ring-closing bond its length")
+            group[root(i)] = root(j)
 
     @property
     def name(self):
@@ -81,6 +106,15 @@ class Molecule:
         return order
 
 
+def _bead_pair(bond, name):
+    """A bond as two whole bead indices (ints, or floats such as 2.0)."""
+    bond = tuple(bond)
+    if len(bond) != 2 or not all(isinstance(k, numbers.Real) and not isinstance(k, bool) and float(k).is_integer()
+                                 for k in bond):
+        raise ValueError(f"molecule {name}: bond {bond} needs two whole bead indices")
+    return int(bond[0]), int(bond[1])
+
+
 def _as_molecule(molecule):
     return Molecule.from_topology(molecule) if isinstance(molecule, app.Topology) else molecule
 
@@ -91,20 +125,28 @@ def _box_lengths(num_beads, density, box, max_density, cutoff):
     if (density is None) == (box is None):
         raise ValueError("pack: give either density or box")
     if box is None:
+        density = strip_units(density, unit.nanometer**-3, "density", "pack")
         if not (np.isfinite(density) and 0 < density <= max_density):
             raise ValueError(f"pack: density {density} beads/nm^3 is not possible: it must be > 0 and at most "
                              f"max_density = {max_density} beads/nm^3")
         lengths = np.full(3, (num_beads / density) ** (1 / 3))
-    else:
-        lengths = np.array(box.value_in_unit(unit.nanometer) if unit.is_quantity(box) else box, dtype=float)
-        density = num_beads / np.prod(lengths)
-        if not (lengths.shape == (3,) and np.all(lengths > 0) and density <= max_density):
-            raise ValueError(f"pack: box {tuple(lengths)} nm (density {density:.3g} beads/nm^3) is not possible: "
-                             f"three edges > 0 with at most max_density = {max_density} beads/nm^3")
+        if lengths.min() < 2 * cutoff:
+            raise ValueError(f"pack: density {density:.3g} beads/nm^3 gives {num_beads} beads a box of "
+                             f"{lengths.min():.3g} nm, narrower than twice the cutoff {cutoff} nm; "
+                             f"use more beads or a lower density")
+        return lengths
+    if unit.is_quantity(box) and not box.unit.is_compatible(unit.nanometer):
+        raise TypeError(f"pack: box must be three lengths (a Quantity in nanometer or numbers), got {box}")
+    lengths = np.array(box.value_in_unit(unit.nanometer) if unit.is_quantity(box) else box, dtype=float)
+    if not (lengths.shape == (3,) and np.all(np.isfinite(lengths)) and np.all(lengths > 0)):
+        raise ValueError(f"pack: box {box} is not possible: it must be three finite edges > 0 (nm)")
+    density = num_beads / np.prod(lengths)
+    if density > max_density:
+        raise ValueError(f"pack: box {tuple(lengths)} nm (density {density:.3g} beads/nm^3) is not possible: "
+                         f"at most max_density = {max_density} beads/nm^3")
     if lengths.min() < 2 * cutoff:
-        raise ValueError(f"pack: density {density:.3g} beads/nm^3 gives {num_beads} beads a box of "
-                         f"{lengths.min():.3g} nm, narrower than twice the cutoff {cutoff} nm; "
-                         f"use more beads or a lower density")
+        raise ValueError(f"pack: box {tuple(lengths)} nm is narrower than twice the cutoff {cutoff} nm: each "
+                         f"box edge must be >= 2 * cutoff = {2 * cutoff:g} nm")
     return lengths
 
 
@@ -140,15 +182,24 @@ def pack(molecules, density=None, box=None, bond_length=0.8, seed=0, max_density
     """Place molecules in a periodic box: returns (topology, positions), positions in nm.
 
     molecules: (molecule, count) pairs, a molecule being a `Molecule` or an `app.Topology`
-    of one molecule. Give either density (beads/nm^3; a cubic box) or box (three edge
-    lengths, nm). bond_length (nm): the distance between bonded beads as placed. The same
-    seed gives the same positions. A density <= 0 or above max_density, or one that makes
-    the box narrower than two cutoffs (nm), is refused.
+    of one molecule, and count a whole number >= 0. Give either density (beads/nm^3, or a
+    Quantity in 1/nm^3; a cubic box) or box (three edge lengths, nm or a Quantity). bond_length
+    (nm or a Quantity, > 0): the distance between bonded beads as placed. The same seed gives
+    the same positions. A density <= 0 or above max_density, or a box whose narrowest edge is
+    under two cutoffs (cutoff: nm or a Quantity, > 0), is refused, before anything is built.
     """
-    molecules = [(_as_molecule(molecule), int(count)) for molecule, count in molecules]
+    molecules = [(_as_molecule(molecule), count) for molecule, count in molecules]
     for molecule, count in molecules:
-        if count < 0 or molecule.num_beads == 0:
-            raise ValueError(f"pack: molecule {molecule.name}: needs beads and a count >= 0, got {count}")
+        if not (isinstance(count, numbers.Real) and not isinstance(count, bool) and float(count).is_integer()
+                and count >= 0) or molecule.num_beads == 0:
+            raise ValueError(f"pack: molecule {molecule.name}: needs beads and a count that is a whole number "
+                             f">= 0, got {count!r}")
+    molecules = [(molecule, int(count)) for molecule, count in molecules]
+    bond_length = strip_units(bond_length, unit.nanometer, "bond_length", "pack")
+    cutoff = strip_units(cutoff, unit.nanometer, "cutoff", "pack")
+    for name, value in (("bond_length", bond_length), ("cutoff", cutoff)):
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"pack: {name} must be finite and > 0 (nm), got {value!r}")
     num_beads = sum(molecule.num_beads * count for molecule, count in molecules)
     if num_beads == 0:
         raise ValueError("pack: no beads to place")
