@@ -4,6 +4,7 @@ friction and bonded tables its XML states (and the papers' numbers), equals a Sy
 hand, gives an integrator its thermostat, and runs stable at dt 0.04 after packer.relax; the
 binary mixture at chi = 3 demixes."""
 import math
+import re
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
@@ -122,6 +123,20 @@ def test_the_papers_numbers():
     assert 0.286 * (tables["binary-mixture.xml"][("A", "B")][0] - 25.0) == pytest.approx(3.0, abs=0.002)
     lipid = tables["groot-rabone-lipid.xml"]
     assert (lipid[("w", "h")][0], lipid[("h", "t")][0], lipid[("w", "t")][0]) == (25.0, 50.0, 75.0)
+
+
+def test_each_chi_slope_is_credited_to_its_paper():
+    # Groot and Warren's fit at rho = 3 is chi = 0.286 Delta a (Delta a = 3.50 chi); the
+    # 3.27 chi often quoted is Groot and Madden's. A header crediting 3.27 to Groot and Warren
+    # would say a different a_ij for the same chi than flory_huggins.a_from_chi.
+    for name in FILES + ("groot-warren.xml",):
+        with open(forcefield.data_path(name)) as f:
+            header = " ".join(f.read().split("-->")[0].split())
+        for match in re.finditer(r"3\.27", header):
+            assert "Madden" in header[max(0, match.start() - 160):match.end() + 160], (name, match.start())
+    with open(forcefield.data_path("groot-warren.xml")) as f:
+        header = " ".join(f.read().split("-->")[0].split())
+    assert "a_WP = 25 + chi/0.286 = 25 + 3.50 chi" in header
 
 
 def test_the_diblock_system_equals_a_hand_built_one():
