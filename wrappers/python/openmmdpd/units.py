@@ -109,15 +109,27 @@ class DPDUnits:
         size ``dt``."""
         return _reduced(t, "time", "t", 0.0) * self._tau * unit.picosecond
 
-    def friction(self, gamma):
-        """The integrators' friction rate (Quantity, 1/ps) for DPD's friction ``gamma`` (in
-        units of m/tau; >= 0): gamma/tau.
+    def friction(self, gamma, mass1=1.0, mass2=1.0):
+        """The integrators' friction rate (Quantity, 1/ps) that gives DPD's friction coefficient
+        ``gamma`` (in units of m/tau; >= 0) between beads of masses ``mass1`` and ``mass2`` (in
+        units of m; > 0, 1 by default): gamma / (2 mu_ij) / tau, mu_ij = mass1 mass2 / (mass1 + mass2).
 
-        The integrators take a rate and make the pair coefficient 2 mu_ij times it (mu_ij the
-        pair's reduced mass), which is gamma m/tau for two beads of mass m.  The same rule
-        gives a Lowe-Andersen collision rate Gamma (in units of 1/tau).
+        The integrators take a rate f per type pair and make a particle pair's coefficient
+        gamma_ij = 2 mu_ij f, mu_ij being the pair's reduced mass. For two beads of mass m
+        (2 mu_ij = m) that is gamma m/tau with f = gamma/tau, the default. For beads of other
+        masses the same rate gives another coefficient (2 mu_ij/m times gamma), so give the
+        pair's masses to get ``gamma`` for that pair; a type pair whose beads differ in mass
+        needs its own rate.
+
+        A Lowe-Andersen collision rate Gamma (in units of 1/tau) does not scale with mass:
+        ``friction(Gamma)`` with the default masses gives it.
         """
-        return _reduced(gamma, "friction", "gamma", 0.0) / self._tau / unit.picosecond
+        gamma = _reduced(gamma, "friction", "gamma", 0.0)
+        mass1, mass2 = (_reduced(mass, "friction", name) for mass, name in ((mass1, "mass1"), (mass2, "mass2")))
+        if not (mass1 > 0 and mass2 > 0):
+            raise ValueError(f"DPDUnits.friction: mass1 and mass2 must be > 0 (reduced masses), got {mass1!r}, "
+                             f"{mass2!r}")
+        return gamma / (2 * mass1 * mass2 / (mass1 + mass2)) / self._tau / unit.picosecond
 
     def length(self, x):
         """A length (Quantity, nm) for a reduced length ``x`` (in units of r_c)."""

@@ -47,6 +47,23 @@ def test_a_model_with_its_own_cutoff_mass_and_kT():
     assert tau_quantity.value_in_unit(PS) == pytest.approx(tau, rel=1e-14)
 
 
+def test_the_friction_rate_for_beads_of_other_masses():
+    """The integrators' pair coefficient is 2 mu_ij times the rate: the rate that gives DPD's
+    gamma (units of m/tau) depends on the pair's masses, and is gamma/tau for two beads of mass m."""
+    kT, rc, m = 2.5, 0.6465, 36.0
+    u = DPDUnits(kT=kT * KJ, cutoff=rc * NM, mass=m * unit.dalton)
+    tau = rc * math.sqrt(m / kT)
+    for mass1, mass2 in [(1.0, 1.0), (1.0, 3.0), (2.0, 2.0), (0.5, 4.0)]:
+        rate = u.friction(4.5, mass1, mass2).value_in_unit(PS**-1)
+        mu = (mass1 * m) * (mass2 * m) / ((mass1 + mass2) * m)  # amu
+        assert 2 * mu * rate == pytest.approx(4.5 * m / tau, rel=1e-14)  # gamma in amu/ps
+    assert u.friction(4.5) == u.friction(4.5, 1.0, 1.0) == 4.5 / tau / PS
+    assert DPDUnits().friction(4.5, mass1=1.0, mass2=2.0).value_in_unit(PS**-1) == pytest.approx(3.375, rel=1e-15)
+    with pytest.raises(ValueError, match=r"DPDUnits.friction: mass1 and mass2 must be > 0 \(reduced masses\), "
+                                         r"got 0.0, 1.0"):
+        u.friction(4.5, 0.0)
+
+
 def test_the_pressure_in_bar_for_a_barostat():
     p = DPDUnits().pressure(1.0) / unit.AVOGADRO_CONSTANT_NA
     assert p.value_in_unit(unit.bar) == pytest.approx(1e25 / NA, rel=1e-14)  # 16.6054 bar
