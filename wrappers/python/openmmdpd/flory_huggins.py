@@ -9,6 +9,8 @@ Delta a, with slopes fitted at two densities (in beads per r_c^3, kT = 1):
 
 The slope depends on the density in a way the paper does not give between or beyond these
 two, so other densities are refused rather than interpolated.
+Both fits have like beads at a_ii = 75/rho; an a_ii given otherwise is used with the same
+slope, an extrapolation the paper does not test.
 """
 import math
 
@@ -39,6 +41,8 @@ def a_from_chi(chi, density=3.0, a_ii=None):
         any other raises ValueError.
     :param a_ii: the repulsion between like beads, > 0; by default 75/density (25 at density 3,
         15 at density 5), the choice Groot and Warren made to match water's compressibility.
+        The slopes were fitted with a_ii = 75/density; another a_ii reuses them unchanged, which
+        the paper does not check (chi per Delta a may differ for a stiffer or softer fluid).
     :returns: a_ij (float, kT/r_c).
     """
     slope, a_ii = _slope_and_a_ii(density, a_ii, "a_from_chi")
@@ -56,7 +60,8 @@ def chi_from_a(a_ij, density=3.0, a_ii=None):
 
     :param a_ij: the repulsion between unlike beads (kT/r_c), finite and >= a_ii.
     :param density: the number density, 3 or 5; any other raises ValueError.
-    :param a_ii: the repulsion between like beads, > 0; by default 75/density.
+    :param a_ii: the repulsion between like beads, > 0; by default 75/density. Another a_ii
+        reuses the slope fitted with a_ii = 75/density, as in :func:`a_from_chi`.
     :returns: chi (float).
     """
     slope, a_ii = _slope_and_a_ii(density, a_ii, "chi_from_a")
