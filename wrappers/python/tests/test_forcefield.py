@@ -414,7 +414,8 @@ def test_entries_naming_unknown_types_or_bad_values_are_refused_by_name():
     ('k="7.0"', 'k="-7.0"', "FENEBondForce: Bond .* needs k >= 0 and rmax > 0"),
     ('springLength="4.0"', 'springLength="0"',
      "WormLikeChainBondForce: Bond .* needs persistenceLength > 0 and springLength > 0 and kT >= 0"),
-    ('persistenceLength="0.5"', 'persistenceLength="-0.5"', "WormLikeChainBondForce: Bond .* needs persistenceLength > 0"),
+    ('persistenceLength="0.5"', 'persistenceLength="-0.5"',
+     "WormLikeChainBondForce: Bond .* needs persistenceLength > 0"),
     ('kT="1.0"', 'kT="-1.0"', "WormLikeChainBondForce: Bond .* needs .*kT >= 0"),
     ('k="2.0"', 'k="-2.0"', "CosineAngleForce: Angle .* needs k >= 0"),
 ])
