@@ -243,7 +243,7 @@ def _unstable_means(threshold):
             f"than {OVERLAP_EXCESS:g} above the median of the smallest dt's stable runs (about 0.02 in model B); on "
             f"scene polymer its chain <kT> is within {CHAIN_KT_TOLERANCE:.0%} of 1 (`chain_kT`) and no bond of the "
             f"chain is ever, at a sample, longer than {BOND_LIMIT:g} (`bond`; a harmonic bond of k = 7, rest length 0, "
-            "has rms length 0.65 and passes 2.5 with probability 1e-8 per bond and sample).")
+            "has rms length 0.65 and passes 2.5 with probability 1.7e-9 per bond and sample).")
 
 
 def _conventions():
