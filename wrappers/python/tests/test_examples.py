@@ -138,3 +138,22 @@ def test_copolymer_lamellae_quick(tmp_path):
     assert 0.9 < kt < 1.15
     for name in ("log.csv", "end.pdb", "profile.png"):
         assert os.path.getsize(os.path.join(out, name)) > 0
+
+
+def test_validation_eos_chi_quick(tmp_path):
+    # docs/results/validation-eos-chi: a = 25, rho = 3 gives p = 23.657 +- 0.008 (N = 3000, 60 ps);
+    # 500 particles for 4 ps land within ~0.1 of it, the thermostat's part within ~0.05 of 0.
+    # The mixture's 15 ps from pure slabs leave each slab nearly pure (phi < 0.05; the full run's
+    # equilibrium at Delta a 12 is 0.036), the profile's plateaus on either side of 1/2.
+    out = str(tmp_path / "validation")
+    eos, chi = example("validation_eos_chi").main(["--quick", "--out", out])
+    (point,) = eos
+    assert 23.2 < point["p"] < 24.2 and abs(point["p_thermostat"]) < 0.2 and 0.9 < point["kT"] < 1.1
+    (mixture,) = chi
+    assert 0 < mixture["phi"] < 0.05 and mixture["chi"] > 2 and 0.9 < mixture["kT"] < 1.1
+    profile = read_csv(os.path.join(out, "profiles.csv"))
+    rich_a = [float(row["phi_B"]) for row in profile if row["plateau"] == "A-rich"]
+    rich_b = [float(row["phi_B"]) for row in profile if row["plateau"] == "B-rich"]
+    assert rich_a and rich_b and max(rich_a) < 0.2 and min(rich_b) > 0.8
+    for name in ("eos.csv", "chi.csv", "report.md"):
+        assert os.path.getsize(os.path.join(out, name)) > 0
