@@ -207,7 +207,7 @@ def test_ignore_external_bonds_reaches_the_thermostat_matching():
     assert types == [force.getParticleType(i) for i in range(topology.getNumAtoms())]
     assert types[:4] == [1, 1, 2, 1] and types[18:] == [0] * 100
     assert pair_table(integrator, 3) == expected_friction_table()
-    with pytest.raises(ValueError, match=r"No template found for residue 7 \(SOL\)"):
+    with pytest.raises(ValueError, match=r"No template found for residue \d+ \(SOL\)"):  # which one: OpenMM's order
         forcefield.apply_thermostat_parameters(openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01), ff, topology)
 
 
@@ -280,7 +280,8 @@ def test_a_residue_without_a_template_is_named():
     broken = packer.Molecule.single("AB3", ["A1", "A2", "B1"], [(0, 1)])  # a bond missing
     topology, _ = packer.pack([(broken, 1), (SOLVENT, 40)], density=3.0)
     assert [residue.index for residue in load(xml()).getUnmatchedResidues(topology)] == [0]
-    with pytest.raises(ValueError, match=r"No template found for residue 1 \(AB3\).*matches AB3, but the bonds"):
+    # OpenMM's own message, whose index and wording vary between its versions
+    with pytest.raises(ValueError, match=r"No template found for residue \d+ \(AB3\)"):
         load(xml()).createSystem(topology)
     ff = load(xml())
 
