@@ -1,4 +1,4 @@
-"""Helpers shared by the integrator tests."""
+"""Helpers shared by the integrator and force-field tests."""
 import numpy as np
 import openmm
 from openmm import unit
@@ -54,3 +54,33 @@ def reduced_kT(context, num_particles):
     ke = context.getState(getEnergy=True, groups=0).getKineticEnergy().value_in_unit(
         unit.kilojoule_per_mole)
     return 2.0 * ke / (3 * num_particles - 3)
+
+
+# --- force fields: what a System or integrator holds, for comparison ---------------------------
+
+def energy_and_forces(system, positions):
+    """Potential energy (kJ/mol) and forces (kJ/mol/nm, an array) on the Reference platform."""
+    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
+    context.setPositions(positions)
+    state = context.getState(getEnergy=True, getForces=True)
+    return (state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole),
+            state.getForces(asNumpy=True).value_in_unit(unit.kilojoule_per_mole / unit.nanometer))
+
+
+def soft_force(system):
+    return next(f for f in system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
+
+
+def number(quantity):
+    return quantity.value_in_unit(quantity.unit)
+
+
+def named_pair_table(obj, types):
+    """{(type name, type name): (a or friction, cutoff)} that a force or an integrator applies."""
+    default = obj.getDefaultA() if isinstance(obj, openmmdpd.DPDSoftRepulsionForce) else obj.getDefaultFriction()
+    table = {(i, j): (number(default), number(obj.getDefaultCutoff()))
+             for i in range(len(types)) for j in range(i, len(types))}
+    for index in range(obj.getNumTypePairs()):
+        t1, t2, value, cutoff = obj.getTypePairParameters(index)
+        table[tuple(sorted((t1, t2)))] = (number(value), number(cutoff))
+    return {(types[i], types[j]): values for (i, j), values in table.items()}

@@ -15,6 +15,8 @@ from openmm import app, unit
 import openmmdpd
 from openmmdpd import forcefield, packer, scenes
 
+from dpdtest import energy_and_forces, number, soft_force
+
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
 KT = openmmdpd.KT_TEMPERATURE
 
@@ -91,23 +93,6 @@ def hand_built(topology, a=A_IJ):
             angle.addAngle(*atoms)
     system.addForce(angle)
     return system
-
-
-def energy_and_forces(system, positions):
-    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
-    context.setPositions(positions)
-    state = context.getState(getEnergy=True, getForces=True)
-    return (state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole),
-            state.getForces(asNumpy=True).value_in_unit(unit.kilojoule_per_mole / unit.nanometer))
-
-
-def soft_force(system):
-    # The proxy lives as long as the System that owns the force: keep the System referenced.
-    return next(f for f in system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
-
-
-def number(quantity):
-    return quantity.value_in_unit(quantity.unit)
 
 
 def pair_table(obj, num_types):

@@ -16,6 +16,8 @@ from scipy.spatial import cKDTree
 import openmmdpd
 from openmmdpd import forcefield, packer, scenes
 
+from dpdtest import energy_and_forces, named_pair_table as pair_table, number, soft_force
+
 KT = openmmdpd.KT_TEMPERATURE
 FILES = ("groot-madden-diblock.xml", "groot-rabone-lipid.xml", "binary-mixture.xml")
 
@@ -47,37 +49,10 @@ def xml_table(name, tag, value):
             for p in root.find(tag).findall("Pair")}
 
 
-def number(quantity):
-    return quantity.value_in_unit(quantity.unit)
-
-
-def pair_table(obj, types):
-    """{(type name, type name): (a or friction, cutoff)} that a force or an integrator applies."""
-    default = obj.getDefaultA() if isinstance(obj, openmmdpd.DPDSoftRepulsionForce) else obj.getDefaultFriction()
-    table = {(i, j): (number(default), number(obj.getDefaultCutoff()))
-             for i in range(len(types)) for j in range(i, len(types))}
-    for index in range(obj.getNumTypePairs()):
-        t1, t2, value, cutoff = obj.getTypePairParameters(index)
-        table[tuple(sorted((t1, t2)))] = (number(value), number(cutoff))
-    return {(types[i], types[j]): values for (i, j), values in table.items()}
-
-
-def soft_force(system):
-    return next(f for f in system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
-
-
 def created(name, seed=1):
     ff = app.ForceField(forcefield.data_path(name))
     topology, positions = packed(name, seed)
     return ff, topology, positions, ff.createSystem(topology, nonbondedMethod=app.CutoffPeriodic, removeCMMotion=False)
-
-
-def energy_and_forces(system, positions):
-    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
-    context.setPositions(positions)
-    state = context.getState(getEnergy=True, getForces=True)
-    return (state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole),
-            state.getForces(asNumpy=True).value_in_unit(unit.kilojoule_per_mole / unit.nanometer))
 
 
 def test_the_files_are_shipped_and_load():

@@ -13,6 +13,8 @@ from openmm import app, unit
 import openmmdpd
 from openmmdpd import forcefield, packer, scenes
 
+from dpdtest import energy_and_forces, named_pair_table as pair_table, number, soft_force
+
 KT = openmmdpd.KT_TEMPERATURE
 NAME = "surfactant.xml"
 # H3T3 as one residue per bead: every bead template but the lone ones (added below).
@@ -32,33 +34,6 @@ def created(seed=1):
     ff = app.ForceField(forcefield.data_path(NAME))
     topology, positions = packed(seed)
     return ff, topology, positions, ff.createSystem(topology, nonbondedMethod=app.CutoffPeriodic, removeCMMotion=False)
-
-
-def number(quantity):
-    return quantity.value_in_unit(quantity.unit)
-
-
-def pair_table(obj, types):
-    """{(type name, type name): (a or friction, cutoff)} that a force or an integrator applies."""
-    default = obj.getDefaultA() if isinstance(obj, openmmdpd.DPDSoftRepulsionForce) else obj.getDefaultFriction()
-    table = {(i, j): (number(default), number(obj.getDefaultCutoff()))
-             for i in range(len(types)) for j in range(i, len(types))}
-    for index in range(obj.getNumTypePairs()):
-        t1, t2, value, cutoff = obj.getTypePairParameters(index)
-        table[tuple(sorted((t1, t2)))] = (number(value), number(cutoff))
-    return {(types[i], types[j]): values for (i, j), values in table.items()}
-
-
-def soft_force(system):
-    return next(f for f in system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
-
-
-def energy_and_forces(system, positions):
-    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
-    context.setPositions(positions)
-    state = context.getState(getEnergy=True, getForces=True)
-    return (state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole),
-            state.getForces(asNumpy=True).value_in_unit(unit.kilojoule_per_mole / unit.nanometer))
 
 
 def test_the_file_is_shipped_and_loads():
