@@ -16,7 +16,7 @@ failed=0
 run_suite() {
   local label="$1" dir="$2" status=0
   echo "=== $label: fast suite in $dir ==="
-  (cd "$dir" && ctest --output-on-failure -L fast) | tee "$dir/fast-suite.log" || status=$?
+  (cd "$dir" && ctest --output-on-failure -L fast -j "$(nproc)") | tee "$dir/fast-suite.log" || status=$?
   local ctest_count pytest_count
   ctest_count=$(grep -E "tests passed, .* tests failed out of" "$dir/fast-suite.log" || echo "no ctest summary")
   # pytest runs once per test file: add up the files' closing lines.
