@@ -27,13 +27,14 @@ endif()
 # The device code (platforms/common/kernels/*.cc) goes into the libraries as strings, compiled
 # at run time by the platform (ComputeContext::compileProgram).
 file(GLOB COMMON_KERNELS CONFIGURE_DEPENDS "${CMAKE_SOURCE_DIR}/platforms/common/kernels/*.cc")
+set(PAIR_FORMULAS "${CMAKE_SOURCE_DIR}/platforms/core/include/openmmdpd/PairFormulas.h")
 set(KERNEL_SOURCES_DIR "${CMAKE_BINARY_DIR}/platforms/common")
 add_custom_command(
   OUTPUT "${KERNEL_SOURCES_DIR}/CommonDPDKernelSources.cpp" "${KERNEL_SOURCES_DIR}/CommonDPDKernelSources.h"
   COMMAND ${CMAKE_COMMAND} -E make_directory "${KERNEL_SOURCES_DIR}"
-  COMMAND ${CMAKE_COMMAND} "-DKERNEL_DIR=${CMAKE_SOURCE_DIR}/platforms/common/kernels" "-DOUTPUT_DIR=${KERNEL_SOURCES_DIR}"
-          -P "${CMAKE_SOURCE_DIR}/cmake/EncodeKernelSources.cmake"
-  DEPENDS ${COMMON_KERNELS} "${CMAKE_SOURCE_DIR}/cmake/EncodeKernelSources.cmake"
+  COMMAND ${CMAKE_COMMAND} "-DKERNEL_DIR=${CMAKE_SOURCE_DIR}/platforms/common/kernels" "-DFORMULAS_FILE=${PAIR_FORMULAS}"
+          "-DOUTPUT_DIR=${KERNEL_SOURCES_DIR}" -P "${CMAKE_SOURCE_DIR}/cmake/EncodeKernelSources.cmake"
+  DEPENDS ${COMMON_KERNELS} "${PAIR_FORMULAS}" "${CMAKE_SOURCE_DIR}/cmake/EncodeKernelSources.cmake"
   COMMENT "Encoding the common kernel sources")
 file(GLOB COMMON_SOURCES CONFIGURE_DEPENDS "${CMAKE_SOURCE_DIR}/platforms/common/src/*.cpp")
 add_library(OpenMMDPDCommon STATIC ${COMMON_SOURCES} "${KERNEL_SOURCES_DIR}/CommonDPDKernelSources.cpp")

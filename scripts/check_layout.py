@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """The layout rules anyone can check: no platform code finds out which integrator
-it was given by casting, and no function in platforms/ is longer than 70 lines.
+it was given by casting, no function in platforms/ is longer than 70 lines, and the
+pair formulas (the weights wR = 1 - r/rc and wD, and the noise amplitude sqrt(2 gamma kT))
+are written only in PairFormulas.h, which the host and the GPU kernels both compile.
 
     /usr/bin/python3 scripts/check_layout.py        # exit status 1 and a list if broken
 
@@ -14,6 +16,9 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 MAX_LINES = 70
 CAST = re.compile(r"dynamic_cast<const .*Integrator")
+FORMULAS = "PairFormulas.h"
+# A weight or noise amplitude written out again: 1 - r/rc, wR * wR, sqrt(2 gamma kT).
+FORMULA_COPY = re.compile(r"\b1\s*-\s*r\s*/|\bwR\s*\*\s*wR\b|sqrt\(\s*2\s*\*\s*gamma")
 
 
 def strip(text):
@@ -44,15 +49,19 @@ def long_functions(path):
 def main():
     problems = []
     for path in sorted((ROOT / "platforms").rglob("*")):
-        if path.suffix not in (".cpp", ".h"):
+        if path.suffix not in (".cpp", ".h", ".cc"):
             continue
         rel = path.relative_to(ROOT)
+        code = strip(path.read_text()).splitlines()
         for n, line in enumerate(path.read_text().splitlines(), 1):
             if CAST.search(line):
                 problems.append(f"{rel}:{n}: casts an integrator: {line.strip()}")
+            if path.name != FORMULAS and FORMULA_COPY.search(code[n - 1]):
+                problems.append(f"{rel}:{n}: writes a pair formula of {FORMULAS} again: {line.strip()}")
         for start, length in long_functions(path):
             problems.append(f"{rel}:{start}: a function of {length} lines (limit {MAX_LINES})")
-    print("\n".join(problems) if problems else "layout: no integrator casts, no function over 70 lines in platforms/")
+    print("\n".join(problems) if problems else
+          f"layout: no integrator casts, no function over 70 lines, no pair formula outside {FORMULAS} in platforms/")
     return 1 if problems else 0
 
 

@@ -1,5 +1,5 @@
 /*
- * The DPD thermostat's pair forces (docs/theory/dpd.md), gathered per particle: each
+ * The DPD thermostat's pair forces (PairFormulas.h), gathered per particle: each
  * particle slot sums over its neighbours.  A pair is always evaluated as (lo, hi) by atom
  * index, so both of its particles compute the same numbers and add exactly opposite fixed
  * point values: F_ij = -F_ji to the bit, and the sums do not depend on any order.
@@ -40,19 +40,19 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 if (r2 >= p.w || r2 == 0)
                     continue;
                 const mixed r = sqrt(r2);
-                const mixed wR = 1-r/p.y;
+                const mixed wR = pairRandomWeight(r, p.y);
                 const mixed ex = dx/r, ey = dy/r, ez = dz/r;
                 const mixed gamma = 2*p.x/(vLo.w+vHi.w);  // 2 mu friction
                 const mm_long sign = (aIsLo ? 1 : -1);
                 if (terms & 1) {
-                    const mixed f = -gamma*wR*wR*(ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
+                    const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
                     fd[0] += sign*toFixed(ex*f);
                     fd[1] += sign*toFixed(ey*f);
                     fd[2] += sign*toFixed(ez*f);
                 }
                 if (terms & 2) {
                     const mixed xi = boxMuller(pairWords(seed, 0, stepLow, stepHigh, a, b));
-                    const mixed f = sqrt(2*gamma*kT)*wR*xi*invSqrtDt;
+                    const mixed f = randomAlongE(pairNoiseAmplitude(gamma, kT)*wR, xi, invSqrtDt);
                     fr[0] += sign*toFixed(ex*f);
                     fr[1] += sign*toFixed(ey*f);
                     fr[2] += sign*toFixed(ez*f);

@@ -42,15 +42,13 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
                 if (excluded)
                     continue;
                 const mixed r = sqrt(r2);
-                const mixed scale = p.x*(1-r*p.z)/r;
+                const mixed scale = softRepulsionAlongE(r, p.x, p.z)/r;
                 const mm_long sign = (aIsLo ? 1 : -1);
                 f[0] += sign*toFixed(dx*scale);
                 f[1] += sign*toFixed(dy*scale);
                 f[2] += sign*toFixed(dz*scale);
-                if (aIsLo) {
-                    const mixed x = 1-r/p.y;
-                    energy += (mixed) 0.5f*p.x*p.y*x*x;
-                }
+                if (aIsLo)
+                    energy += softRepulsionEnergy(r, p.x, p.y);
             }
         }
         for (int d = 0; d < 3; d++)

@@ -1,8 +1,8 @@
 /*
  * The pairwise-sequential sweeps of ShardlowIntegrator and LoweAndersenIntegrator
- * (platforms/reference/src/ReferenceSweepDynamics.cpp and core/PairEvaluators.h are the
- * definition) in the Reference's pair order (ReferencePairList.h), so that the device
- * follows the Reference's trajectory: colour by colour, cell by cell, each particle i of a
+ * (platforms/reference/src/ReferenceSweepDynamics.cpp is the definition, and the pair
+ * formulas are PairFormulas.h's, shared with the host) in the Reference's pair order
+ * (ReferencePairList.h), so that the device follows the Reference's trajectory: colour by colour, cell by cell, each particle i of a
  * cell in index order, its neighbour cells in order, their particles j in index order (in
  * i's own cell those after i).  Cells of one colour touch disjoint particles, so one
  * launch sweeps a colour with a work item per cell; with fewer than 3 cells on an axis
@@ -108,28 +108,28 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
     if (vi.w == 0 || vj.w == 0)
         return;
     const PhiloxWords w = pairWords(s.seed, s.stream, s.stepLow, s.stepHigh, i, j);
-    if (s.rule == SWEEP_LOWE && ((mixed) w.v[2])*(mixed) 2.3283064365386963e-10f >= p.x*s.h)
+    if (s.rule == SWEEP_LOWE && !loweCollides(((mixed) w.v[2])*(mixed) 2.3283064365386963e-10f, p.x, s.h))
         return;
     const mixed r = sqrt(r2);
     const mixed ex = dx/r, ey = dy/r, ez = dz/r;
-    const mixed wR = 1-r/p.y;
+    const mixed wR = pairRandomWeight(r, p.y);
     const mixed mu = 1/(vi.w+vj.w);
     const mixed gamma = 2*p.x*mu;  // 2 mu friction
     const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
     mixed u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
     if (s.rule == SWEEP_SHARDLOW) {
-        const mixed noise = sqrt(2*gamma*s.kT)*wR*xi*sqrt(s.h);
-        const mixed friction = gamma*wR*wR*s.h;
-        applyImpulse(&vi, &vj, ex, ey, ez, (mixed) 0.5f*(noise-friction*u));  // explicit half
+        const mixed noise = pairNoiseAmplitude(gamma, s.kT)*wR*xi*sqrt(s.h);
+        const mixed friction = gamma*pairDissipativeWeight(wR)*s.h;
+        applyImpulse(&vi, &vj, ex, ey, ez, shardlowExplicitHalf(noise, friction, u));
         u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
-        applyImpulse(&vi, &vj, ex, ey, ez, (mixed) 0.5f*(noise-friction*u)/(1+friction/(2*mu)));  // implicit half
+        applyImpulse(&vi, &vj, ex, ey, ez, shardlowImplicitHalf(noise, friction, mu, u));
     }
     else if (s.rule == SWEEP_LOWE)
-        applyImpulse(&vi, &vj, ex, ey, ez, mu*(xi*sqrt(s.kT/mu)-u));
+        applyImpulse(&vi, &vj, ex, ey, ez, loweImpulse(u, xi, mu, s.kT/mu));
     else {
         // 1 - decay^2 as -expm1(-2x): in float, 1 - decay*decay loses its digits when decay is near 1 (small wR).
-        const mixed x = gamma*wR*wR*s.h/mu;
-        const mixed target = u*exp(-x)+sqrt(-s.kT/mu*expm1(-2*x))*xi;
+        const mixed x = gamma*pairDissipativeWeight(wR)*s.h/mu;
+        const mixed target = pairOUVelocity(u, exp(-x), sqrt(-s.kT/mu*expm1(-2*x)), xi);
         applyImpulse(&vi, &vj, ex, ey, ez, mu*(target-u));
     }
     velocity[i] = vi;

@@ -14,10 +14,12 @@ bool DPDPlugin::mixedIsDouble(ComputeContext& cc) {
 }
 
 ComputeProgram DPDPlugin::compileDPDProgram(ComputeContext& cc, const std::vector<std::string>& sources) {
-    std::string source = CommonDPDKernelSources::utilities;
+    // The pair formulas first: written once for host and device (PairFormulas.h).
+    std::string source = CommonDPDKernelSources::pairFormulas + CommonDPDKernelSources::utilities;
     for (const std::string& s : sources)
         source += s;
     std::map<std::string, std::string> defines;
+    defines["OPENMMDPD_DEVICE_CODE"] = "1";
     if (cc.getUseMixedPrecision())
         defines["OPENMMDPD_MIXED"] = "1";
     // 2 pi as a literal of the `mixed` type (a double literal would need fp64 in single precision).

@@ -117,8 +117,8 @@ __attribute__((target("avx2,prfchw"))) int pairForceRowsAVX2(const DPDBatchPairs
         relativeVelocities(v, pairs.slotP + k, pairs.slotQ + k, vx, vy, vz);
         if (pairs.sheared)  // j moves as its image does
             vx -= Lane4{g[0].imageVx, g[1].imageVx, g[2].imageVx, g[3].imageVx};
-        const Lane4 fd = DPDPairForce::dissipativeAlongE(gammaWD, ex * vx + ey * vy + ez * vz);
-        const Lane4 fr = DPDPairForce::randomAlongE(sigmaWR, (Lane4) _mm256_loadu_pd(pairs.xi + k), invSqrtDt);
+        const Lane4 fd = dissipativeAlongE(gammaWD, ex * vx + ey * vy + ez * vz);
+        const Lane4 fr = randomAlongE(sigmaWR, (Lane4) _mm256_loadu_pd(pairs.xi + k), invSqrtDt);
         Lane4 fx = ex * fr, fy = ey * fr, fz = ez * fr;
         if (dissipative != nullptr)
             storeVec3s(ex * fd, ey * fd, ez * fd, dissipative + k);
@@ -152,7 +152,7 @@ __attribute__((target("avx2,prfchw"))) int keptDissipativeRowsAVX2(const DPDTher
         relativeVelocities(v, p, q, vx, vy, vz);
         if (imageVx != nullptr)
             vx -= (Lane4) _mm256_loadu_pd(imageVx + k);
-        const Lane4 fd = DPDPairForce::dissipativeAlongE(gammaWD, ex * vx + ey * vy + ez * vz);
+        const Lane4 fd = dissipativeAlongE(gammaWD, ex * vx + ey * vy + ez * vz);
         storeVec3s(ex * fd, ey * fd, ez * fd, forces + k);
     }
     return rows;

@@ -30,16 +30,16 @@ struct HitRow {
     }
     __attribute__((target("avx2"))) void finish(const UniformPairRule& rule) {
         const Lane4 r = (Lane4) _mm256_sqrt_pd((__m256d) r2);
-        wR = 1 - r / rule.cutoff;
+        wR = pairRandomWeight(r, rule.cutoff);
         const Lane4 scale = 1.0 / r;
         ex = dx * scale;
         ey = dy * scale;
         ez = dz * scale;
-        gammaWD = rule.gamma * wR * wR;
+        gammaWD = rule.gamma * pairDissipativeWeight(wR);
         sigmaWR = rule.sigma * wR;
         if (rule.soft) {
             const Lane4 softR = rule.cutoff * (1 - wR);
-            const Lane4 force = rule.softA * (1 - softR * rule.softInverseCutoff);
+            const Lane4 force = softRepulsionAlongE(softR, rule.softA, rule.softInverseCutoff);
             // pairForce's test, NaN included: 0 where r >= the soft cutoff
             softForce = (Lane4) _mm256_andnot_pd((__m256d) (softR >= rule.softCutoff), (__m256d) force);
         }

@@ -2,6 +2,7 @@
 #define OPENMMDPD_PAIREVALUATORS_H_
 
 #include "openmmdpd/ConstrainedPairImpulse.h"
+#include "openmmdpd/PairFormulas.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
 #include <cmath>
@@ -16,14 +17,15 @@
 namespace DPDPlugin {
 
 /*
- * The formulas of one pair, shared by every platform (docs/theory/).  Each is a small
- * struct of pure functions of the pair's geometry, velocities and random number; the
- * platforms differ only in how they find the pairs and loop over them.
+ * The rules of one pair on the host, built on its formulas (PairFormulas.h, which the GPU
+ * platforms compile too): each is a small struct of pure functions of the pair's geometry,
+ * velocities and random number; the platforms differ only in how they find the pairs and
+ * loop over them.
  */
 
 /** The DPD pair forces (docs/theory/dpd.md): the force on i (j gets the opposite). */
 struct DPDPairForce {
-    /** FD_ij = -gamma wD(r) (e . v_ij) e, wD = wR^2. */
+    /** FD_ij = -gamma wD(r) (e . v_ij) e. */
     static OpenMM::Vec3 dissipative(const PairGeometry& p, const OpenMM::Vec3& vij) {
         return p.e * dissipativeAlongE(p.gammaWD, p.e.dot(vij));
     }
@@ -31,32 +33,14 @@ struct DPDPairForce {
     static OpenMM::Vec3 random(const PairGeometry& p, double xi, double invSqrtDt) {
         return p.e * randomAlongE(p.sigmaWR, xi, invSqrtDt);
     }
-    /**
-     * The two forces along e, of one pair or of a row of pairs' lanes (Real: double or a
-     * vector of doubles).  Always inlined: a vector returned by value crosses a call between
-     * code built for different vector units differently on each side.
-     */
-    template <class Real>
-    OPENMMDPD_ALWAYS_INLINE static Real dissipativeAlongE(const Real& gammaWD, const Real& eDotVij) {
-        return -gammaWD * eDotVij;
-    }
-    template <class Real>
-    OPENMMDPD_ALWAYS_INLINE static Real randomAlongE(const Real& sigmaWR, const Real& xi, double invSqrtDt) {
-        return sigmaWR * xi * invSqrtDt;
-    }
 };
 
 /** The soft repulsion of DPDSoftRepulsionForce (docs/theory/forces.md), for r < rc. */
 struct SoftRepulsionPair {
     /** The force on i along e = r_ij / r: a (1 - r/rc) (kJ/mol/nm). */
-    static double force(double a, double inverseCutoff, double r) {
-        return a * (1 - r * inverseCutoff);
-    }
+    static double force(double a, double inverseCutoff, double r) { return softRepulsionAlongE(r, a, inverseCutoff); }
     /** The energy a rc (1 - r/rc)^2 / 2 (kJ/mol). */
-    static double energy(double a, double cutoff, double r) {
-        const double x = 1 - r / cutoff;
-        return 0.5 * a * cutoff * x * x;
-    }
+    static double energy(double a, double cutoff, double r) { return softRepulsionEnergy(r, a, cutoff); }
 };
 
 /**
@@ -214,14 +198,11 @@ struct ShardlowPairUpdate {
         const Real noise = sigmaWR * xi * sqrtH;
         const Real friction = gammaWD * h;
         if (Form == ShardlowForm::OneKick) {
-            const Real scale = 1 / (1 + friction * (0.5 / pair.mu));
-            pair.kick(noise * scale - (friction * scale) * pair.normalVelocity());
+            pair.kick(shardlowOneKick(noise, friction, pair.mu, pair.normalVelocity()));
             return;
         }
-        // explicit half
-        pair.kick(0.5 * (noise - friction * pair.normalVelocity()));
-        // implicit half, with u after the explicit one
-        pair.kick(0.5 * (noise - friction * pair.normalVelocity()) / (1 + friction / (2 * pair.mu)));
+        pair.kick(shardlowExplicitHalf(noise, friction, pair.normalVelocity()));
+        pair.kick(shardlowImplicitHalf(noise, friction, pair.mu, pair.normalVelocity()));
     }
 };
 
@@ -233,7 +214,7 @@ struct LowePairUpdate {
 
     /** bits: the pair's words of stream PairThermalisation; the Gaussian is only made for the pairs that collide. */
     void operator()(const PairGeometry& p, const r123::Philox4x32::ctr_type& bits, std::vector<OpenMM::Vec3>& v) const {
-        if (PairRandom::toUniform(bits[2]) >= p.rate * h)
+        if (!loweCollides(PairRandom::toUniform(bits[2]), p.rate, h))
             return;
         const double inverseMu = impulse.inverseReducedMass(p);
         if (inverseMu == 0)
@@ -241,7 +222,7 @@ struct LowePairUpdate {
         const double xi = PairRandom::boxMuller(bits);
         const double mu = 1 / inverseMu;
         const double u = p.e.dot(p.relativeVelocity(v[p.i], v[p.j]));
-        impulse.apply(p, mu * (xi * std::sqrt(kT / mu) - u), v);
+        impulse.apply(p, loweImpulse(u, xi, mu, kT / mu), v);
     }
 };
 
@@ -277,7 +258,7 @@ struct PairOrnsteinUhlenbeckUpdate {
     void apply(Pair& pair, const Real& gammaWD, const Real& xi, double kTOverMu) const {
         const Real decay = Pair::Math::exp(-gammaWD * h / pair.mu);
         const Real u = pair.normalVelocity();
-        const Real target = u * decay + Pair::Math::sqrt(kTOverMu * (1 - decay * decay)) * xi;
+        const Real target = pairOUVelocity(u, decay, Pair::Math::sqrt(kTOverMu * (1 - decay * decay)), xi);
         pair.kick(pair.mu * (target - u));
     }
 };

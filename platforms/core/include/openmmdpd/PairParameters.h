@@ -3,6 +3,7 @@
 
 #include "openmmdpd/BoxGeometry.h"
 #include "openmmdpd/DPDThermostatIntegrator.h"
+#include "openmmdpd/PairFormulas.h"
 #include "openmm/System.h"
 #include "openmm/Vec3.h"
 #include <cmath>
@@ -116,7 +117,7 @@ public:
         if (r2 >= table.cutoff2(t) || r2 == 0)
             return false;
         const double r = std::sqrt(r2);
-        const double wR = 1 - r / table.cutoff(t);
+        const double wR = pairRandomWeight(r, table.cutoff(t));
         double gamma, sigma;
         if (uniformMass) {
             gamma = typeGamma[t];
@@ -130,7 +131,7 @@ public:
         out.j = j;
         out.e = d / r;
         out.wR = wR;
-        out.gammaWD = gamma * wR * wR;
+        out.gammaWD = gamma * pairDissipativeWeight(wR);
         out.sigmaWR = sigma * wR;
         out.rate = table.value(t);
         out.imageVx = imageVx;
@@ -140,7 +141,7 @@ public:
     double uniformGamma(int t) const { return typeGamma[t]; }
     double uniformSigma(int t) const { return typeSigma[t]; }
     /** sigma = sqrt(2 gamma kT), the fluctuation-dissipation partner of a friction gamma. */
-    double noiseAmplitude(double gamma) const { return std::sqrt(2 * gamma * kT); }
+    double noiseAmplitude(double gamma) const { return pairNoiseAmplitude(gamma, kT); }
 
     /** The friction coefficient gamma_ij = 2 mu_ij friction_ij of any pair (amu/ps). */
     double pairGamma(int i, int j) const {

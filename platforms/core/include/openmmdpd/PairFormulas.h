@@ -1,0 +1,121 @@
+/*
+ * The formulas of one DPD pair, written once for every platform (docs/theory/dpd.md,
+ * docs/theory/shardlow.md, docs/theory/lowe-andersen.md, docs/theory/forces.md).
+ *
+ * The host compiles this file as C++: each formula is a function template of Real (double,
+ * or a vector of doubles whose lanes are pairs) and Scalar (double: a value common to the
+ * lanes).  The GPU platforms compile the same text as device code, prepended to their kernel
+ * sources with OPENMMDPD_DEVICE_CODE defined: Real and Scalar are then OpenMM's `mixed`.
+ * So the code in this file is the subset both languages share: no namespaces (but the
+ * host's, below), overloads, references or double literals (0.5f is exact in float and
+ * double).  The platforms differ only in how they find the pairs and loop over them.
+ */
+#ifndef OPENMMDPD_PAIRFORMULAS_H_
+#define OPENMMDPD_PAIRFORMULAS_H_
+
+#ifdef OPENMMDPD_DEVICE_CODE
+#define Real mixed
+#define Scalar mixed
+#define OPENMMDPD_FORMULA inline DEVICE mixed
+#define OPENMMDPD_PREDICATE inline DEVICE bool
+#else
+#include <cmath>
+#if defined(__GNUC__) || defined(__clang__)
+// Always inlined: a vector passed by value crosses a call between code built for different
+// vector units differently on each side.
+#define OPENMMDPD_FORMULA template <class Real> __attribute__((always_inline)) inline Real
+#else
+#define OPENMMDPD_FORMULA template <class Real> inline Real
+#endif
+#define OPENMMDPD_PREDICATE inline bool
+namespace DPDPlugin {
+typedef double Scalar;
+using std::sqrt;
+#endif
+
+/* The random weight wR(r) = 1 - r/rc of a pair inside its cutoff rc. */
+OPENMMDPD_FORMULA pairRandomWeight(Real r, Scalar cutoff) {
+    return 1 - r / cutoff;
+}
+
+/* The dissipative weight wD = wR^2: the fluctuation-dissipation theorem's partner of wR. */
+OPENMMDPD_FORMULA pairDissipativeWeight(Real wR) {
+    return wR * wR;
+}
+
+/* The noise amplitude sigma = sqrt(2 gamma kT) that balances a friction gamma. */
+OPENMMDPD_FORMULA pairNoiseAmplitude(Real gamma, Scalar kT) {
+    return sqrt(2 * gamma * kT);
+}
+
+/* The dissipative force on i along e: F_D = -gamma wD (e . v_ij). */
+OPENMMDPD_FORMULA dissipativeAlongE(Real gammaWD, Real eDotVij) {
+    return -gammaWD * eDotVij;
+}
+
+/* The random force on i along e: F_R = sigma wR xi / sqrt(dt). */
+OPENMMDPD_FORMULA randomAlongE(Real sigmaWR, Real xi, Scalar invSqrtDt) {
+    return sigmaWR * xi * invSqrtDt;
+}
+
+/*
+ * Shardlow's splitting of a pair's fluctuation-dissipation part over a time h, with
+ * noise = sigma wR xi sqrt(h), friction = gamma wD h, mu the pair's reduced mass and u its
+ * relative normal velocity.  The explicit half's impulse along e, from u before it:
+ */
+OPENMMDPD_FORMULA shardlowExplicitHalf(Real noise, Real friction, Real u) {
+    return 0.5f * (noise - friction * u);
+}
+
+/* The implicit half's impulse, from u after the explicit half. */
+OPENMMDPD_FORMULA shardlowImplicitHalf(Real noise, Real friction, Scalar mu, Real u) {
+    return 0.5f * (noise - friction * u) / (1 + friction / (2 * mu));
+}
+
+/* Both halves as the one impulse they add up to, (noise - friction u) / (1 + friction/2mu), from u before them. */
+OPENMMDPD_FORMULA shardlowOneKick(Real noise, Real friction, Scalar mu, Real u) {
+    const Real scale = 1 / (1 + friction * (0.5f / mu));
+    return noise * scale - (friction * scale) * u;
+}
+
+/* Lowe-Andersen: whether a pair with collision rate Gamma collides in a time h, given a uniform number in [0, 1). */
+OPENMMDPD_PREDICATE loweCollides(Scalar uniform, Scalar rate, Scalar h) {
+    return uniform < rate * h;
+}
+
+/* The impulse along e that draws a colliding pair's relative normal velocity u anew from the Maxwell distribution: mu (xi sqrt(kT/mu) - u). */
+OPENMMDPD_FORMULA loweImpulse(Real u, Real xi, Scalar mu, Scalar kTOverMu) {
+    return mu * (xi * sqrt(kTOverMu) - u);
+}
+
+/*
+ * The exact solution over h of the pair's Ornstein-Uhlenbeck equation for u,
+ * du = -(gamma wD/mu) u dt + noise: the new u, from u, decay = exp(-gamma wD h/mu) and
+ * spread = sqrt(kT/mu (1 - decay^2)) (each platform takes exp and sqrt with its own
+ * functions of Real).
+ */
+OPENMMDPD_FORMULA pairOUVelocity(Real u, Real decay, Real spread, Real xi) {
+    return u * decay + spread * xi;
+}
+
+/* The soft repulsion's force on i along e, a (1 - r/rc), for r < rc. */
+OPENMMDPD_FORMULA softRepulsionAlongE(Real r, Scalar a, Scalar inverseCutoff) {
+    return a * (1 - r * inverseCutoff);
+}
+
+/* The soft repulsion's energy a rc (1 - r/rc)^2 / 2, for r < rc. */
+OPENMMDPD_FORMULA softRepulsionEnergy(Real r, Scalar a, Scalar cutoff) {
+    const Real x = 1 - r / cutoff;
+    return 0.5f * a * cutoff * x * x;
+}
+
+#ifdef OPENMMDPD_DEVICE_CODE
+#undef Real
+#undef Scalar
+#else
+} // namespace DPDPlugin
+#endif
+#undef OPENMMDPD_FORMULA
+#undef OPENMMDPD_PREDICATE
+
+#endif
