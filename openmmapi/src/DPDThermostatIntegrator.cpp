@@ -63,6 +63,39 @@ void DPDThermostatIntegrator::setDefaultCutoff(double cutoff) {
     parametersVersion++;
 }
 
+void DPDThermostatIntegrator::checkWeightExponent(const std::string& parameter, double s) const {
+    require(std::isfinite(s) && s > 0, name + ": " + parameter + " must be > 0 (the exponent s of wD = (1 - r/rc)^s; "
+            "2 is standard DPD), got " + numberText(s));
+}
+
+void DPDThermostatIntegrator::setDefaultWeightExponent(double s) {
+    checkWeightExponent("defaultWeightExponent", s);
+    defaultWeightExponent = s;
+    parametersVersion++;
+}
+
+double DPDThermostatIntegrator::getTypePairWeightExponent(int pairIndex) const {
+    int type1, type2;
+    double friction, cutoff;
+    getTypePairParameters(pairIndex, type1, type2, friction, cutoff);  // checks the index
+    const auto own = typePairWeightExponent.find(pairIndex);
+    return own == typePairWeightExponent.end() ? defaultWeightExponent : own->second;
+}
+
+void DPDThermostatIntegrator::setTypePairWeightExponent(int pairIndex, double s) {
+    getTypePairWeightExponent(pairIndex);  // checks the index
+    checkWeightExponent("the weight exponent of type pair " + std::to_string(pairIndex), s);
+    typePairWeightExponent[pairIndex] = s;
+    parametersVersion++;
+}
+
+bool DPDThermostatIntegrator::hasStandardWeights() const {
+    for (int k = 0; k < getNumTypePairs(); k++)
+        if (getTypePairWeightExponent(k) != 2)
+            return false;
+    return defaultWeightExponent == 2;
+}
+
 void DPDThermostatIntegrator::setInstabilityThreshold(double factor) {
     require(std::isfinite(factor) && factor >= 0,
             name + ": instabilityThreshold must be >= 0 (a multiple of kT; 0 turns the check off), got " + numberText(factor));

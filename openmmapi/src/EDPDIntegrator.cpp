@@ -22,6 +22,12 @@ void EDPDIntegrator::setScheme(Scheme s) {
     scheme = s;
 }
 
+void EDPDIntegrator::validate(const OpenMM::System& system) const {
+    DPDThermostatIntegrator::validate(system);
+    require(hasStandardWeights(), "EDPDIntegrator: the weight exponents must be 2 (defaultWeightExponent and every type "
+            "pair's): extended DPD's pair variables are coupled through w = 1 - r/rc");
+}
+
 double EDPDIntegrator::getPairVariable(int particle1, int particle2) const {
     double value;
     long long step;

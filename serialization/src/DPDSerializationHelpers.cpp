@@ -69,6 +69,13 @@ XmlReader XmlReader::child(const char* name) const {
                                   "> element");
 }
 
+bool XmlReader::hasChild(const char* name) const {
+    for (const SerializationNode& c : node.getChildren())
+        if (c.getName() == name)
+            return true;
+    return false;
+}
+
 std::vector<XmlReader> XmlReader::children() const {
     std::vector<XmlReader> result;
     for (const SerializationNode& c : node.getChildren())
@@ -87,7 +94,11 @@ void DPDPlugin::serializeThermostatParameters(const DPDThermostatIntegrator& int
     node.setDoubleProperty("instabilityThreshold", integrator.getInstabilityThreshold());
     node.setDoubleProperty("shearRate", integrator.getShearRate());
     node.setBoolProperty("pressureTensorEnabled", integrator.getPressureTensorEnabled());
+    node.setDoubleProperty("defaultWeightExponent", integrator.getDefaultWeightExponent());
     serializeTypeTable(integrator, node, "friction");
+    SerializationNode& exponents = node.createChildNode("WeightExponents");
+    for (int k = 0; k < integrator.getNumTypePairs(); k++)
+        exponents.createChildNode("TypePair").setIntProperty("index", k).setDoubleProperty("s", integrator.getTypePairWeightExponent(k));
 }
 
 void DPDPlugin::deserializeThermostatParameters(const XmlReader& xml, DPDThermostatIntegrator& integrator) {
@@ -99,5 +110,9 @@ void DPDPlugin::deserializeThermostatParameters(const XmlReader& xml, DPDThermos
     integrator.setInstabilityThreshold(xml.number("instabilityThreshold", 0.0));
     integrator.setShearRate(xml.number("shearRate", 0.0));
     integrator.setPressureTensorEnabled(xml.flag("pressureTensorEnabled", false));
+    integrator.setDefaultWeightExponent(xml.number("defaultWeightExponent", 2.0));
     deserializeTypeTable(xml, integrator, "friction");
+    if (xml.hasChild("WeightExponents"))
+        for (const XmlReader& p : xml.child("WeightExponents").children())
+            integrator.setTypePairWeightExponent(p.integer("index"), p.number("s"));
 }

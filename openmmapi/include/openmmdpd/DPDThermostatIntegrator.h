@@ -94,6 +94,24 @@ public:
         parametersVersion++;
     }
     /**
+     * Get the default weight exponent s: pairs without an exponent of their own have the
+     * dissipative weight wD = (1 - r/rc)^s and the random weight wR = (1 - r/rc)^(s/2)
+     * (docs/theory/dpd.md).  2, the default, is standard DPD.
+     */
+    double getDefaultWeightExponent() const { return defaultWeightExponent; }
+    /**
+     * Set the default weight exponent s, > 0 (see getDefaultWeightExponent()).  s < 2 weights
+     * the friction of distant pairs more, which raises the fluid's viscosity and Schmidt
+     * number (Fan et al. 2006); the conservative force is untouched.
+     */
+    void setDefaultWeightExponent(double s);
+    /** Get the weight exponent of a type pair: its own if set, else the default. */
+    double getTypePairWeightExponent(int pairIndex) const;
+    /** Set the weight exponent s of a type pair, > 0 (see getDefaultWeightExponent()). */
+    void setTypePairWeightExponent(int pairIndex, double s);
+    /** Whether every pair has the standard weight exponent 2 (the default and every type pair's). */
+    bool hasStandardWeights() const;
+    /**
      * Get the random number seed.  0 (the default) means that a new seed is chosen each
      * time a Context is created; it is then kept in checkpoints.
      */
@@ -194,7 +212,7 @@ public:
     double getMaxFriction() const { return types.getMaxValue(defaultFriction); }
     /**
      * Changes whenever a thermostat parameter does (temperature, friction, cutoffs, types,
-     * type pairs, the instability threshold, the shear rate): the step kernels take such changes into a live
+     * type pairs, weight exponents, the instability threshold, the shear rate): the step kernels take such changes into a live
      * Context at the next step.
      */
     int getThermostatParametersVersion() const { return parametersVersion; }
@@ -237,6 +255,7 @@ private:
     void checkTemperature(double temp) const;
     void checkFriction(double friction) const;
     void checkCutoff(double cutoff) const;
+    void checkWeightExponent(const std::string& parameter, double s) const;
     void checkStepSize(double size) const;
     /** Under shear: a periodic System with c = (0, 0, Lz) whose Forces are periodic or bonded. */
     void validateShear(const OpenMM::System& system) const;
@@ -245,7 +264,8 @@ private:
     /** The Context's current box, which may differ from the System's default: the cutoff fits, and the shear's form. */
     void validateContextBox() const;
     std::string name;
-    double temperature, defaultFriction, defaultCutoff, instabilityThreshold = 0, shearRate = 0;
+    double temperature, defaultFriction, defaultCutoff, instabilityThreshold = 0, shearRate = 0, defaultWeightExponent = 2;
+    std::map<int, double> typePairWeightExponent;  // by type-pair index, where set
     bool pressureTensorEnabled = false;
     int randomNumberSeed, parametersVersion = 0, seedVersion = 0;
     ParticleTypeTable types;

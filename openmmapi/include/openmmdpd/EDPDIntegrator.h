@@ -68,6 +68,8 @@ public:
     long long getPairVariableStep(int particle1, int particle2) const;
     /** How many pair variables the Context holds now, within range and remembered. */
     long long getNumPairVariables() const;
+    /** As DPDThermostatIntegrator's, and the weights must be standard (exponent 2): EDPD's pair coupling is built on w = 1 - r/rc. */
+    void validate(const OpenMM::System& system) const override;
 
 protected:
     std::string kernelName() const override;

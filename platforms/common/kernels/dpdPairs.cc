@@ -35,24 +35,24 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 const mixed dx = nearestImage(rLo.x-rHi.x, boxSize.x, invBoxSize.x);
                 const mixed dy = nearestImage(rLo.y-rHi.y, boxSize.y, invBoxSize.y);
                 const mixed dz = nearestImage(rLo.z-rHi.z, boxSize.z, invBoxSize.z);
-                const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];  // friction, rc, 1/rc, rc^2
+                const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];  // friction, rc, s, rc^2
                 const mixed r2 = dx*dx+dy*dy+dz*dz;
                 if (r2 >= p.w || r2 == 0)
                     continue;
                 const mixed r = sqrt(r2);
-                const mixed wR = pairRandomWeight(r, p.y);
+                const mixed weight = pairLinearWeight(r, p.y);
                 const mixed ex = dx/r, ey = dy/r, ez = dz/r;
                 const mixed gamma = 2*p.x/(vLo.w+vHi.w);  // 2 mu friction
                 const mm_long sign = (aIsLo ? 1 : -1);
                 if (terms & 1) {
-                    const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
+                    const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(weight, p.z), ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
                     fd[0] += sign*toFixed(ex*f);
                     fd[1] += sign*toFixed(ey*f);
                     fd[2] += sign*toFixed(ez*f);
                 }
                 if (terms & 2) {
                     const mixed xi = boxMuller(pairWords(seed, 0, stepLow, stepHigh, a, b));
-                    const mixed f = randomAlongE(pairNoiseAmplitude(gamma, kT)*wR, xi, invSqrtDt);
+                    const mixed f = randomAlongE(pairNoiseAmplitude(gamma, kT)*pairRandomWeight(weight, p.z), xi, invSqrtDt);
                     fr[0] += sign*toFixed(ex*f);
                     fr[1] += sign*toFixed(ey*f);
                     fr[2] += sign*toFixed(ez*f);

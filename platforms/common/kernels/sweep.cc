@@ -98,7 +98,7 @@ inline DEVICE void applyImpulse(mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixe
 /*
  * One pair (i, j) at d = r_i - r_j: the rule's update of both velocities in place
  * (ShardlowPairUpdate, LowePairUpdate, PairOrnsteinUhlenbeckUpdate).  p: the type pair's
- * (friction or collision rate, rc, 1/rc, rc^2).
+ * (friction or collision rate, rc, weight exponent s, rc^2).
  */
 inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixed dz, mixed4 p, GLOBAL mixed4* RESTRICT velocity) {
     const mixed r2 = dx*dx+dy*dy+dz*dz;
@@ -112,14 +112,14 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
         return;
     const mixed r = sqrt(r2);
     const mixed ex = dx/r, ey = dy/r, ez = dz/r;
-    const mixed wR = pairRandomWeight(r, p.y);
+    const mixed weight = pairLinearWeight(r, p.y);
     const mixed mu = 1/(vi.w+vj.w);
     const mixed gamma = 2*p.x*mu;  // 2 mu friction
     const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
     mixed u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
     if (s.rule == SWEEP_SHARDLOW) {
-        const mixed noise = pairNoiseAmplitude(gamma, s.kT)*wR*xi*sqrt(s.h);
-        const mixed friction = gamma*pairDissipativeWeight(wR)*s.h;
+        const mixed noise = pairNoiseAmplitude(gamma, s.kT)*pairRandomWeight(weight, p.z)*xi*sqrt(s.h);
+        const mixed friction = gamma*pairDissipativeWeight(weight, p.z)*s.h;
         applyImpulse(&vi, &vj, ex, ey, ez, shardlowExplicitHalf(noise, friction, u));
         u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
         applyImpulse(&vi, &vj, ex, ey, ez, shardlowImplicitHalf(noise, friction, mu, u));
@@ -128,7 +128,7 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
         applyImpulse(&vi, &vj, ex, ey, ez, loweImpulse(u, xi, mu, s.kT/mu));
     else {
         // 1 - decay^2 as -expm1(-2x): in float, 1 - decay*decay loses its digits when decay is near 1 (small wR).
-        const mixed x = gamma*pairDissipativeWeight(wR)*s.h/mu;
+        const mixed x = gamma*pairDissipativeWeight(weight, p.z)*s.h/mu;
         const mixed target = pairOUVelocity(u, exp(-x), sqrt(-s.kT/mu*expm1(-2*x)), xi);
         applyImpulse(&vi, &vj, ex, ey, ez, mu*(target-u));
     }

@@ -84,9 +84,10 @@ void CommonDynamics::uploadParameters() {
     for (int a = 0; a < numAtoms(); a++)
         types[a] = table.typeOf(a);
     atomType.upload(types);
+    // Per type pair: friction (or collision rate), rc, the weight exponent s, rc^2.
     std::vector<double> rows;
     for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++)
-        rows.insert(rows.end(), {table.value(t), table.cutoff(t), table.inverseCutoff(t), table.cutoff2(t)});
+        rows.insert(rows.end(), {table.value(t), table.cutoff(t), table.exponent(t), table.cutoff2(t)});
     uploadMixed4(cc, typeParams, rows, "dpdTypeParams");
 }
 

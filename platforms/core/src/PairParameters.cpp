@@ -7,7 +7,7 @@ using namespace DPDPlugin;
 using OpenMM::Vec3;
 
 TypePairTable::TypePairTable(int numParticles, const std::map<int, int>& particleTypes, double defaultValue, double defaultCutoff,
-                             const std::vector<Entry>& entries) {
+                             const std::vector<Entry>& entries, double defaultExponent) {
     // Dense indices for the types in use (type 0 always exists: it is everyone's default).
     std::map<int, int> dense = {{0, 0}};
     for (auto& entry : particleTypes)
@@ -21,11 +21,14 @@ TypePairTable::TypePairTable(int numParticles, const std::map<int, int>& particl
         typeIndex[entry.first] = dense[entry.second];
     values.assign(numTypes * numTypes, defaultValue);
     cutoffs.assign(numTypes * numTypes, defaultCutoff);
+    exponents.assign(numTypes * numTypes, defaultExponent);
     for (const Entry& e : entries) {
         const int a = dense.at(e.type1), b = dense.at(e.type2);
         values[a * numTypes + b] = values[b * numTypes + a] = e.value;
         cutoffs[a * numTypes + b] = cutoffs[b * numTypes + a] = e.cutoff;
+        exponents[a * numTypes + b] = exponents[b * numTypes + a] = e.exponent;
     }
+    standardWeights = std::all_of(exponents.begin(), exponents.end(), [](double s) { return s == 2; });
     maxCutoff = *std::max_element(cutoffs.begin(), cutoffs.end());
     cutoffs2.resize(cutoffs.size());
     inverseCutoffs.resize(cutoffs.size());
@@ -42,9 +45,10 @@ TypePairTable thermostatTable(const OpenMM::System& system, const DPDThermostatI
     for (int k = 0; k < integrator.getNumTypePairs(); k++) {
         TypePairTable::Entry& e = entries[k];
         integrator.getTypePairParameters(k, e.type1, e.type2, e.value, e.cutoff);
+        e.exponent = integrator.getTypePairWeightExponent(k);
     }
     return TypePairTable(system.getNumParticles(), integrator.getParticleTypes(), integrator.getDefaultFriction(),
-                         integrator.getDefaultCutoff(), entries);
+                         integrator.getDefaultCutoff(), entries, integrator.getDefaultWeightExponent());
 }
 
 } // namespace

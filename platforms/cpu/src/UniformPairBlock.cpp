@@ -30,12 +30,12 @@ struct HitRow {
     }
     __attribute__((target("avx2"))) void finish(const UniformPairRule& rule) {
         const Lane4 r = (Lane4) _mm256_sqrt_pd((__m256d) r2);
-        wR = pairRandomWeight(r, rule.cutoff);
+        wR = pairLinearWeight(r, rule.cutoff);
         const Lane4 scale = 1.0 / r;
         ex = dx * scale;
         ey = dy * scale;
         ez = dz * scale;
-        gammaWD = rule.gamma * pairDissipativeWeight(wR);
+        gammaWD = rule.gamma * pairStandardDissipativeWeight(wR);
         sigmaWR = rule.sigma * wR;
         if (rule.soft) {
             const Lane4 softR = rule.cutoff * (1 - wR);

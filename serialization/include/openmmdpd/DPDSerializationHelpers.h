@@ -42,6 +42,8 @@ public:
     bool flag(const char* name, bool defaultValue) const;
     /** The child node of that name, read with the same owner. */
     XmlReader child(const char* name) const;
+    /** Whether there is a child node of that name. */
+    bool hasChild(const char* name) const;
     /** Every child node, in order. */
     std::vector<XmlReader> children() const;
 

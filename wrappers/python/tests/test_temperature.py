@@ -90,7 +90,7 @@ SIGMA_LIMIT = 0.002            # the combined sigma that can still see a 1 % bia
 SIGMA_GOAL = 0.0018            # where sampling stops (a margin for the noise of g)
 THREADS = os.environ.get("OPENMMDPD_TEST_THREADS", "2")
 
-Case = namedtuple("Case", "integrator scene dt target systematic source slow")
+Case = namedtuple("Case", "integrator scene dt target systematic source slow exponent", defaults=(2.0,))
 
 
 def structure(scene):
@@ -115,12 +115,13 @@ def velocity_verlet_case(integrator, scene, dt, slow=False):
                 f"modes f(g dt) + q D dt/2, q={q:g}", slow)
 
 
-def exact_case(integrator, scene, dt, slow=False):
-    """Pair rules and EDPD: 1 from the thermostat; VV's O(dt^2) on model B, EDPD's motion term."""
+def exact_case(integrator, scene, dt, slow=False, exponent=2.0):
+    """Pair rules and EDPD: 1 from the thermostat; VV's O(dt^2) on model B, EDPD's motion term.
+    The pair rules' 1 holds for any weight exponent s (1. does not depend on wD)."""
     g, var, omega2 = structure(scene)
     motion = var / (2 * g) * dt if integrator.startswith("EDPD") else 0.0
     return Case(integrator, scene, dt, 1.0, math.hypot(motion, omega2 * dt * dt / 6),
-                "exact 1" + (" +- D dt" if motion else ""), slow)
+                "exact 1" + (" +- D dt" if motion else ""), slow, exponent)
 
 
 def lammps_case(dt, slow=False):
@@ -130,6 +131,9 @@ def lammps_case(dt, slow=False):
 CASES = [
     # ideal gas: the pair rules at a long step, the VV family where their systematic is small
     *(exact_case(name, "ideal", 0.05) for name in ("Lowe", "PairOU", "S1", "S2")),
+    # weight exponents s = 0.5 and 1 (wD = (1 - r/rc)^s), through the pair OU's exponential and Shardlow's halves
+    exact_case("PairOU", "ideal", 0.05, exponent=0.5),
+    exact_case("S1", "ideal", 0.05, exponent=1.0),
     # pairs found where O acts: OpenMM's DPDIntegrator, which finds them before the half
     # drift, runs 0.8 % hot here
     *(exact_case(name, "ideal", 0.1) for name in ("Lowe-mid", "PairOU-mid")),
@@ -158,7 +162,7 @@ MIN_CHUNKS = 4                                     # so that g is estimated from
 MAX_SAMPLE_TIME = 400.0                            # ps; ~40 is typical, EDPD's memory needs ~200
 
 
-def make_integrator(name, dt):
+def make_integrator(name, dt, exponent=2.0):
     if name.startswith("EDPD"):
         scheme = name.split("-")[1]
         # OneSided in its DPD limit (alpha dt = 100); Symmetric is unstable there, so a
@@ -173,6 +177,7 @@ def make_integrator(name, dt):
         integrator.setPolymerParticles(list(range(0, N, 2)))
     else:
         integrator = catalog.integrators()[name](dt)
+    integrator.setDefaultWeightExponent(exponent)
     return integrator
 
 
@@ -194,7 +199,7 @@ def sample_kT(case, platform_name, seed):
     """kT samples after equilibration, in chunks until the combined sigma reaches
     SIGMA_GOAL (the fewest steps that can see a 1 % bias) or MAX_SAMPLE_TIME runs out."""
     scene = make_scene(case)
-    integrator = make_integrator(case.integrator, case.dt)
+    integrator = make_integrator(case.integrator, case.dt, case.exponent)
     integrator.setRandomNumberSeed(seed)
     properties = {"Threads": THREADS} if platform_name == "CPU" else {}
     context = openmm.Context(scene.system, integrator, openmm.Platform.getPlatformByName(platform_name), properties)
@@ -221,7 +226,7 @@ def mean_and_error(samples):
 
 def parameters():
     for case in CASES:
-        name = f"{case.integrator}-{case.scene}-dt{case.dt:g}"
+        name = f"{case.integrator}-{case.scene}-dt{case.dt:g}" + (f"-s{case.exponent:g}" if case.exponent != 2 else "")
         seed = zlib.crc32(name.encode()) % 1000000 + 1  # fixed per case; 0 would mean "any"
         for platform_name in ("CPU", "Reference"):
             slow = case.slow or platform_name == "Reference"

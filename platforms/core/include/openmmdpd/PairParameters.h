@@ -14,9 +14,10 @@ namespace DPDPlugin {
 
 /**
  * One pair within its thermostat cutoff, with everything the pair rules need at the
- * current positions: the unit vector e = r_ij / r (minimum image), the weight
- * wR = 1 - r/rc, and the pair's weighted friction gamma_ij wD = gamma_ij wR^2, weighted
- * noise amplitude sigma_ij wR, and its type pair's friction rate (1/ps; Lowe-Andersen's
+ * current positions: the unit vector e = r_ij / r (minimum image), the linear weight
+ * wR = 1 - r/rc (the random weight of the standard exponent s = 2), and the pair's weighted
+ * friction gamma_ij wD = gamma_ij (1 - r/rc)^s, weighted noise amplitude
+ * sigma_ij (1 - r/rc)^(s/2), and its type pair's friction rate (1/ps; Lowe-Andersen's
  * collision rate Gamma).  Under shear, imageVx is the x velocity of the image of j that
  * r_ij points to, relative to j itself (0 within the box).
  */
@@ -34,18 +35,19 @@ struct PairGeometry {
 };
 
 /**
- * A per-type-pair table of one parameter and a cutoff, resolved for lookup by particle:
- * the particle types in use get dense indices, and pairs of types without an entry get
- * the defaults.  The thermostats (friction) and the soft repulsion force (a) both use it.
+ * A per-type-pair table of one parameter, a cutoff and a weight exponent, resolved for
+ * lookup by particle: the particle types in use get dense indices, and pairs of types
+ * without an entry get the defaults.  The thermostats (friction, and the exponent s of their
+ * weights) and the soft repulsion force (a; its exponents unused) both use it.
  */
 class TypePairTable {
 public:
     struct Entry {
         int type1, type2;
-        double value, cutoff;
+        double value, cutoff, exponent = 2;
     };
     TypePairTable(int numParticles, const std::map<int, int>& particleTypes, double defaultValue, double defaultCutoff,
-                  const std::vector<Entry>& entries);
+                  const std::vector<Entry>& entries, double defaultExponent = 2);
     /** The table index of the pair (i, j). */
     int index(int i, int j) const { return typeIndex[i] * numTypes + typeIndex[j]; }
     /** The dense type of a particle, and the table index of a pair of dense types. */
@@ -55,14 +57,18 @@ public:
     double cutoff(int t) const { return cutoffs[t]; }
     double cutoff2(int t) const { return cutoffs2[t]; }
     double inverseCutoff(int t) const { return inverseCutoffs[t]; }
+    double exponent(int t) const { return exponents[t]; }
+    /** Whether every type pair has the standard weight exponent 2. */
+    bool hasStandardWeights() const { return standardWeights; }
     double getMaxCutoff() const { return maxCutoff; }
     int getNumTypes() const { return numTypes; }
 
 private:
     int numTypes;
     double maxCutoff;
+    bool standardWeights;
     std::vector<int> typeIndex;
-    std::vector<double> values, cutoffs, cutoffs2, inverseCutoffs;
+    std::vector<double> values, cutoffs, cutoffs2, inverseCutoffs, exponents;
 };
 
 /**
@@ -117,7 +123,8 @@ public:
         if (r2 >= table.cutoff2(t) || r2 == 0)
             return false;
         const double r = std::sqrt(r2);
-        const double wR = pairRandomWeight(r, table.cutoff(t));
+        const double w = pairLinearWeight(r, table.cutoff(t));
+        const double s = table.exponent(t);
         double gamma, sigma;
         if (uniformMass) {
             gamma = typeGamma[t];
@@ -130,9 +137,9 @@ public:
         out.i = i;
         out.j = j;
         out.e = d / r;
-        out.wR = wR;
-        out.gammaWD = gamma * pairDissipativeWeight(wR);
-        out.sigmaWR = sigma * wR;
+        out.wR = w;
+        out.gammaWD = gamma * pairDissipativeWeight(w, s);
+        out.sigmaWR = sigma * pairRandomWeight(w, s);
         out.rate = table.value(t);
         out.imageVx = imageVx;
         return true;

@@ -6,8 +6,8 @@
 namespace DPDPlugin {
 
 /**
- * What every pair shares when the thermostat has one type pair and every particle one mass,
- * there is no shear, and the soft force (if any) has one type pair and no exclusions (the
+ * What every pair shares when the thermostat has one type pair with the standard weight
+ * exponent 2 and every particle one mass, there is no shear, and the soft force (if any) has one type pair and no exclusions (the
  * usual DPD fluid): constants instead of per-pair lookups.
  */
 struct UniformPairRule {
@@ -36,7 +36,7 @@ inline PairGeometry pairGeometry(const UniformPair& pair, const UniformPairRule&
     g.j = pair.j;
     g.e = pair.e;
     g.wR = pair.wR;
-    g.gammaWD = rule.gamma * pairDissipativeWeight(pair.wR);
+    g.gammaWD = rule.gamma * pairStandardDissipativeWeight(pair.wR);
     g.sigmaWR = rule.sigma * pair.wR;
     g.rate = rule.rate;
     g.imageVx = 0;
