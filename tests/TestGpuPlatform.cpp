@@ -377,7 +377,29 @@ MakeIntegrator withWeightExponents(const MakeIntegrator& make) {
     };
 }
 
+/** An integrator of `make` with thermostat exceptions for every pair 1 (factor 0) and 2 (factor 0.5) apart in index. */
+MakeIntegrator withExceptions(const MakeIntegrator& make) {
+    return [make](int numParticles) {
+        std::unique_ptr<DPDThermostatIntegrator> integrator = make(numParticles);
+        for (int i = 0; i + 2 < numParticles; i++) {
+            integrator->addThermostatException(i, i + 1, 0.0);
+            integrator->addThermostatException(i, i + 2, 0.5);
+        }
+        return integrator;
+    };
+}
+
 } // namespace
+
+TEST(GpuPlatform, ThermostatExceptionsFollowReference) {
+    REQUIRE_OPENCL();
+    expectFollowsReference(withExceptions(dpdvv(DPDVVIntegrator::GrootWarren)), 600, "GW, exceptions");
+    expectFollowsReference(withExceptions(shardlow(2)), 900, "S2, exceptions");
+    expectFollowsReference(withExceptions(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet)), 900,
+                           "Lowe, exceptions");
+    expectFollowsReference(withExceptions(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle)),
+                           900, "pair OU, exceptions");
+}
 
 TEST(GpuPlatform, WeightExponentsFollowReference) {
     // In mixed precision: single precision's pow (under OpenMM's fast math) leaves the

@@ -167,6 +167,28 @@ TEST_P(PlatformsAgree, WeightExponentsFollowTheReference) {
                               [](DPDThermostatIntegrator& i) { i.setDefaultWeightExponent(0.5); }, false);
 }
 
+/** Exceptions for every pair of particles 1, 2 and 3 apart in index (factors 0, 0.25, 0.5): about a fifth of the pairs in range. */
+void addExceptions(DPDThermostatIntegrator& integrator) {
+    const double factors[3] = {0.0, 0.25, 0.5};
+    for (int i = 0; i < NUM_PARTICLES; i++)
+        for (int gap = 1; gap <= 3; gap++)
+            if (i + gap < NUM_PARTICLES)
+                integrator.addThermostatException(i, i + gap, factors[gap - 1]);
+}
+
+TEST_P(PlatformsAgree, ThermostatExceptionsFollowTheReference) {
+    // With the type pairs of withTypes, and in a fluid of one type and one mass (which the
+    // CPU must not take for the standard fluid its vector paths serve).
+    const Scheme& scheme = std::get<0>(GetParam());
+    std::vector<Vec3> positions, velocities;
+    std::unique_ptr<System> system(makeSystem(std::get<1>(GetParam()), positions, velocities, scheme.uniformMasses));
+    expectCpuFollowsReference(*system, scheme, positions, velocities, addExceptions);
+    positions.clear();
+    velocities.clear();
+    std::unique_ptr<System> uniform(makeSystem(false, positions, velocities, true));
+    expectCpuFollowsReference(*uniform, scheme, positions, velocities, addExceptions, false);
+}
+
 TEST(PlatformsAgree, EDPDForgetsAndRecallsPairsAlike) {
     // alpha dt = 1: a pair variable is forgotten after 27 steps and the archive is cleaned
     // every 6, so in 60 steps pairs leave, come back, are caught up, redrawn and dropped.
@@ -226,6 +248,10 @@ const std::vector<LiveSetter> LIVE_SETTERS = {
     setterOf<DPDThermostatIntegrator>("setRandomNumberSeed", [](auto& i) { i.setRandomNumberSeed(99); }),
     setterOf<DPDThermostatIntegrator>("setDefaultWeightExponent", [](auto& i) { i.setDefaultWeightExponent(1.0); }, hasWeights),
     setterOf<DPDThermostatIntegrator>("setTypePairWeightExponent", [](auto& i) { i.setTypePairWeightExponent(0, 0.5); }, hasWeights),
+    setterOf<DPDThermostatIntegrator>("addThermostatException", [](auto& i) {
+        for (int j = 1; j < NUM_PARTICLES; j++)
+            i.addThermostatException(0, j, 0.0);
+    }),
     setterOf<DPDThermostatIntegrator>("setStepSize", [](auto& i) { i.setStepSize(0.015); }),
     // Group 1 only: the soft force (group 0) is left out, the bonds kept.
     setterOf<DPDThermostatIntegrator>("setIntegrationForceGroups", [](auto& i) { i.setIntegrationForceGroups(1 << 1); }),

@@ -96,6 +96,76 @@ bool DPDThermostatIntegrator::hasStandardWeights() const {
     return defaultWeightExponent == 2;
 }
 
+namespace {
+
+std::pair<int, int> orderedPair(int a, int b) {
+    return {std::min(a, b), std::max(a, b)};
+}
+
+} // namespace
+
+void DPDThermostatIntegrator::checkException(int particle1, int particle2, double factor, int replacing) const {
+    const std::string pair = std::to_string(particle1) + ", " + std::to_string(particle2);
+    require(particle1 >= 0 && particle2 >= 0 && particle1 != particle2,
+            name + ": a thermostat exception's particle1 and particle2 must be two different particle indices >= 0, got " + pair);
+    require(std::isfinite(factor) && factor >= 0 && factor <= 1, name + ": the factor of the thermostat exception of particles " +
+            pair + " must be in [0, 1] (it scales gamma by f and sigma by sqrt(f)), got " + numberText(factor));
+    const auto known = exceptionIndex.find(orderedPair(particle1, particle2));
+    require(known == exceptionIndex.end() || known->second == replacing,
+            name + ": particles " + pair + " already have a thermostat exception (index " +
+            (known == exceptionIndex.end() ? std::string() : std::to_string(known->second)) + ")");
+}
+
+int DPDThermostatIntegrator::addThermostatException(int particle1, int particle2, double factor) {
+    checkException(particle1, particle2, factor, -1);
+    exceptionIndex[orderedPair(particle1, particle2)] = (int) exceptions.size();
+    exceptions.push_back({particle1, particle2, factor});
+    parametersVersion++;
+    return (int) exceptions.size() - 1;
+}
+
+void DPDThermostatIntegrator::getThermostatExceptionParameters(int index, int& particle1, int& particle2, double& factor) const {
+    require(index >= 0 && index < (int) exceptions.size(),
+            name + ": index must be in [0, " + std::to_string(exceptions.size()) + "), got " + std::to_string(index));
+    particle1 = exceptions[index].particle1;
+    particle2 = exceptions[index].particle2;
+    factor = exceptions[index].factor;
+}
+
+void DPDThermostatIntegrator::setThermostatExceptionParameters(int index, int particle1, int particle2, double factor) {
+    int old1, old2;
+    double oldFactor;
+    getThermostatExceptionParameters(index, old1, old2, oldFactor);  // checks the index
+    checkException(particle1, particle2, factor, index);
+    exceptionIndex.erase(orderedPair(old1, old2));
+    exceptionIndex[orderedPair(particle1, particle2)] = index;
+    exceptions[index] = {particle1, particle2, factor};
+    parametersVersion++;
+}
+
+void DPDThermostatIntegrator::createThermostatExceptionsFromBonds(const std::vector<std::pair<int, int>>& bonds, double factor12,
+                                                                  double factor13) {
+    // The 1-2 and 1-3 pairs, each once, all checked before any is added.
+    std::map<int, std::vector<int>> neighbours;
+    for (const auto& bond : bonds) {
+        neighbours[bond.first].push_back(bond.second);
+        neighbours[bond.second].push_back(bond.first);
+    }
+    std::map<std::pair<int, int>, double> pairs;
+    for (const auto& bond : bonds)
+        pairs[orderedPair(bond.first, bond.second)] = factor12;
+    if (factor13 != 1)
+        for (const auto& centre : neighbours)
+            for (int a : centre.second)
+                for (int b : centre.second)
+                    if (a != b && pairs.count(orderedPair(a, b)) == 0)
+                        pairs[orderedPair(a, b)] = factor13;
+    for (const auto& pair : pairs)
+        checkException(pair.first.first, pair.first.second, pair.second, -1);
+    for (const auto& pair : pairs)
+        addThermostatException(pair.first.first, pair.first.second, pair.second);
+}
+
 void DPDThermostatIntegrator::setInstabilityThreshold(double factor) {
     require(std::isfinite(factor) && factor >= 0,
             name + ": instabilityThreshold must be >= 0 (a multiple of kT; 0 turns the check off), got " + numberText(factor));
@@ -184,6 +254,10 @@ void DPDThermostatIntegrator::getTypePairParameters(int pairIndex, int& type1, i
 
 void DPDThermostatIntegrator::validate(const OpenMM::System& system) const {
     types.validate(system);
+    for (const Exception& e : exceptions)
+        require(std::max(e.particle1, e.particle2) < system.getNumParticles(),
+                name + ": the thermostat exception of particles " + std::to_string(e.particle1) + ", " +
+                std::to_string(e.particle2) + " names a particle beyond the System's " + std::to_string(system.getNumParticles()));
     if (system.usesPeriodicBoundaryConditions()) {
         OpenMM::Vec3 box[3];
         system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);

@@ -99,6 +99,13 @@ void DPDPlugin::serializeThermostatParameters(const DPDThermostatIntegrator& int
     SerializationNode& exponents = node.createChildNode("WeightExponents");
     for (int k = 0; k < integrator.getNumTypePairs(); k++)
         exponents.createChildNode("TypePair").setIntProperty("index", k).setDoubleProperty("s", integrator.getTypePairWeightExponent(k));
+    SerializationNode& exceptions = node.createChildNode("ThermostatExceptions");
+    for (int k = 0; k < integrator.getNumThermostatExceptions(); k++) {
+        int p1, p2;
+        double factor;
+        integrator.getThermostatExceptionParameters(k, p1, p2, factor);
+        exceptions.createChildNode("Exception").setIntProperty("p1", p1).setIntProperty("p2", p2).setDoubleProperty("factor", factor);
+    }
 }
 
 void DPDPlugin::deserializeThermostatParameters(const XmlReader& xml, DPDThermostatIntegrator& integrator) {
@@ -115,4 +122,7 @@ void DPDPlugin::deserializeThermostatParameters(const XmlReader& xml, DPDThermos
     if (xml.hasChild("WeightExponents"))
         for (const XmlReader& p : xml.child("WeightExponents").children())
             integrator.setTypePairWeightExponent(p.integer("index"), p.number("s"));
+    if (xml.hasChild("ThermostatExceptions"))
+        for (const XmlReader& e : xml.child("ThermostatExceptions").children())
+            integrator.addThermostatException(e.integer("p1"), e.integer("p2"), e.number("factor"));
 }

@@ -19,11 +19,14 @@
 
 %include "typemaps.i"
 %include "std_map.i"
+%include "std_pair.i"
 %include "std_string.i"
 %include "std_vector.i"
 %template(ParticleTypeMap) std::map<int, int>;
 %template(IntVector) std::vector<int>;
 %template(DoubleVector) std::vector<double>;
+%template(IntPair) std::pair<int, int>;
+%template(IntPairVector) std::vector<std::pair<int, int>>;
 
 // Errors reach Python as openmm.OpenMMException, as OpenMM's own do.
 %exception {
@@ -243,7 +246,7 @@ def _arg(self, method, name, value, target_unit):
 %}
 
 %apply int& OUTPUT { int& type1, int& type2, int& particle1, int& particle2 };
-%apply double& OUTPUT { double& friction, double& cutoff, double& a };
+%apply double& OUTPUT { double& friction, double& cutoff, double& a, double& factor };
 %apply double& OUTPUT { double& alpha, double& beta, double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR };
 %apply long long& OUTPUT { long long& count };
 

@@ -112,6 +112,29 @@ public:
     /** Whether every pair has the standard weight exponent 2 (the default and every type pair's). */
     bool hasStandardWeights() const;
     /**
+     * Scale the thermostat of one pair of particles (docs/theory/dpd.md): its friction by
+     * factor and its noise amplitude by sqrt(factor), which keeps fluctuation-dissipation;
+     * factor 0 excludes the pair from the thermostat (for Lowe-Andersen collisions: their
+     * probability is scaled).  The conservative forces are untouched.
+     *
+     * @param factor  in [0, 1]
+     * @return the index of the exception
+     */
+    int addThermostatException(int particle1, int particle2, double factor);
+    /** Get the number of thermostat exceptions. */
+    int getNumThermostatExceptions() const { return (int) exceptions.size(); }
+    /** Get the particles and factor of a thermostat exception. */
+    void getThermostatExceptionParameters(int index, int& particle1, int& particle2, double& factor) const;
+    /** Set the particles and factor of a thermostat exception (factor in [0, 1]). */
+    void setThermostatExceptionParameters(int index, int particle1, int particle2, double factor);
+    /**
+     * Add a thermostat exception for every pair of particles one bond apart (factor12) and two
+     * bonds apart (factor13, if it is not 1) in `bonds`, pairs of particle indices (in Python a
+     * list of (i, j) tuples), as NonbondedForce::createExceptionsFromBonds does for its 1-2
+     * and 1-3 pairs.  Refused, changing nothing, if a pair already has one.
+     */
+    void createThermostatExceptionsFromBonds(const std::vector<std::pair<int, int>>& bonds, double factor12, double factor13);
+    /**
      * Get the random number seed.  0 (the default) means that a new seed is chosen each
      * time a Context is created; it is then kept in checkpoints.
      */
@@ -256,6 +279,8 @@ private:
     void checkFriction(double friction) const;
     void checkCutoff(double cutoff) const;
     void checkWeightExponent(const std::string& parameter, double s) const;
+    /** A valid exception that is not a second one for its pair (`replacing`: the index it replaces, or -1). */
+    void checkException(int particle1, int particle2, double factor, int replacing) const;
     void checkStepSize(double size) const;
     /** Under shear: a periodic System with c = (0, 0, Lz) whose Forces are periodic or bonded. */
     void validateShear(const OpenMM::System& system) const;
@@ -266,6 +291,12 @@ private:
     std::string name;
     double temperature, defaultFriction, defaultCutoff, instabilityThreshold = 0, shearRate = 0, defaultWeightExponent = 2;
     std::map<int, double> typePairWeightExponent;  // by type-pair index, where set
+    struct Exception {
+        int particle1, particle2;
+        double factor;
+    };
+    std::vector<Exception> exceptions;
+    std::map<std::pair<int, int>, int> exceptionIndex;  // by (lower, higher) particle index
     bool pressureTensorEnabled = false;
     int randomNumberSeed, parametersVersion = 0, seedVersion = 0;
     ParticleTypeTable types;

@@ -9,7 +9,8 @@
  */
 KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
         GLOBAL const int* RESTRICT atomIndex, GLOBAL const mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType,
-        int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed kT, mixed invSqrtDt, unsigned int seed,
+        int numTypes, GLOBAL const mixed4* RESTRICT typeParams, GLOBAL const int* RESTRICT exceptionStart,
+        GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor, mixed kT, mixed invSqrtDt, unsigned int seed,
         unsigned int stepLow, unsigned int stepHigh, int terms, GLOBAL mm_long* RESTRICT outD, GLOBAL mm_long* RESTRICT outR,
         mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
         GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
@@ -42,7 +43,8 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 const mixed r = sqrt(r2);
                 const mixed weight = pairLinearWeight(r, p.y);
                 const mixed ex = dx/r, ey = dy/r, ez = dz/r;
-                const mixed gamma = 2*p.x/(vLo.w+vHi.w);  // 2 mu friction
+                // 2 mu friction f, f the pair's thermostat factor (sigma follows as sqrt(2 gamma kT))
+                const mixed gamma = 2*p.x/(vLo.w+vHi.w)*thermostatFactor(a, b, exceptionStart, exceptionPartner, exceptionFactor);
                 const mm_long sign = (aIsLo ? 1 : -1);
                 if (terms & 1) {
                     const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(weight, p.z), ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));

@@ -98,23 +98,24 @@ inline DEVICE void applyImpulse(mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixe
 /*
  * One pair (i, j) at d = r_i - r_j: the rule's update of both velocities in place
  * (ShardlowPairUpdate, LowePairUpdate, PairOrnsteinUhlenbeckUpdate).  p: the type pair's
- * (friction or collision rate, rc, weight exponent s, rc^2).
+ * (friction or collision rate, rc, weight exponent s, rc^2); f: the pair's thermostat factor
+ * (0: the pair is left alone).
  */
-inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixed dz, mixed4 p, GLOBAL mixed4* RESTRICT velocity) {
+inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixed dz, mixed4 p, mixed f, GLOBAL mixed4* RESTRICT velocity) {
     const mixed r2 = dx*dx+dy*dy+dz*dz;
-    if (r2 >= p.w || r2 == 0)
+    if (r2 >= p.w || r2 == 0 || f == 0)
         return;
     mixed4 vi = velocity[i], vj = velocity[j];
     if (vi.w == 0 || vj.w == 0)
         return;
     const PhiloxWords w = pairWords(s.seed, s.stream, s.stepLow, s.stepHigh, i, j);
-    if (s.rule == SWEEP_LOWE && !loweCollides(((mixed) w.v[2])*(mixed) 2.3283064365386963e-10f, p.x, s.h))
+    if (s.rule == SWEEP_LOWE && !loweCollides(((mixed) w.v[2])*(mixed) 2.3283064365386963e-10f, p.x*f, s.h))
         return;
     const mixed r = sqrt(r2);
     const mixed ex = dx/r, ey = dy/r, ez = dz/r;
     const mixed weight = pairLinearWeight(r, p.y);
     const mixed mu = 1/(vi.w+vj.w);
-    const mixed gamma = 2*p.x*mu;  // 2 mu friction
+    const mixed gamma = 2*p.x*mu*f;  // 2 mu friction f
     const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
     mixed u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
     if (s.rule == SWEEP_SHARDLOW) {
@@ -139,7 +140,8 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
 /* Every pair of one cell, in the sweep order or (reverse) exactly the opposite order. */
 inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell, GLOBAL const mixed4* RESTRICT position,
         GLOBAL mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams,
-        mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
+        mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms,
+        GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor) {
     int neighbours[27];
     const int numNeighbours = sweepNeighbours(cell, numCells, halfShell, neighbours);
     const int first = cellStart[cell], last = cellStart[cell+1];
@@ -154,7 +156,8 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
                 const int j = cellAtoms[reverse ? end-1-t : begin+t];
                 const mixed4 rj = position[j];
                 sweepPair(s, i, j, nearestImage(ri.x-rj.x, boxSize.x, invBoxSize.x), nearestImage(ri.y-rj.y, boxSize.y, invBoxSize.y),
-                          nearestImage(ri.z-rj.z, boxSize.z, invBoxSize.z), typeParams[atomType[i]*numTypes+atomType[j]], velocity);
+                          nearestImage(ri.z-rj.z, boxSize.z, invBoxSize.z), typeParams[atomType[i]*numTypes+atomType[j]],
+                          thermostatFactor(i, j, exceptionStart, exceptionPartner, exceptionFactor), velocity);
             }
         }
     }
@@ -167,7 +170,8 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
 KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, unsigned int seed, unsigned int stream,
         unsigned int stepLow, unsigned int stepHigh, GLOBAL const mixed4* RESTRICT position, GLOBAL mixed4* RESTRICT velocity,
         GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed4 boxSize,
-        mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int partner) {
+        mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int partner,
+        GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor) {
     SweepRule s;
     s.rule = rule;
     s.h = h;
@@ -182,14 +186,14 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
         if (GLOBAL_ID == 0)
             for (int c = 0; c < total; c++)
                 sweepCell(s, reverse ? total-1-c : c, reverse, false, position, velocity, atomType, numTypes, typeParams,
-                          boxSize, invBoxSize, numCells, cellStart, cellAtoms);
+                          boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor);
         return;
     }
     const int px = numCells.x/3, py = numCells.y/3, pz = numCells.z/3;
     for (int t = GLOBAL_ID; t < px*py*pz; t += GLOBAL_SIZE) {
         const int x = colour%3+3*(t%px), y = (colour/3)%3+3*((t/px)%py), z = colour/9+3*(t/(px*py));
         sweepCell(s, x+numCells.x*(y+numCells.y*z), reverse, true, position, velocity, atomType, numTypes, typeParams,
-                  boxSize, invBoxSize, numCells, cellStart, cellAtoms);
+                  boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor);
     }
 }
 

@@ -52,3 +52,13 @@ inline DEVICE mixed nearestImage(mixed d, mixed size, mixed invSize) {
 inline DEVICE bool withinBound(mixed x, mixed bound) {
     return x <= bound;
 }
+
+/* The thermostat factor f of the pair of atoms (a, b): its exception's, else 1 (exceptions listed by the lower atom index). */
+inline DEVICE mixed thermostatFactor(int a, int b, GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner,
+        GLOBAL const mixed* RESTRICT exceptionFactor) {
+    const int lo = min(a, b), hi = max(a, b);
+    for (int k = exceptionStart[lo]; k < exceptionStart[lo+1]; k++)
+        if (exceptionPartner[k] == hi)
+            return exceptionFactor[k];
+    return 1;
+}

@@ -33,6 +33,11 @@ void DPDPlugin::addArrayArgs(ComputeKernel& kernel, std::initializer_list<ArrayI
         kernel->addArg(*a);
 }
 
+void DPDPlugin::setArrayArgs(ComputeKernel& kernel, int first, std::initializer_list<ArrayInterface*> arrays) {
+    for (ArrayInterface* a : arrays)
+        kernel->setArg(first++, *a);
+}
+
 void DPDPlugin::addMixedArg(ComputeContext& cc, ComputeKernel& kernel, double value) {
     if (mixedIsDouble(cc))
         kernel->addArg(value);
@@ -59,6 +64,31 @@ void DPDPlugin::setMixed4Arg(ComputeContext& cc, ComputeKernel& kernel, int inde
         kernel->setArg(index, mm_double4(v[0], v[1], v[2], v[3]));
     else
         kernel->setArg(index, mm_float4((float) v[0], (float) v[1], (float) v[2], (float) v[3]));
+}
+
+namespace {
+
+template <class T>
+void uploadResized(ComputeContext& cc, ComputeArray& array, const std::vector<T>& data, const std::string& name) {
+    if (!array.isInitialized())
+        array.initialize<T>(cc, data.size(), name);
+    else if ((size_t) array.getSize() != data.size())
+        array.resize(data.size());
+    array.upload(data);
+}
+
+} // namespace
+
+void DPDPlugin::uploadMixed(ComputeContext& cc, ComputeArray& array, const std::vector<double>& values, const std::string& name) {
+    const std::vector<double> padded = values.empty() ? std::vector<double>(1, 0.0) : values;
+    if (mixedIsDouble(cc))
+        uploadResized(cc, array, padded, name);
+    else
+        uploadResized(cc, array, std::vector<float>(padded.begin(), padded.end()), name);
+}
+
+void DPDPlugin::uploadInts(ComputeContext& cc, ComputeArray& array, const std::vector<int>& values, const std::string& name) {
+    uploadResized(cc, array, values.empty() ? std::vector<int>(1, 0) : values, name);
 }
 
 void DPDPlugin::uploadMixed4(ComputeContext& cc, ComputeArray& array, const std::vector<double>& rows, const std::string& name) {

@@ -75,6 +75,7 @@ void CommonDynamics::updateParameters(const System& system, const DPDThermostatI
     if (cells) {
         pairKernel->setArg(6, parameters.getTable().getNumTypes());
         pairKernel->setArg(7, typeParams);
+        setArrayArgs(pairKernel, 8, {&exceptionStart, &exceptionPartner, &exceptionFactor});
     }
 }
 
@@ -89,6 +90,13 @@ void CommonDynamics::uploadParameters() {
     for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++)
         rows.insert(rows.end(), {table.value(t), table.cutoff(t), table.exponent(t), table.cutoff2(t)});
     uploadMixed4(cc, typeParams, rows, "dpdTypeParams");
+    // The thermostat exceptions by lower atom index; without any, every atom's list is empty.
+    std::vector<int> start = parameters.getExceptionStart();
+    if (start.empty())
+        start.assign(numAtoms() + 1, 0);
+    uploadInts(cc, exceptionStart, start, "dpdExceptionStart");
+    uploadInts(cc, exceptionPartner, parameters.getExceptionPartner(), "dpdExceptionPartner");
+    uploadMixed(cc, exceptionFactor, parameters.getExceptionFactor(), "dpdExceptionFactor");
 }
 
 void CommonDynamics::createPairKernels() {
@@ -102,7 +110,8 @@ void CommonDynamics::createPairKernels() {
     pairKernel->addArg(atomType);
     pairKernel->addArg(parameters.getTable().getNumTypes());
     pairKernel->addArg(typeParams);
-    for (int k = 8; k < 14; k++)
+    addArrayArgs(pairKernel, {&exceptionStart, &exceptionPartner, &exceptionFactor});
+    for (int k = 11; k < 17; k++)
         pairKernel->addArg();  // kT, 1/sqrt(dt), seed, step, terms: set per pass
     pairKernel->addArg(fd);
     pairKernel->addArg(fr);
@@ -140,13 +149,13 @@ void CommonDynamics::conservativeForce(ContextImpl& context, int groups) {
 void CommonDynamics::pairForces(long long step, double dt, int terms, bool rebuildCells) {
     if (rebuildCells)
         cells->build(parameters.getMaxCutoff());
-    setMixedArg(cc, pairKernel, 8, parameters.getKT());
-    setMixedArg(cc, pairKernel, 9, 1 / std::sqrt(dt));
-    pairKernel->setArg(10, (unsigned int) random.getSeed());
-    pairKernel->setArg(11, (unsigned int) (uint64_t) step);
-    pairKernel->setArg(12, (unsigned int) ((uint64_t) step >> 32));
-    pairKernel->setArg(13, terms);
-    cells->setArgs(pairKernel, 16);
+    setMixedArg(cc, pairKernel, 11, parameters.getKT());
+    setMixedArg(cc, pairKernel, 12, 1 / std::sqrt(dt));
+    pairKernel->setArg(13, (unsigned int) random.getSeed());
+    pairKernel->setArg(14, (unsigned int) (uint64_t) step);
+    pairKernel->setArg(15, (unsigned int) ((uint64_t) step >> 32));
+    pairKernel->setArg(16, terms);
+    cells->setArgs(pairKernel, 19);
     pairKernel->execute(numAtoms());
 }
 

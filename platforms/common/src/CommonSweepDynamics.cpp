@@ -9,16 +9,6 @@
 using namespace DPDPlugin;
 using namespace OpenMM;
 
-namespace {
-
-/** Set array arguments of a kernel, from index `first` on. */
-void setArrayArgs(ComputeKernel& kernel, int first, std::initializer_list<ArrayInterface*> arrays) {
-    for (ArrayInterface* a : arrays)
-        kernel->setArg(first++, *a);
-}
-
-} // namespace
-
 CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
                                          const std::string& platform) :
         CommonDynamics(cc, system, integrator, platform, {CommonDPDKernelSources::dpdvv, CommonDPDKernelSources::sweep}, false),
@@ -31,7 +21,7 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
             {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
-            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 20}}, {&scatterKernel, {"scatterVelocities", 6}},
+            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 23}}, {&scatterKernel, {"scatterVelocities", 6}},
             {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels)
         *k.first = createKernelWithArgs(program, k.second.first, k.second.second);
@@ -152,6 +142,7 @@ void CommonSweepDynamics::sweep(Rule rule, double h, PairRandom::Stream stream, 
     colourKernel->setArg(16, mm_int4(numCells[0], numCells[1], numCells[2], 0));
     setArrayArgs(colourKernel, 17, {&cellStart, &cellAtoms});
     colourKernel->setArg(19, partner ? 1 : 0);
+    setArrayArgs(colourKernel, 20, {&exceptionStart, &exceptionPartner, &exceptionFactor});
     const bool coloured = (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
     const int cellsPerColour = totalCells / 27;
     for (int k = 0; k < (coloured ? 27 : 1); k++) {

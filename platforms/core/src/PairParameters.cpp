@@ -84,5 +84,27 @@ DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDTher
     }
     else
         uniformMass = false;
+    listExceptions(integrator);
+}
+
+void DPDPairParameters::listExceptions(const DPDThermostatIntegrator& integrator) {
+    const int numExceptions = integrator.getNumThermostatExceptions();
+    if (numExceptions == 0)
+        return;
+    std::vector<std::vector<std::pair<int, double>>> byLower(mass.size());
+    for (int k = 0; k < numExceptions; k++) {
+        int p1, p2;
+        double f;
+        integrator.getThermostatExceptionParameters(k, p1, p2, f);
+        byLower[std::min(p1, p2)].push_back({std::max(p1, p2), f});
+    }
+    exceptionStart.assign(1, 0);
+    for (const auto& partners : byLower) {
+        for (const auto& partner : partners) {
+            exceptionPartner.push_back(partner.first);
+            exceptionFactor.push_back(partner.second);
+        }
+        exceptionStart.push_back((int) exceptionPartner.size());
+    }
 }
 

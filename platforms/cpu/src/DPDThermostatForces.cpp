@@ -227,7 +227,8 @@ bool DPDThermostatForces::appendUniformPairs(const UniformPairRule& rule, int p,
 
 bool DPDThermostatForces::uniformRule(const SoftRepulsionKernel* soft, UniformPairRule& rule) const {
     const TypePairTable& table = parameters.getTable();
-    if (table.getNumTypes() != 1 || !table.hasStandardWeights() || !parameters.hasUniformMass() || parameters.getShearRate() != 0)
+    if (table.getNumTypes() != 1 || !table.hasStandardWeights() || parameters.hasExceptions() || !parameters.hasUniformMass() ||
+        parameters.getShearRate() != 0)
         return false;
     if (soft != nullptr && (soft->getTable().getNumTypes() != 1 || soft->hasExcludedPairs()))
         return false;

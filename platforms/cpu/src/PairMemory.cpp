@@ -35,7 +35,7 @@ double PairMemory::recall(int i, int j, bool known, double s, long long last, lo
     const long long gap = step - last;
     if (known && gap == 0)
         return s;
-    const double variance = recurrence.alpha * parameters.pairGamma(i, j) * recurrence.variancePerLambda;
+    const double variance = recurrence.alpha * parameters.pairThermostatGamma(i, j) * recurrence.variancePerLambda;
     return recurrence.recall(known, s, gap, variance, random.gaussian(PairRandom::AuxiliaryRecall, step, i, j));
 }
 
@@ -118,7 +118,7 @@ void PairMemory::advance(const std::vector<PairGeometry>& pairs, long long step,
         bool collect;
         // One step of the recurrence; h = -rc wR^2 / 2 up to a constant.
         double next(int i, int j, double s, double wR2Old, double wR2New) const {
-            const double lambda = recurrence.alpha * memory.parameters.pairGamma(i, j);
+            const double lambda = recurrence.alpha * memory.parameters.pairThermostatGamma(i, j);
             const double dh = AuxiliaryRecurrence::dh(memory.parameters.pairCutoff(i, j), wR2Old, wR2New);
             return recurrence.next(s, lambda, dh, memory.random.gaussian(PairRandom::AuxiliaryNoise, step + 1, i, j));
         }

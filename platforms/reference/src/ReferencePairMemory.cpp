@@ -11,7 +11,7 @@
 using namespace DPDPlugin;
 
 double ReferencePairMemory::lambda(const Key& k, const AuxiliaryRecurrence& recurrence) const {
-    return recurrence.alpha * parameters.pairGamma(k.first, k.second);
+    return recurrence.alpha * parameters.pairThermostatGamma(k.first, k.second);
 }
 
 double ReferencePairMemory::catchUp(const Key& k, bool known, double s, long long last, long long step,

@@ -59,11 +59,16 @@ private:
 OpenMM::ComputeKernel createKernelWithArgs(OpenMM::ComputeProgram& program, const std::string& name, int args);
 /** Add array arguments to a kernel, in order. */
 void addArrayArgs(OpenMM::ComputeKernel& kernel, std::initializer_list<OpenMM::ArrayInterface*> arrays);
+/** Set array arguments of a kernel, from index `first` on. */
+void setArrayArgs(OpenMM::ComputeKernel& kernel, int first, std::initializer_list<OpenMM::ArrayInterface*> arrays);
 /** Add a `mixed` scalar (double or float, as the context's precision says) to a kernel. */
 void addMixedArg(OpenMM::ComputeContext& cc, OpenMM::ComputeKernel& kernel, double value);
 void setMixedArg(OpenMM::ComputeContext& cc, OpenMM::ComputeKernel& kernel, int index, double value);
 /** Set a `mixed4` argument. */
 void setMixed4Arg(OpenMM::ComputeContext& cc, OpenMM::ComputeKernel& kernel, int index, const double value[4]);
+/** Fill a `mixed` array, or an int array, from values (one 0 if there are none: an array is never empty). */
+void uploadMixed(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<double>& values, const std::string& name);
+void uploadInts(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<int>& values, const std::string& name);
 /** Fill a `mixed4` array from (x, y, z, w) rows. */
 void uploadMixed4(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<double>& rows, const std::string& name);
 /** The `mixed` type is double under double or mixed precision. */

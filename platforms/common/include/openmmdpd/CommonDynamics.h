@@ -84,7 +84,8 @@ protected:
     bool awaitingRestoreCheck = false;
     OpenMM::ComputeProgram program;
     std::unique_ptr<CommonCellList> cells;  // with pair forces only, as fd, fr, pairKernel and sumKernel
-    OpenMM::ComputeArray atomType, typeParams, velocity, fd, fr, carriedForce, status, moveValue;
+    OpenMM::ComputeArray atomType, typeParams, exceptionStart, exceptionPartner, exceptionFactor, velocity, fd, fr, carriedForce, status,
+            moveValue;
     OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel;
 
 private:

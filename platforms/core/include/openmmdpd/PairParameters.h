@@ -6,6 +6,7 @@
 #include "openmmdpd/PairFormulas.h"
 #include "openmm/System.h"
 #include "openmm/Vec3.h"
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <vector>
@@ -142,7 +143,28 @@ public:
         out.sigmaWR = sigma * pairRandomWeight(w, s);
         out.rate = table.value(t);
         out.imageVx = imageVx;
+        if (!exceptionStart.empty())
+            scaleByException(out);
         return true;
+    }
+    /** Whether any pair has a thermostat exception (DPDThermostatIntegrator::addThermostatException). */
+    bool hasExceptions() const { return !exceptionStart.empty(); }
+    /**
+     * The exceptions listed by the lower particle index: the partners and factors of particle
+     * i are at [start[i], start[i+1]) (start is empty without exceptions).
+     */
+    const std::vector<int>& getExceptionStart() const { return exceptionStart; }
+    const std::vector<int>& getExceptionPartner() const { return exceptionPartner; }
+    const std::vector<double>& getExceptionFactor() const { return exceptionFactor; }
+    /** The thermostat factor f of the pair (i, j): its exception's, else 1. */
+    double pairFactor(int i, int j) const {
+        if (exceptionStart.empty())
+            return 1;
+        const int lo = std::min(i, j), hi = std::max(i, j);
+        for (int k = exceptionStart[lo]; k < exceptionStart[lo + 1]; k++)
+            if (exceptionPartner[k] == hi)
+                return exceptionFactor[k];
+        return 1;
     }
     /** gamma and sigma of every pair of table index t where masses are uniform (hasUniformMass), as pairGeometry takes them. */
     double uniformGamma(int t) const { return typeGamma[t]; }
@@ -154,12 +176,27 @@ public:
     double pairGamma(int i, int j) const {
         return 2 * mass[i] * mass[j] / (mass[i] + mass[j]) * table.value(table.index(i, j));
     }
+    /** gamma_ij f_ij: the friction coefficient of any pair scaled by its thermostat exception (amu/ps). */
+    double pairThermostatGamma(int i, int j) const { return pairGamma(i, j) * pairFactor(i, j); }
     /** The cutoff of any pair (nm). */
     double pairCutoff(int i, int j) const { return table.cutoff(table.index(i, j)); }
 
 private:
+    void listExceptions(const DPDThermostatIntegrator& integrator);
+    /** gamma by f, sigma by sqrt(f) and Lowe's collision rate by f, for a pair with an exception. */
+    void scaleByException(PairGeometry& p) const {
+        const double f = pairFactor(p.i, p.j);
+        if (f != 1) {
+            p.gammaWD *= f;
+            p.sigmaWR *= std::sqrt(f);
+            p.rate *= f;
+        }
+    }
     TypePairTable table;
     double kT, instabilityThreshold, shearRate;
+    // The exceptions by the lower particle index: partners and factors of particle i at [exceptionStart[i], exceptionStart[i+1]).
+    std::vector<int> exceptionStart, exceptionPartner;
+    std::vector<double> exceptionFactor;
     std::vector<double> mass, invMass;
     std::vector<bool> active;
     // When every particle has one mass (the usual DPD fluid), gamma and sigma depend on the

@@ -7,7 +7,7 @@ namespace DPDPlugin {
 
 /**
  * What every pair shares when the thermostat has one type pair with the standard weight
- * exponent 2 and every particle one mass, there is no shear, and the soft force (if any) has one type pair and no exclusions (the
+ * exponent 2 and no exceptions, every particle has one mass, there is no shear, and the soft force (if any) has one type pair and no exclusions (the
  * usual DPD fluid): constants instead of per-pair lookups.
  */
 struct UniformPairRule {
