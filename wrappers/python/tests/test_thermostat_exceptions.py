@@ -23,7 +23,15 @@ def every_integrator():
     """Our integrators by name: the catalog's (but Langevin and OpenMM's) and extended DPD."""
     makers = {name: make for name, make in catalog.integrators("soft").items() if name not in ("Langevin", "OpenMM-DPD")}
     makers["EDPD"] = lambda dt: openmmdpd.EDPDIntegrator(KT, FRICTION, CUTOFF, 10.0, dt)
+    makers["Staggered"] = staggered
     return makers
+
+
+def staggered(dt):
+    """Two sub-steps for the group's particles (the System gets a fast force group for them)."""
+    integrator = openmmdpd.StaggeredDPDIntegrator(KT, FRICTION, CUTOFF, dt, 2)
+    integrator.setPolymerParticles(list(GROUP))
+    return integrator
 
 
 INTEGRATORS = every_integrator()
@@ -32,6 +40,10 @@ INTEGRATORS = every_integrator()
 def final_state(integrator, platform_name, steps=20):
     """Positions, velocities and (where the integrator has one) the thermostat's part of the pressure tensor."""
     scene = scenes.build_scene("soft", num_particles=1000)
+    if isinstance(integrator, openmmdpd.StaggeredDPDIntegrator):
+        fast = scenes.periodic_marker_force()
+        fast.setForceGroup(scenes.FAST_FORCE_GROUP)
+        scene.system.addForce(fast)
     integrator.setRandomNumberSeed(5)
     has_pressure = not isinstance(integrator, (openmmdpd.DenOtterClarkeIntegrator, openmmdpd.StaggeredDPDIntegrator))
     if has_pressure:
@@ -72,12 +84,14 @@ def test_an_excluded_pair_gets_no_thermostat_force(name, platform_name):
     # Two particles 0.5 apart, no conservative force: with f = 0 nothing changes their velocities.
     integrator = INTEGRATORS[name](DT)
     integrator.addThermostatException(1, 0, 0.0)
+    if isinstance(integrator, openmmdpd.StaggeredDPDIntegrator):
+        integrator.setPolymerParticles([0])
     system = openmm.System()
     for _ in range(2):
         system.addParticle(1.0)
     system.setDefaultPeriodicBoxVectors(*(openmm.Vec3(*row) for row in 4 * np.eye(3)))
-    marker = openmm.CustomBondForce("0")
-    marker.setUsesPeriodicBoundaryConditions(True)
+    marker = scenes.periodic_marker_force()
+    marker.setForceGroup(scenes.FAST_FORCE_GROUP)  # the staggered integrator's fast group; the others integrate every group
     system.addForce(marker)
     context = openmm.Context(system, integrator, openmm.Platform.getPlatformByName(platform_name), properties(platform_name))
     context.setPositions([openmm.Vec3(1, 1, 1), openmm.Vec3(1.5, 1, 1)])

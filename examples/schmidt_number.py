@@ -1,0 +1,144 @@
+"""The Schmidt number of the standard DPD fluid (rho 3, a 25, gamma 4.5, kT 1, rc 1) against
+the thermostat's weight exponent s (wD = (1 - r/rc)^s): the shear viscosity eta from a
+Lees-Edwards NEMD run at one shear rate, the self-diffusion coefficient D from the mean
+squared displacement at equilibrium, and Sc = eta / (rho D), each with its standard error,
+beside the kinetic-theory estimates for the same weight.  CPU platform, ShardlowIntegrator S1;
+a CSV and a Markdown report (report.md) into docs/results/schmidt-number/.
+
+    PYTHONPATH=build/python /usr/bin/python3 examples/schmidt_number.py [--quick] [--out DIR]
+
+eta = -<P_xy> / rate, the tensor averaged over blocks of BLOCK time whose means give the error
+(pymbar's statistical inefficiency).  D is the slope of the MSD over its second half of lags,
+its error the spread of D over 8 interleaved sets of particles (openmmdpd.analysis).
+
+Kinetic theory (Groot and Warren 1997 for s = 2, the same integrals for any s): a particle's
+friction zeta = (gamma rho / 3) int wD 4 pi r^2 dr = 8 pi gamma rho / (3 (s+1)(s+2)(s+3)), so
+D = kT / zeta; eta = rho D / 2 + (gamma rho^2 / 30) int wD 4 pi r^4 dr
+                   = rho D / 2 + 16 pi gamma rho^2 / (5 (s+1)(s+2)(s+3)(s+4)(s+5)).
+It leaves out the conservative force and correlated collisions, so at a = 25 it is a guide to
+the trend, not a target.
+"""
+import argparse
+import csv
+import math
+import os
+import time
+
+import numpy as np
+import openmm
+
+import openmmdpd
+from openmmdpd import scenes
+from openmmdpd.analysis import grouped_squared_displacement, standard_error
+from openmmdpd.compare import diffusion_with_error
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+OUT = os.path.join(HERE, "..", "docs", "results", "schmidt-number")
+DENSITY, A, GAMMA, KT = 3.0, 25.0, 4.5, 1.0
+BLOCK = 1.0  # ps of one pressure-tensor block
+FULL = dict(particles=3000, dt=0.02, rate=0.2, equilibrate=10.0, diffusion_time=100.0, nemd_time=400.0,
+            exponents=[2.0, 1.0, 0.5])
+QUICK = dict(particles=500, dt=0.02, rate=0.5, equilibrate=1.0, diffusion_time=4.0, nemd_time=6.0, exponents=[2.0, 0.5])
+
+
+def kinetic_theory(s):
+    """(D, eta, Sc) of kinetic theory for wD = (1 - r)^s at DENSITY, GAMMA, KT, rc = 1."""
+    zeta = 8 * math.pi * GAMMA * DENSITY / (3 * (s + 1) * (s + 2) * (s + 3))
+    d = KT / zeta
+    eta = DENSITY * d / 2 + 16 * math.pi * GAMMA * DENSITY ** 2 / (5 * math.prod(s + k for k in range(1, 6)))
+    return d, eta, eta / (DENSITY * d)
+
+
+def start(args, s, rate, seed):
+    scene = scenes.soft_scene(num_particles=args.particles, density=DENSITY, a=A, seed=seed)
+    integrator = openmmdpd.ShardlowIntegrator(openmmdpd.KT_TEMPERATURE, GAMMA, 1.0, args.dt)
+    integrator.setDefaultWeightExponent(s)
+    integrator.setRandomNumberSeed(seed)
+    integrator.setShearRate(rate)
+    integrator.setPressureTensorEnabled(rate != 0)
+    context = openmm.Context(scene.system, integrator, openmm.Platform.getPlatformByName("CPU"),
+                             {"Threads": str(args.threads)})
+    context.setPositions(scene.positions)
+    context.setVelocitiesToTemperature(openmmdpd.KT_TEMPERATURE, seed)
+    integrator.step(round(args.equilibrate / args.dt))
+    return context, integrator
+
+
+def diffusion(args, s, seed):
+    context, integrator = start(args, s, 0.0, seed)
+    every = 0.5
+    frames = []
+    for _ in range(round(args.diffusion_time / every) + 1):
+        frames.append(context.getState(getPositions=True).getPositions(asNumpy=True)._value.copy())
+        integrator.step(round(every / args.dt))
+    times, msd, by_group = grouped_squared_displacement(np.array(frames), every, 8)
+    return diffusion_with_error(times, msd, by_group)
+
+
+def viscosity(args, s, seed):
+    context, integrator = start(args, s, args.rate, seed)
+    blocks = []
+    for _ in range(round(args.nemd_time / BLOCK)):
+        integrator.resetPressureTensor()
+        integrator.step(round(BLOCK / args.dt))
+        blocks.append(-integrator.getAveragePressureTensor()._value[3] / args.rate)
+    blocks = np.array(blocks)
+    return float(blocks.mean()), standard_error(blocks)
+
+
+def measure(args):
+    rows = []
+    for k, s in enumerate(args.exponents):
+        t0 = time.perf_counter()
+        d, d_err = diffusion(args, s, seed=11 + k)
+        eta, eta_err = viscosity(args, s, seed=31 + k)
+        sc = eta / (DENSITY * d)
+        sc_err = sc * math.hypot(eta_err / eta, d_err / d)
+        d_kin, eta_kin, sc_kin = kinetic_theory(s)
+        rows.append(dict(s=s, D=d, D_err=d_err, eta=eta, eta_err=eta_err, Sc=sc, Sc_err=sc_err,
+                         D_kinetic=d_kin, eta_kinetic=eta_kin, Sc_kinetic=sc_kin, seconds=time.perf_counter() - t0))
+        print(f"s = {s:g}: D = {d:.4f} +- {d_err:.4f}, eta = {eta:.3f} +- {eta_err:.3f}, Sc = {sc:.2f} +- {sc_err:.2f} "
+              f"(kinetic theory {d_kin:.4f}, {eta_kin:.3f}, {sc_kin:.2f}) in {rows[-1]['seconds']:.0f} s", flush=True)
+    return rows
+
+
+def write(rows, args):
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "schmidt.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows({k: f"{v:.6g}" for k, v in row.items()} for row in rows)
+    lines = [
+        "# Schmidt number against the weight exponent s",
+        "",
+        f"Standard DPD fluid: rho {DENSITY:g}, a {A:g}, gamma {GAMMA:g}, kT {KT:g}, rc 1, N = {args.particles}, "
+        f"ShardlowIntegrator S1 at dt {args.dt:g}; D from {args.diffusion_time:g} ps at equilibrium, eta from "
+        f"{args.nemd_time:g} ps of NEMD at shear rate {args.rate:g} after {args.equilibrate:g} ps.",
+        "Errors are one standard error. Made by `examples/schmidt_number.py"
+        + (" --quick" if args.quick else "") + "`.",
+        "",
+        "| s | D | eta | Sc = eta/(rho D) | D, kinetic theory | eta, kinetic theory | Sc, kinetic theory |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(f"| {r['s']:g} | {r['D']:.4f} ± {r['D_err']:.4f} | {r['eta']:.3f} ± {r['eta_err']:.3f} | "
+                     f"{r['Sc']:.2f} ± {r['Sc_err']:.2f} | {r['D_kinetic']:.4f} | {r['eta_kinetic']:.3f} | {r['Sc_kinetic']:.2f} |")
+    with open(os.path.join(args.out, "report.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="seconds: a small box and short runs")
+    parser.add_argument("--out", default=OUT, help="output folder")
+    parser.add_argument("--threads", type=int, default=2, help="CPU platform threads")
+    args = parser.parse_args(argv)
+    for key, value in (QUICK if args.quick else FULL).items():
+        setattr(args, key, value)
+    rows = measure(args)
+    write(rows, args)
+    return rows
+
+
+if __name__ == "__main__":
+    main()
