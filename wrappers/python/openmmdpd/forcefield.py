@@ -6,8 +6,11 @@ Importing this module registers these tags with OpenMM's `app.forcefield.parsers
 
 - `DPDSoftRepulsionForce`: `<Pair type1 type2 a cutoff/>` (kJ/mol/nm, nm), one
   `DPDSoftRepulsionForce` with a particle type per bead type;
-- `DPDThermostat`: `<Pair type1 type2 friction cutoff/>` (1/ps, nm), the integrator's
-  type-pair table, which `apply_thermostat_parameters` copies into an integrator;
+- `DPDThermostat`: `<Pair type1 type2 friction cutoff [weightExponent]/>` (1/ps, nm; the
+  exponent s of the weights, 2 by default), the integrator's type-pair table, and on the tag
+  itself the optional `bondFactor12` and `bondFactor13` (1 by default), the thermostat factors
+  of bonded pairs and of pairs two bonds apart; `apply_thermostat_parameters` copies them into
+  an integrator;
 - `FENEBondForce`: `<Bond class1 class2 k rmax/>`;
 - `WormLikeChainBondForce`: `<Bond class1 class2 persistenceLength springLength kT/>`;
 - `CosineAngleForce`: `<Angle class1 class2 class3 k theta0/>`, k (1 - cos(theta - theta0)).
@@ -159,18 +162,20 @@ def bead_types(forcefield, type_names):
 _CONDITIONS = {">= 0": lambda value: value >= 0, "> 0": lambda value: value > 0, None: lambda value: True}
 
 
-def _parse_entry(forcefield, tag, kind, attrib, num_types, values):
+def _parse_entry(forcefield, tag, kind, attrib, num_types, values, defaults):
     """(type sets, values) of one <Pair>, <Bond> or <Angle>, checked in full before anything keeps
-    it. values: {attribute: its range (">= 0", "> 0" or None)}. An unknown type or class, or a
-    missing, non-numeric or non-finite value, or one out of its range, is an error naming the entry."""
+    it. values: {attribute: its range (">= 0", "> 0" or None)}; defaults: {attribute: its value
+    where the entry omits it}, for the optional ones. An unknown type or class, or a missing
+    required value, a non-numeric or non-finite value, or one out of its range, is an error
+    naming the entry."""
     types = forcefield._findAtomTypes(attrib, num_types)
     if None in types:
         raise ValueError(f"{tag}: {kind} {dict(attrib)} names a type or class the force field lacks")
-    missing = [name for name in values if name not in attrib]
+    missing = [name for name in values if name not in attrib and name not in defaults]
     if missing:
         raise ValueError(f"{tag}: {kind} {dict(attrib)} lacks {', '.join(missing)}")
     try:
-        numbers = tuple(float(attrib[name]) for name in values)
+        numbers = tuple(float(attrib[name]) if name in attrib else defaults[name] for name in values)
     except ValueError:
         numbers = (math.nan,)
     if not all(math.isfinite(number) for number in numbers):
@@ -185,7 +190,7 @@ def _parse_entries(forcefield, generator_class, element):
     """Every entry of a tag, parsed before the generator is created or given any, so that a bad
     entry leaves the force field as it was."""
     return [_parse_entry(forcefield, generator_class.tag, generator_class.kind, child.attrib,
-                         generator_class.num_types, generator_class.values)
+                         generator_class.num_types, generator_class.values, generator_class.defaults)
             for child in element.findall(generator_class.kind)]
 
 
@@ -220,6 +225,7 @@ class _PairTableGenerator:
     tag = kind = None
     num_types = 2
     values = {}  # attribute: its range
+    defaults = {}  # optional attribute: its value where an entry omits it
 
     def __init__(self, forcefield):
         self.forcefield = forcefield
@@ -284,16 +290,61 @@ def _set_particle_types(target, names, types):
 
 
 class ThermostatGenerator(_PairTableGenerator):
-    """`<DPDThermostat>`: the integrators' friction (1/ps) and cutoff (nm) per type pair.
+    """`<DPDThermostat>`: the integrators' friction (1/ps), cutoff (nm) and weight exponent
+    (2 by default) per type pair, and the tag's bondFactor12 and bondFactor13 (1 by default):
+    the thermostat factors of the pairs one and two bonds apart.
 
     It adds no force (the thermostat is the integrator's); createSystem only checks that
     it covers the same type pairs as `<DPDSoftRepulsionForce>`.
     """
     tag, kind = "DPDThermostat", "Pair"
-    values = {"friction": ">= 0", "cutoff": "> 0"}
+    values = {"friction": ">= 0", "cutoff": "> 0", "weightExponent": "> 0"}
+    defaults = {"weightExponent": 2.0}
+
+    def __init__(self, forcefield):
+        super().__init__(forcefield)
+        self.bondFactors = {}  # the factors the tags gave: {attribute: factor}
+
+    @classmethod
+    def parseElement(cls, element, forcefield):
+        factors = _parse_bond_factors(element.attrib, _generator(forcefield, cls))
+        entries = _parse_entries(forcefield, cls, element)
+        generator = _register(forcefield, cls)
+        generator.bondFactors.update(factors)
+        generator.table.entries.extend(entries)
+
+    def bond_factors(self):
+        """(factor12, factor13), 1 where no tag gives one."""
+        return tuple(self.bondFactors.get(name, 1.0) for name in _BOND_FACTORS)
 
     def createForce(self, system, data, nonbondedMethod, nonbondedCutoff, args):
         _check_same_pairs(self.forcefield, bead_types(self.forcefield, data.atomType.values()))
+
+
+# <DPDThermostat>'s own attributes: {attribute: the pairs whose thermostat it scales}.
+_BOND_FACTORS = {"bondFactor12": "one bond apart", "bondFactor13": "two bonds apart"}
+
+
+def _parse_bond_factors(attrib, generator):
+    """{attribute: factor} of the bond factors a <DPDThermostat> gives, each in [0, 1] and the
+    same as an earlier tag's, so that a file loaded later cannot change them silently."""
+    factors = {}
+    for name, pairs in _BOND_FACTORS.items():
+        if name not in attrib:
+            continue
+        try:
+            factor = float(attrib[name])
+        except ValueError:
+            factor = math.nan
+        if not 0 <= factor <= 1:  # NaN fails too
+            raise ValueError(f"DPDThermostat: {name}={attrib[name]!r} must be a number in [0, 1], the factor "
+                             f"of the thermostat of beads {pairs} (1: as other pairs, 0: excluded)")
+        earlier = generator.bondFactors.get(name, factor) if generator is not None else factor
+        if earlier != factor:
+            raise ValueError(f"DPDThermostat: {name}={attrib[name]!r} differs from the {earlier!r} of an earlier "
+                             f"<DPDThermostat>")
+        factors[name] = factor
+    return factors
 
 
 class _CustomBondGenerator(_PairTableGenerator):
@@ -338,6 +389,7 @@ class CosineAngleGenerator:
     theta0 in radians; theta0 = pi keeps a chain straight)."""
     tag, kind, num_types = "CosineAngleForce", "Angle", 3
     values = {"k": ">= 0", "theta0": None}
+    defaults = {}
 
     def __init__(self, forcefield):
         self.entries = []
@@ -386,10 +438,13 @@ def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplat
     """Copy the force field's `<DPDThermostat>` table for the types in `topology` into `integrator`.
 
     Sets every particle's type with the numbering the force's particle types have (bead_types),
-    the defaults to the friction and cutoff of type pair (0, 0) and a type pair for every other
-    pair, so no pair falls back on a default set elsewhere. Refuses an integrator that already
-    has type pairs, and a force field whose friction and a_ij tables cover different pairs.
-    residueTemplates and ignoreExternalBonds: as given to createSystem.
+    the defaults to the friction, cutoff and weight exponent of type pair (0, 0) and a type pair
+    for every other pair, so no pair falls back on a default set elsewhere. Where the tag's
+    bondFactor12 or bondFactor13 is not 1, adds the thermostat exceptions of the topology's
+    bonds (createThermostatExceptionsFromBonds). Refuses an integrator that already has type
+    pairs, a force field whose friction and a_ij tables cover different pairs, and weight
+    exponents other than 2 or bond factors for an integrator without them (OpenMM's
+    DPDIntegrator). residueTemplates and ignoreExternalBonds: as given to createSystem.
 
     The types come from matching the topology's residues again. system: the System createSystem
     made; given, each particle's type is checked against its DPDSoftRepulsionForce, and a
@@ -414,13 +469,51 @@ def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplat
         return integrator
     _check_same_pairs(forcefield, types)
     table = thermostat.table.table(types)
-    integrator.setDefaultFriction(table[(0, 0)][0])
-    integrator.setDefaultCutoff(table[(0, 0)][1])
-    for (i, j), (friction, cutoff) in table.items():
-        if (i, j) != (0, 0):
-            integrator.addTypePair(i, j, friction, cutoff)
+    factors = thermostat.bond_factors()
+    _check_thermostat_options(integrator, table, factors)
+    if factors != (1.0, 1.0):
+        # First: it is the one change that can still be refused, and it then changes nothing.
+        _create_bond_exceptions(integrator, topology, factors)
+    _set_type_pairs(integrator, table)
     _set_particle_types(integrator, names, types)
     return integrator
+
+
+def _check_thermostat_options(integrator, table, factors):
+    """Refuse weight exponents other than 2, or bond factors, for an integrator that lacks them."""
+    if isinstance(integrator, DPDThermostatIntegrator):
+        return
+    lacking = [what for what, used in (("weight exponents", any(values[2] != 2.0 for values in table.values())),
+                                       ("thermostat exceptions", factors != (1.0, 1.0))) if used]
+    if lacking:
+        raise ValueError(f"apply_thermostat_parameters: {type(integrator).__name__} has no "
+                         f"{' and no '.join(lacking)}, which the force field's <DPDThermostat> sets "
+                         f"(weightExponent other than 2, bondFactor12 or bondFactor13 other than 1); "
+                         f"give one of openmmdpd's integrators")
+
+
+def _create_bond_exceptions(integrator, topology, factors):
+    bonds = [(atom1.index, atom2.index) for atom1, atom2 in topology.bonds()]
+    try:
+        integrator.createThermostatExceptionsFromBonds(bonds, *factors)
+    except openmm.OpenMMException as error:
+        raise ValueError(f"apply_thermostat_parameters: the bond factors' exceptions: {error}") from error
+
+
+def _set_type_pairs(integrator, table):
+    """The defaults from type pair (0, 0) and a type pair for every other one; the weight
+    exponents only where the integrator has them (OpenMM's DPDIntegrator has not)."""
+    exponents = isinstance(integrator, DPDThermostatIntegrator)
+    friction, cutoff, exponent = table[(0, 0)]
+    integrator.setDefaultFriction(friction)
+    integrator.setDefaultCutoff(cutoff)
+    if exponents:
+        integrator.setDefaultWeightExponent(exponent)
+    for (i, j), (friction, cutoff, exponent) in table.items():
+        if (i, j) != (0, 0):
+            index = integrator.addTypePair(i, j, friction, cutoff)
+            if exponents:
+                integrator.setTypePairWeightExponent(index, exponent)
 
 
 def _check_system_types(forcefield, system, names, types):

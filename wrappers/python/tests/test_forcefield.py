@@ -232,6 +232,126 @@ def test_groot_warren_matches_the_scenes_helpers():
     assert [system.getParticleMass(i) for i in range(len(types))] == [1.0 * unit.dalton] * len(types)
 
 
+# --- Weight exponents and thermostat exceptions ----------------------------------------------
+
+def thermostat_options(s_s="1.5", a_b="0.5", factor12="0", factor13="0.5"):
+    """xml() with weight exponents on the (S, S) and (A, B) pairs and bond factors on the tag."""
+    text = xml().replace("<DPDThermostat>", f'<DPDThermostat bondFactor12="{factor12}" bondFactor13="{factor13}">')
+    for pair, exponent in (('type1="S" type2="S"', s_s), ('type1="A" type2="B"', a_b)):
+        text = re.sub(f'(<Pair {pair} friction="[^"]*")', rf'\1 weightExponent="{exponent}"', text)
+    return text
+
+
+def weight_exponents(integrator, num_types):
+    """{(i, j): s} that the integrator applies to each pair of types."""
+    table = {(i, j): integrator.getDefaultWeightExponent() for i in range(num_types) for j in range(i, num_types)}
+    for index in range(integrator.getNumTypePairs()):
+        t1, t2 = integrator.getTypePairParameters(index)[:2]
+        table[tuple(sorted((t1, t2)))] = integrator.getTypePairWeightExponent(index)
+    return table
+
+
+def thermostat_exceptions(integrator):
+    return {(min(p1, p2), max(p1, p2), f) for p1, p2, f in
+            (integrator.getThermostatExceptionParameters(k) for k in range(integrator.getNumThermostatExceptions()))}
+
+
+def test_weight_exponents_and_bond_factors_reach_the_integrator():
+    topology, _ = trimers_in_solvent()
+    integrator = thermostat(topology, thermostat_options())
+    assert [integrator.getParticleType(i) for i in range(3)] == [1, 1, 2]  # trimers first: A1 A2 B1, S = 0
+    assert weight_exponents(integrator, 3) == {(0, 0): 1.5, (0, 1): 2.0, (0, 2): 2.0, (1, 1): 2.0, (1, 2): 0.5,
+                                               (2, 2): 2.0}
+    assert integrator.getDefaultWeightExponent() == 1.5 and not integrator.hasStandardWeights()
+    assert pair_table(integrator, 3) == expected_friction_table()
+    # bonded beads excluded (bondFactor12 = 0), the ends of each trimer at half the friction
+    expected = set()
+    for first in range(0, 18, 3):
+        expected |= {(first, first + 1, 0.0), (first + 1, first + 2, 0.0), (first, first + 2, 0.5)}
+    assert thermostat_exceptions(integrator) == expected
+    # 1-3 pairs only where bondFactor13 is not 1
+    only_bonds = thermostat(topology, thermostat_options(factor13="1"))
+    assert thermostat_exceptions(only_bonds) == {e for e in expected if e[2] == 0.0}
+
+
+def test_without_the_new_attributes_the_thermostat_is_standard():
+    topology, _ = trimers_in_solvent()
+    for integrator in (thermostat(topology, xml()), thermostat(topology, thermostat_options("2", "2", "1", "1"))):
+        assert integrator.hasStandardWeights() and integrator.getNumThermostatExceptions() == 0
+    water, chain = packer.Molecule.single("W", ["W"]), packer.Molecule.chain(5)
+    topology, _ = packer.pack([(chain, 3), (water, 60)], density=3.0, seed=2)
+    integrator = forcefield.apply_thermostat_parameters(openmmdpd.ShardlowIntegrator(KT, 1.0, 1.0, 0.04),
+                                                        app.ForceField(forcefield.data_path("groot-warren.xml")),
+                                                        topology)
+    assert integrator.hasStandardWeights() and integrator.getNumThermostatExceptions() == 0
+
+
+@pytest.mark.parametrize("options, message", [
+    (dict(a_b="0"), r"DPDThermostat: Pair .*'weightExponent': '0'.* needs .*weightExponent > 0"),
+    (dict(s_s="-1"), r"DPDThermostat: Pair .*'weightExponent': '-1'.* needs .*weightExponent > 0"),
+    (dict(a_b="inf"), r"DPDThermostat: Pair .*: friction, cutoff, weightExponent must be finite numbers"),
+    (dict(factor12="1.5"), r"DPDThermostat: bondFactor12='1.5' must be a number in \[0, 1\]"),
+    (dict(factor13="-0.5"), r"DPDThermostat: bondFactor13='-0.5' must be a number in \[0, 1\]"),
+    (dict(factor13="nan"), r"DPDThermostat: bondFactor13='nan' must be a number in \[0, 1\]"),
+    (dict(factor12="half"), r"DPDThermostat: bondFactor12='half' must be a number in \[0, 1\]"),
+])
+def test_bad_exponents_and_bond_factors_are_refused_by_name(options, message):
+    with pytest.raises(ValueError, match=message):
+        load(thermostat_options(**options))
+
+
+def test_bond_factors_refused_or_in_conflict_leave_the_force_field_as_it_was():
+    ff = load(xml())
+    with pytest.raises(ValueError, match="bondFactor12='2' must be"):
+        ff.loadFile(io.StringIO('<ForceField><DPDThermostat bondFactor12="2"><Pair type1="S" type2="A" '
+                                'friction="1" cutoff="1"/></DPDThermostat></ForceField>'))
+    generator = forcefield._generator(ff, forcefield.ThermostatGenerator)
+    assert len(generator.table.entries) == 6 and generator.bond_factors() == (1.0, 1.0)
+    ff = load(thermostat_options())
+    with pytest.raises(ValueError, match=r"bondFactor13='0.25' differs from the 0.5 of an earlier <DPDThermostat>"):
+        ff.loadFile(io.StringIO('<ForceField><DPDThermostat bondFactor13="0.25"/></ForceField>'))
+    ff.loadFile(io.StringIO('<ForceField><DPDThermostat bondFactor12="0.0"/></ForceField>'))  # the same: kept
+    assert forcefield._generator(ff, forcefield.ThermostatGenerator).bond_factors() == (0.0, 0.5)
+
+
+def test_an_exception_on_a_bonded_pair_refuses_the_bond_factors_before_any_change():
+    topology, _ = trimers_in_solvent()
+    integrator = openmmdpd.DPDVVIntegrator(KT, 1.0, 1.0, 0.01)
+    integrator.addThermostatException(1, 0, 0.25)
+    with pytest.raises(ValueError, match="particles 0, 1 already have a thermostat exception"):
+        forcefield.apply_thermostat_parameters(integrator, load(thermostat_options()), topology)
+    assert integrator.getNumThermostatExceptions() == 1 and integrator.getNumTypePairs() == 0
+    assert integrator.hasStandardWeights() and integrator.getParticleType(0) == 0
+
+
+class FakeDPDIntegrator:
+    """Stands for OpenMM's DPDIntegrator (OpenMM 8.3 and later): type pairs, but no weight
+    exponents and no thermostat exceptions. Records the methods called on it."""
+
+    def __init__(self):
+        self.calls = []
+
+    def getNumTypePairs(self):
+        return 0
+
+    def __getattr__(self, name):
+        return lambda *args: self.calls.append(name)
+
+
+def test_openmms_dpd_integrator_gets_the_table_but_refuses_exponents_and_bond_factors(monkeypatch):
+    monkeypatch.setattr(openmm, "DPDIntegrator", FakeDPDIntegrator, raising=False)
+    topology, _ = trimers_in_solvent()
+    plain = forcefield.apply_thermostat_parameters(FakeDPDIntegrator(), load(xml()), topology)
+    assert set(plain.calls) == {"setDefaultFriction", "setDefaultCutoff", "addTypePair", "setParticleType"}
+    for options, lacks in ((dict(factor12="1", factor13="1"), "has no weight exponents, which"),
+                           (dict(s_s="2", a_b="2"), "has no thermostat exceptions, which"),
+                           ({}, "has no weight exponents and no thermostat exceptions")):
+        integrator = FakeDPDIntegrator()
+        with pytest.raises(ValueError, match=f"FakeDPDIntegrator {lacks}"):
+            forcefield.apply_thermostat_parameters(integrator, load(thermostat_options(**options)), topology)
+        assert integrator.calls == []
+
+
 # --- Bead residues -------------------------------------------------------------------------
 
 LIPID = """<Residue name="H3T4"><Atom name="H1" type="A"/><Atom name="H2" type="A"/><Atom name="H3" type="A"/>
