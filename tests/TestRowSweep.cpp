@@ -50,7 +50,7 @@ struct IndependentCells {
                 const Vec3 d(uniform(engine), uniform(engine), uniform(engine));
                 g.e = d / std::sqrt(d.dot(d));
                 g.wR = 0.5 + 0.5 * uniform(engine);
-                g.gammaWD = 4.5 * pairStandardDissipativeWeight(g.wR);  // as pairGeometry computes it
+                g.gammaWD = 4.5 * pairDissipativeWeight(g.wR);  // as pairGeometry computes it
                 g.sigmaWR = 3.0 * g.wR;
                 g.imageVx = (withImages && k % 2 == 0 ? 0.25 * uniform(engine) : 0.0);
                 list.push_back(g);

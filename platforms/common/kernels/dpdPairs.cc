@@ -41,20 +41,20 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 if (r2 >= p.w || r2 == 0)
                     continue;
                 const mixed r = sqrt(r2);
-                const mixed weight = pairLinearWeight(r, p.y);
+                const mixed wR = pairRandomWeight(pairLinearWeight(r, p.y), p.z);
                 const mixed ex = dx/r, ey = dy/r, ez = dz/r;
                 // 2 mu friction f, f the pair's thermostat factor (sigma follows as sqrt(2 gamma kT))
                 const mixed gamma = 2*p.x/(vLo.w+vHi.w)*thermostatFactor(a, b, exceptionStart, exceptionPartner, exceptionFactor);
                 const mm_long sign = (aIsLo ? 1 : -1);
                 if (terms & 1) {
-                    const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(weight, p.z), ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
+                    const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
                     fd[0] += sign*toFixed(ex*f);
                     fd[1] += sign*toFixed(ey*f);
                     fd[2] += sign*toFixed(ez*f);
                 }
                 if (terms & 2) {
                     const mixed xi = boxMuller(pairWords(seed, 0, stepLow, stepHigh, a, b));
-                    const mixed f = randomAlongE(pairNoiseAmplitude(gamma, kT)*pairRandomWeight(weight, p.z), xi, invSqrtDt);
+                    const mixed f = randomAlongE(pairNoiseAmplitude(gamma, kT)*wR, xi, invSqrtDt);
                     fr[0] += sign*toFixed(ex*f);
                     fr[1] += sign*toFixed(ey*f);
                     fr[2] += sign*toFixed(ez*f);

@@ -113,14 +113,14 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
         return;
     const mixed r = sqrt(r2);
     const mixed ex = dx/r, ey = dy/r, ez = dz/r;
-    const mixed weight = pairLinearWeight(r, p.y);
+    const mixed wR = pairRandomWeight(pairLinearWeight(r, p.y), p.z);
     const mixed mu = 1/(vi.w+vj.w);
     const mixed gamma = 2*p.x*mu*f;  // 2 mu friction f
     const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
     mixed u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
     if (s.rule == SWEEP_SHARDLOW) {
-        const mixed noise = pairNoiseAmplitude(gamma, s.kT)*pairRandomWeight(weight, p.z)*xi*sqrt(s.h);
-        const mixed friction = gamma*pairDissipativeWeight(weight, p.z)*s.h;
+        const mixed noise = pairNoiseAmplitude(gamma, s.kT)*wR*xi*sqrt(s.h);
+        const mixed friction = gamma*pairDissipativeWeight(wR)*s.h;
         applyImpulse(&vi, &vj, ex, ey, ez, shardlowExplicitHalf(noise, friction, u));
         u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
         applyImpulse(&vi, &vj, ex, ey, ez, shardlowImplicitHalf(noise, friction, mu, u));
@@ -129,7 +129,7 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
         applyImpulse(&vi, &vj, ex, ey, ez, loweImpulse(u, xi, mu, s.kT/mu));
     else {
         // 1 - decay^2 as -expm1(-2x): in float, 1 - decay*decay loses its digits when decay is near 1 (small wR).
-        const mixed x = gamma*pairDissipativeWeight(weight, p.z)*s.h/mu;
+        const mixed x = gamma*pairDissipativeWeight(wR)*s.h/mu;
         const mixed target = pairOUVelocity(u, exp(-x), sqrt(-s.kT/mu*expm1(-2*x)), xi);
         applyImpulse(&vi, &vj, ex, ey, ez, mu*(target-u));
     }

@@ -35,7 +35,7 @@ struct HitRow {
         ex = dx * scale;
         ey = dy * scale;
         ez = dz * scale;
-        gammaWD = rule.gamma * pairStandardDissipativeWeight(wR);
+        gammaWD = rule.gamma * pairDissipativeWeight(wR);
         sigmaWR = rule.sigma * wR;
         if (rule.soft) {
             const Lane4 softR = rule.cutoff * (1 - wR);

@@ -128,7 +128,7 @@ struct PairRow {
         pair.ez = laneValues([&](int l) { return q[l]->e[2]; });
         pair.imageVx = RowReal{};
         const RowReal wR = laneValues([&](int l) { return q[l]->wR; });
-        gammaWD = run.uniformRule->gamma * pairStandardDissipativeWeight(wR);
+        gammaWD = run.uniformRule->gamma * pairDissipativeWeight(wR);
         sigmaWR = run.uniformRule->sigma * wR;
     }
     __attribute__((always_inline)) void store(std::vector<Vec3>& v) const {

@@ -10,6 +10,8 @@ Scene `soft` (model B); one subcommand per kind of measurement, each in a module
     python3 -m openmmdpd.bench staggered                 # bench_staggered: StaggeredDPDIntegrator against K
     python3 -m openmmdpd.bench sentinel                  # bench_costs: what the instability sentinel costs
     python3 -m openmmdpd.bench shear --rate 0.1          # bench_costs: what Lees-Edwards shear costs
+    python3 -m openmmdpd.bench weight-exponent           # bench_costs: what a weight exponent other than 2 costs
+    python3 -m openmmdpd.bench exceptions                # bench_costs: what thermostat exceptions cost
 
 `python3 -m openmmdpd.bench MODE --help` gives a mode's options, their defaults and how long
 a run with them takes.

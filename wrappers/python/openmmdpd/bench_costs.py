@@ -1,10 +1,18 @@
-"""What an option costs an integrator's step: the instability sentinel, Lees-Edwards shear.
+"""What an option costs an integrator's step: the instability sentinel, Lees-Edwards shear, a
+thermostat weight exponent other than 2, thermostat exceptions.
 
 Scene soft on the CPU platform; each integrator as is and with the option, alternated --repeats
 times, medians side by side (the two may differ by less than the noise).
 
     python3 -m openmmdpd.bench sentinel --sizes 32000 --threads 1 --repeats 9
     python3 -m openmmdpd.bench shear --rate 0.1 --integrators GW S1 --sizes 32000 --threads 1 --repeats 9
+    python3 -m openmmdpd.bench weight-exponent --exponent 1 --integrators GW S1 --sizes 32000 --threads 1
+    python3 -m openmmdpd.bench exceptions --chain-length 10 --integrators GW S1 --sizes 32000 --threads 1
+
+The exceptions mode excludes the 1-2 pairs of chains of --chain-length consecutive particles
+(createThermostatExceptionsFromBonds), as in a polymer melt; the scene's particles are not
+moved into chains, which changes which excluded pairs are in range but not the per-pair cost
+of looking the exceptions up, which is what the option costs.
 
 Shear takes only the integrators that have a shear rate (every one of this plugin's; not
 OpenMM's Langevin), by default those of the rates mode.
@@ -22,6 +30,10 @@ from .units import KT_TEMPERATURE
 
 SENTINEL_SUMMARY = ("the instability sentinel's cost to GW's step (N 4000 32000, 1 and 2 threads, medians of 3: "
                     "about half a minute)")
+WEIGHT_SUMMARY = ("a weight exponent other than 2's cost to each integrator's step (s = 1, 8 integrators, N 4000 "
+                  "32000, 1 and 2 threads, medians of 3: about 5 minutes)")
+EXCEPTIONS_SUMMARY = ("thermostat exceptions' cost to each integrator's step (the 1-2 pairs of chains of 10 "
+                      "excluded, 8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
 SHEAR_SUMMARY = ("Lees-Edwards shear's cost to each integrator's step (rate 0.1, 8 integrators, N 4000 32000, "
                  "1 and 2 threads, medians of 3: about 5 minutes)")
 # Estimates: about 1 s per integrator, size, thread count, round and setting (as is and changed),
@@ -51,6 +63,17 @@ def add_parsers(modes):
     sheared = shear_integrators()
     add_integrators_argument(shear, [name for name in DEFAULT_INTEGRATORS if name in sheared], names=sheared)
     add_cost_arguments(shear)
+    ours = [name for name in DEFAULT_INTEGRATORS if name in sheared]
+    weight = add_mode(modes, "weight-exponent", WEIGHT_SUMMARY, f"Each of --integrators with the standard weight "
+                      f"(s = 2) and with --exponent, alternated. {SHEAR_DURATION}", run_weight_exponent)
+    weight.add_argument("--exponent", type=float, default=1.0, help="the weight exponent s of wD = (1 - r/rc)^s")
+    add_integrators_argument(weight, ours, names=sheared)
+    add_cost_arguments(weight)
+    exceptions = add_mode(modes, "exceptions", EXCEPTIONS_SUMMARY, f"Each of --integrators without and with the "
+                          f"exceptions, alternated. {SHEAR_DURATION}", run_exceptions)
+    exceptions.add_argument("--chain-length", type=int, default=10, help="beads per chain whose 1-2 pairs are excluded")
+    add_integrators_argument(exceptions, ours, names=sheared)
+    add_cost_arguments(exceptions)
 
 
 def add_cost_arguments(parser):
@@ -61,13 +84,29 @@ def add_cost_arguments(parser):
 def run_sentinel(args):
     print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; instability threshold 0 (off) and "
                  f"{INSTABILITY_THRESHOLD:g} kT alternated, medians of {args.repeats}", ["GW"],
-                 ("steps/s off", "steps/s on"), lambda i: i.setInstabilityThreshold(INSTABILITY_THRESHOLD))
+                 ("steps/s off", "steps/s on"), lambda i, n: i.setInstabilityThreshold(INSTABILITY_THRESHOLD))
 
 
 def run_shear(args):
     print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; no shear and Lees-Edwards shear at rate "
                  f"{args.rate:g}/ps alternated, medians of {args.repeats}", args.integrators,
-                 ("steps/s", "steps/s sheared"), lambda i: i.setShearRate(args.rate))
+                 ("steps/s", "steps/s sheared"), lambda i, n: i.setShearRate(args.rate))
+
+
+def run_weight_exponent(args):
+    print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; weight exponent 2 and {args.exponent:g} alternated, "
+                 f"medians of {args.repeats}", args.integrators, ("steps/s", f"steps/s s={args.exponent:g}"),
+                 lambda i, n: i.setDefaultWeightExponent(args.exponent))
+
+
+def run_exceptions(args):
+    def exclude_chain_bonds(integrator, n):
+        chains = range(0, n - n % args.chain_length, args.chain_length)
+        integrator.createThermostatExceptionsFromBonds(
+            [(i, i + 1) for start in chains for i in range(start, start + args.chain_length - 1)], 0.0, 1.0)
+    print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; no exceptions and the 1-2 pairs of chains of "
+                 f"{args.chain_length} excluded, alternated, medians of {args.repeats}", args.integrators,
+                 ("steps/s", "steps/s excl."), exclude_chain_bonds)
 
 
 def print_paired(args, title, names, columns, change):
@@ -81,7 +120,7 @@ def print_paired(args, title, names, columns, change):
 
 
 def measure_paired(n, threads, args, name, change):
-    """Integrator `name` as is and with change(integrator) applied, alternated: (median
+    """Integrator `name` as is and with change(integrator, n) applied, alternated: (median
     steps/s as is, median changed, median of the per-round cost changed/as-is - 1)."""
     platform = openmm.Platform.getPlatformByName("CPU")
     scene = soft_scene(num_particles=n)
@@ -89,7 +128,7 @@ def measure_paired(n, threads, args, name, change):
     for changed in (False, True):
         integrator = integrators("soft")[name](args.dt)  # the scene's catalog: OC has its averages
         if changed:
-            change(integrator)
+            change(integrator, n)
         context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})
         context.setPositions(scene.positions)
         context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)

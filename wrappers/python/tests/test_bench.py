@@ -56,6 +56,15 @@ def test_sentinel_cost_is_measured(capsys):
     assert len(rows) == 1 and rows[0].split()[:3] == ["GW", "500", "1"]
 
 
+@pytest.mark.parametrize("mode, option", [("weight-exponent", ["--exponent", "1"]), ("exceptions", ["--chain-length", "10"])])
+def test_thermostat_option_costs_are_measured(mode, option, capsys):
+    bench.main([mode, *option, "--integrators", "GW", "S1", "--sizes", "500", "--threads", "1", "--seconds", "0.02",
+                "--repeats", "1", "--warmup", "2"])
+    rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:]]
+    assert [row[:3] for row in rows] == [["GW", "500", "1"], ["S1", "500", "1"]]
+    assert all(float(row[3]) > 0 and float(row[4]) > 0 for row in rows)
+
+
 def test_scale_table_ratios_agree_with_its_rates(capsys):
     bench.main(["scale", "--integrators", "GW", "S1", "Langevin", "--sizes", "500", "1000",
                 "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])

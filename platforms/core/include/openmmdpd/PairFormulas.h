@@ -39,22 +39,17 @@ OPENMMDPD_FORMULA pairLinearWeight(Real r, Scalar cutoff) {
     return 1 - r / cutoff;
 }
 
-/* Standard DPD's dissipative weight wD = w^2 (exponent s = 2; its random weight is w itself). */
-OPENMMDPD_FORMULA pairStandardDissipativeWeight(Real w) {
-    return w * w;
-}
-
 /*
- * The dissipative weight wD = w^s of a pair with weight exponent s (Fan et al. 2006), and
- * its fluctuation-dissipation partner, the random weight wR = sqrt(wD) = w^(s/2).  The
- * standard s = 2 is computed without pow, as the vector paths compute it.
+ * The random weight wR = w^(s/2) of a pair with weight exponent s (Fan et al. 2006); the
+ * standard s = 2 gives w itself, without pow, as the vector paths compute it.
  */
-OPENMMDPD_FORMULA pairDissipativeWeight(Real w, Scalar s) {
-    return s == 2 ? pairStandardDissipativeWeight(w) : pow(w, s);
-}
-
 OPENMMDPD_FORMULA pairRandomWeight(Real w, Scalar s) {
     return s == 2 ? w : pow(w, 0.5f * s);
+}
+
+/* The dissipative weight wD = wR^2 = w^s: the fluctuation-dissipation theorem's partner of wR. */
+OPENMMDPD_FORMULA pairDissipativeWeight(Real wR) {
+    return wR * wR;
 }
 
 /* The noise amplitude sigma = sqrt(2 gamma kT) that balances a friction gamma. */

@@ -125,7 +125,6 @@ public:
             return false;
         const double r = std::sqrt(r2);
         const double w = pairLinearWeight(r, table.cutoff(t));
-        const double s = table.exponent(t);
         double gamma, sigma;
         if (uniformMass) {
             gamma = typeGamma[t];
@@ -138,9 +137,10 @@ public:
         out.i = i;
         out.j = j;
         out.e = d / r;
+        const double wR = pairRandomWeight(w, table.exponent(t));
         out.wR = w;
-        out.gammaWD = gamma * pairDissipativeWeight(w, s);
-        out.sigmaWR = sigma * pairRandomWeight(w, s);
+        out.gammaWD = gamma * pairDissipativeWeight(wR);
+        out.sigmaWR = sigma * wR;
         out.rate = table.value(t);
         out.imageVx = imageVx;
         if (!exceptionStart.empty())

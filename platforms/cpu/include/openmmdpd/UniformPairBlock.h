@@ -36,7 +36,7 @@ inline PairGeometry pairGeometry(const UniformPair& pair, const UniformPairRule&
     g.j = pair.j;
     g.e = pair.e;
     g.wR = pair.wR;
-    g.gammaWD = rule.gamma * pairStandardDissipativeWeight(pair.wR);
+    g.gammaWD = rule.gamma * pairDissipativeWeight(pair.wR);
     g.sigmaWR = rule.sigma * pair.wR;
     g.rate = rule.rate;
     g.imageVx = 0;
