@@ -1,5 +1,5 @@
-"""A lipid bilayer self-assembling from a random start: lipids h3(t4)2 in water after Groot and
-Rabone (2001), the package's groot-rabone-lipid.xml, run with DPDVVIntegrator at dt 0.04.
+"""A lipid bilayer self-assembling from a random start: lipids h3(t4)2 (the shape of Groot and
+Rabone's (2001) lipid) in water, the package's lipid-h3t4.xml, run with DPDVVIntegrator at dt 0.04.
 
 The box edge L sets the lipids, 2 L^2 / (area per lipid): enough for one flat bilayer across
 the box; water fills the rest at rho = 3.  Every --report steps it prints kT, the water around
@@ -62,7 +62,7 @@ def main(argv=None):
         args.edge, args.steps, args.report = 8.0, 3000, 1000
     os.makedirs(args.out, exist_ok=True)
 
-    ff = app.ForceField(forcefield.data_path("groot-rabone-lipid.xml"))
+    ff = app.ForceField(forcefield.data_path("lipid-h3t4.xml"))
     lipids = round(2 * args.edge ** 2 / args.area)
     waters = round(3 * args.edge ** 3) - lipids * LIPID.num_beads
     topology, positions = packer.pack([(LIPID, lipids), (WATER, waters)], box=[args.edge] * 3, bond_length=0.7, seed=3)

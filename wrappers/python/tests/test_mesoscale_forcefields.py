@@ -1,4 +1,4 @@
-"""The mesoscale force fields the package ships (groot-madden-diblock.xml, groot-rabone-lipid.xml,
+"""The mesoscale force fields the package ships (groot-madden-diblock.xml, lipid-h3t4.xml,
 binary-mixture.xml): each loads with app.ForceField, builds on a small packed system the a_ij,
 friction and bonded tables its XML states (and the papers' numbers), equals a System built by
 hand, gives an integrator its thermostat, and runs stable at dt 0.04 after packer.relax; the
@@ -19,7 +19,7 @@ from openmmdpd import forcefield, packer, scenes
 from dpdtest import energy_and_forces, named_pair_table as pair_table, number, soft_force
 
 KT = openmmdpd.KT_TEMPERATURE
-FILES = ("groot-madden-diblock.xml", "groot-rabone-lipid.xml", "binary-mixture.xml")
+FILES = ("groot-madden-diblock.xml", "lipid-h3t4.xml", "binary-mixture.xml")
 
 DIBLOCK = packer.Molecule([(name, [name[0]]) for name in ["AE", "AM", "AM", "BM", "BE"]],  # A3B2
                           [(i, i + 1) for i in range(4)])
@@ -32,13 +32,13 @@ def molecules(name):
     if name == "groot-madden-diblock.xml":
         # A3B2 chains, a lone A and a lone B: every template of the file in one topology.
         return [(DIBLOCK, 118), (packer.Molecule.single("A", ["A"]), 5), (packer.Molecule.single("B", ["B"]), 5)]
-    if name == "groot-rabone-lipid.xml":
+    if name == "lipid-h3t4.xml":
         return [(LIPID, 20), (packer.Molecule.single("w", ["w"]), 380)]
     return [(packer.Molecule.single("A", ["A"]), 300), (packer.Molecule.single("B", ["B"]), 300)]
 
 
 def packed(name, seed=1):
-    bond_length = 0.7 if name == "groot-rabone-lipid.xml" else 0.8
+    bond_length = 0.7 if name == "lipid-h3t4.xml" else 0.8
     return packer.pack(molecules(name), density=3.0, bond_length=bond_length, seed=seed)
 
 
@@ -96,7 +96,7 @@ def test_the_papers_numbers():
     assert chi == pytest.approx(4.59, abs=0.005) and 10 * chi > 10.5
     # Groot and Warren's monomer mixtures: chi = 0.286 (a_AB - 25) at rho = 3; chi = 3 here.
     assert 0.286 * (tables["binary-mixture.xml"][("A", "B")][0] - 25.0) == pytest.approx(3.0, abs=0.002)
-    lipid = tables["groot-rabone-lipid.xml"]
+    lipid = tables["lipid-h3t4.xml"]
     assert (lipid[("w", "h")][0], lipid[("h", "t")][0], lipid[("w", "t")][0]) == (25.0, 50.0, 75.0)
 
 
@@ -132,7 +132,7 @@ def test_the_diblock_system_equals_a_hand_built_one():
 
 
 def test_the_lipid_system_equals_a_hand_built_one():
-    _, topology, positions, system = created("groot-rabone-lipid.xml")
+    _, topology, positions, system = created("lipid-h3t4.xml")
     kinds = [atom.name[0] for atom in topology.atoms()]
     types = ["wht".index(kind) for kind in kinds]
     repulsion = [[25.0, 25.0, 75.0], [25.0, 25.0, 50.0], [75.0, 50.0, 25.0]]  # w, h, t
