@@ -160,10 +160,12 @@ void DPDThermostatIntegrator::createThermostatExceptionsFromBonds(const std::vec
                 for (int b : centre.second)
                     if (a != b && pairs.count(orderedPair(a, b)) == 0)
                         pairs[orderedPair(a, b)] = factor13;
+    // A factor of 1 is no exception: such pairs are not listed (a list would only slow the step).
     for (const auto& pair : pairs)
         checkException(pair.first.first, pair.first.second, pair.second, -1);
     for (const auto& pair : pairs)
-        addThermostatException(pair.first.first, pair.first.second, pair.second);
+        if (pair.second != 1)
+            addThermostatException(pair.first.first, pair.first.second, pair.second);
 }
 
 void DPDThermostatIntegrator::setInstabilityThreshold(double factor) {

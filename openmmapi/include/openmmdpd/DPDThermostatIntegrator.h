@@ -131,7 +131,8 @@ public:
      * Add a thermostat exception for every pair of particles one bond apart (factor12) and two
      * bonds apart (factor13, if it is not 1) in `bonds`, pairs of particle indices (in Python a
      * list of (i, j) tuples), as NonbondedForce::createExceptionsFromBonds does for its 1-2
-     * and 1-3 pairs.  Refused, changing nothing, if a pair already has one.
+     * and 1-3 pairs; a factor of 1 adds none for its pairs.  Refused, changing nothing, if a
+     * pair already has one.
      */
     void createThermostatExceptionsFromBonds(const std::vector<std::pair<int, int>>& bonds, double factor12, double factor13);
     /**

@@ -134,6 +134,9 @@ def test_bonds_give_their_one_two_and_one_three_pairs_once():
     only12 = openmmdpd.DPDVVIntegrator(KT, FRICTION, CUTOFF, DT)
     only12.createThermostatExceptionsFromBonds([(0, 1), (1, 2)], 0.0, 1.0)
     assert only12.getNumThermostatExceptions() == 2
+    only13 = openmmdpd.DPDVVIntegrator(KT, FRICTION, CUTOFF, DT)
+    only13.createThermostatExceptionsFromBonds([(0, 1), (1, 2)], 1.0, 0.5)  # factor 1: no exception listed
+    assert [only13.getThermostatExceptionParameters(k) for k in range(only13.getNumThermostatExceptions())] == [[0, 2, 0.5]]
 
 
 def test_a_particle_beyond_the_system_is_refused_at_context_creation():
