@@ -97,21 +97,13 @@ void DPDPlugin::uploadMixed4(ComputeContext& cc, ComputeArray& array, const std:
         std::vector<mm_double4> data(n, mm_double4(0, 0, 0, 0));
         for (size_t k = 0; 4 * k < rows.size(); k++)
             data[k] = mm_double4(rows[4 * k], rows[4 * k + 1], rows[4 * k + 2], rows[4 * k + 3]);
-        if (!array.isInitialized())
-            array.initialize<mm_double4>(cc, n, name);
-        else if ((size_t) array.getSize() != n)
-            array.resize(n);
-        array.upload(data);
+        uploadResized(cc, array, data, name);
     }
     else {
         std::vector<mm_float4> data(n, mm_float4(0, 0, 0, 0));
         for (size_t k = 0; 4 * k < rows.size(); k++)
             data[k] = mm_float4((float) rows[4 * k], (float) rows[4 * k + 1], (float) rows[4 * k + 2], (float) rows[4 * k + 3]);
-        if (!array.isInitialized())
-            array.initialize<mm_float4>(cc, n, name);
-        else if ((size_t) array.getSize() != n)
-            array.resize(n);
-        array.upload(data);
+        uploadResized(cc, array, data, name);
     }
 }
 

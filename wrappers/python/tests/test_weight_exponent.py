@@ -9,6 +9,7 @@ import openmm
 import pytest
 
 import openmmdpd
+from openmmdpd import scenes
 from dpdtest import KT
 
 
@@ -73,9 +74,7 @@ def two_particles(integrator, r):
     for _ in range(2):
         system.addParticle(1.0)
     system.setDefaultPeriodicBoxVectors(*(openmm.Vec3(*row) for row in 5 * np.eye(3)))
-    marker = openmm.CustomBondForce("0")
-    marker.setUsesPeriodicBoundaryConditions(True)
-    system.addForce(marker)
+    system.addForce(scenes.periodic_marker_force())
     context = openmm.Context(system, integrator, openmm.Platform.getPlatformByName("Reference"))
     context.setPositions([openmm.Vec3(1, 1, 1), openmm.Vec3(1 + r, 1, 1)])
     return context
