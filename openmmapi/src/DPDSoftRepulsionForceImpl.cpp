@@ -28,7 +28,7 @@ void DPDSoftRepulsionForceImpl::initialize(OpenMM::ContextImpl& context) {
 }
 
 double DPDSoftRepulsionForceImpl::calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups) {
-    if ((groups & (1 << owner.getForceGroup())) == 0)
+    if ((groups & (1 << owner.getForceGroup())) == 0 || leftOut)
         return 0.0;
     return kernel.getAs<CalcDPDSoftRepulsionForceKernel>().execute(context, includeForces, includeEnergy);
 }

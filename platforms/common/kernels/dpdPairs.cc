@@ -5,20 +5,37 @@
  * point values: F_ij = -F_ji to the bit, and the sums do not depend on any order.
  *
  * velocity[atom] holds (v, 1/m) by atom index; outD / outR[atom + d numAtoms] get the
- * dissipative / random force (terms: 1 = dissipative, 2 = random, 3 = both).
+ * dissipative / random force (terms: 1 = dissipative, 2 = random, 3 = both).  The virial
+ * r F e e^T of the terms in virialTerms (a subset of terms) is added to the slot's row of
+ * virial (6 components paddedNumAtoms apart), each pair counted by its lo particle.
  */
+/* A slot's sums: its atom's forces into outD / outR (the terms computed), its virial into the slot's row (if any). */
+inline DEVICE void storeSums(int a, int k, int numAtoms, int paddedNumAtoms, int terms, int virialTerms, const mm_long* fd,
+        const mm_long* fr, const mixed* w, GLOBAL mm_long* RESTRICT outD, GLOBAL mm_long* RESTRICT outR, GLOBAL mixed* RESTRICT virial) {
+    for (int d = 0; d < 3; d++) {
+        if (terms & 1)
+            outD[a+d*numAtoms] = fd[d];
+        if (terms & 2)
+            outR[a+d*numAtoms] = fr[d];
+    }
+    if (virialTerms != 0)
+        addVirialRow(virial, k, paddedNumAtoms, w);
+}
+
 KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
         GLOBAL const int* RESTRICT atomIndex, GLOBAL const mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType,
         int numTypes, GLOBAL const mixed4* RESTRICT typeParams, GLOBAL const int* RESTRICT exceptionStart,
         GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor, mixed kT, mixed invSqrtDt, unsigned int seed,
         unsigned int stepLow, unsigned int stepHigh, int terms, GLOBAL mm_long* RESTRICT outD, GLOBAL mm_long* RESTRICT outR,
         mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
-        GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
+        GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int virialTerms, int paddedNumAtoms,
+        GLOBAL mixed* RESTRICT virial) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         const mixed4 va = velocity[a];
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mm_long fd[3] = {0, 0, 0}, fr[3] = {0, 0, 0};
+        mixed w[6] = {0, 0, 0, 0, 0, 0};
         for (int n = 0; n < 27 && va.w != 0; n++) {
             const int cell = neighbourCell(atomCell[k], n, numCells);
             if (cell < 0)
@@ -46,11 +63,14 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 // 2 mu friction f, f the pair's thermostat factor (sigma follows as sqrt(2 gamma kT))
                 const mixed gamma = 2*p.x/(vLo.w+vHi.w)*thermostatFactor(a, b, exceptionStart, exceptionPartner, exceptionFactor);
                 const mm_long sign = (aIsLo ? 1 : -1);
+                mixed virialForce = 0;
                 if (terms & 1) {
                     const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
                     fd[0] += sign*toFixed(ex*f);
                     fd[1] += sign*toFixed(ey*f);
                     fd[2] += sign*toFixed(ez*f);
+                    if (virialTerms & 1)
+                        virialForce += f;
                 }
                 if (terms & 2) {
                     const mixed xi = boxMuller(pairWords(seed, 0, stepLow, stepHigh, a, b));
@@ -58,14 +78,13 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                     fr[0] += sign*toFixed(ex*f);
                     fr[1] += sign*toFixed(ey*f);
                     fr[2] += sign*toFixed(ez*f);
+                    if (virialTerms & 2)
+                        virialForce += f;
                 }
+                if (aIsLo && virialTerms != 0)
+                    addVirialAlong(w, dx, dy, dz, virialForce/r);
             }
         }
-        for (int d = 0; d < 3; d++) {
-            if (terms & 1)
-                outD[a+d*numAtoms] = fd[d];
-            if (terms & 2)
-                outR[a+d*numAtoms] = fr[d];
-        }
+        storeSums(a, k, numAtoms, paddedNumAtoms, terms, virialTerms, fd, fr, w, outD, outR, virial);
     }
 }

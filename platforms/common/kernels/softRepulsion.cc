@@ -3,17 +3,21 @@
  * list: F = a (1 - r/rc) e on lo, the exact opposite fixed-point value on hi (see
  * dpdPairs.cc), added to OpenMM's force buffer; each pair's energy counted once (by its lo
  * particle) in the energy buffer of the thread.  typeParams: (a, rc, 1/rc, rc^2).
- * exclusionStart/exclusions: the excluded partners of each atom (by atom index).
+ * exclusionStart/exclusions: the excluded partners of each atom (by atom index).  With
+ * virialOnly, nothing else is written: each thread adds the virial r F e e^T of its pairs
+ * to its row of virial (6 components energyThreads apart).
  */
 KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, GLOBAL const real4* RESTRICT posq,
         GLOBAL const real4* RESTRICT posqCorrection, GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT atomType,
         int numTypes, GLOBAL const mixed4* RESTRICT typeParams, GLOBAL const int* RESTRICT exclusionStart,
         GLOBAL const int* RESTRICT exclusions, GLOBAL mm_long* RESTRICT forceBuffer, GLOBAL mixed* RESTRICT energyBuffer,
         mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
-        GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
+        GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int virialOnly,
+        GLOBAL mixed* RESTRICT virial) {
     if (GLOBAL_ID >= energyThreads)
         return;
     mixed energy = 0;
+    mixed w[6] = {0, 0, 0, 0, 0, 0};
     for (int k = GLOBAL_ID; k < numAtoms; k += energyThreads) {
         const int a = atomIndex[k];
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
@@ -47,12 +51,17 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
                 f[0] += sign*toFixed(dx*scale);
                 f[1] += sign*toFixed(dy*scale);
                 f[2] += sign*toFixed(dz*scale);
-                if (aIsLo)
+                if (aIsLo) {
                     energy += softRepulsionEnergy(r, p.x, p.y);
+                    addVirialAlong(w, dx, dy, dz, scale);
+                }
             }
         }
-        for (int d = 0; d < 3; d++)
+        for (int d = 0; d < 3 && !virialOnly; d++)
             forceBuffer[k+d*paddedNumAtoms] += f[d];
     }
-    energyBuffer[GLOBAL_ID] += energy;
+    if (virialOnly)
+        addVirialRow(virial, GLOBAL_ID, energyThreads, w);
+    else
+        energyBuffer[GLOBAL_ID] += energy;
 }

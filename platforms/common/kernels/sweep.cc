@@ -10,6 +10,9 @@
  *
  * Everything here is indexed by atom: position[a] at the sweep, velocity[a] = (v, 1/m)
  * (1/m = 0: a particle the thermostat leaves alone), cellAtoms sorted by atom index.
+ *
+ * For the pressure tensor, a sweep can also add the virial r J e e^T of the impulse J each
+ * pair receives to the row of the work item that swept it (6 components virialStride apart).
  */
 
 /* Each atom's position and cell in the sweep grid, binned as the Reference bins (fractional coordinates). */
@@ -82,6 +85,7 @@ typedef struct {
     mixed h, kT;
     unsigned int seed, stream, stepLow, stepHigh;
     int partner;  /* xi the partner of the key's Box-Muller number (boxMullerPartner) */
+    int virial;   /* whether to add the pairs' impulse virials */
 } SweepRule;
 
 /* The impulse J along e on the pair: v_i += J/m_i e, v_j -= J/m_j e (FreePairImpulse). */
@@ -99,9 +103,10 @@ inline DEVICE void applyImpulse(mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixe
  * One pair (i, j) at d = r_i - r_j: the rule's update of both velocities in place
  * (ShardlowPairUpdate, LowePairUpdate, PairOrnsteinUhlenbeckUpdate).  p: the type pair's
  * (friction or collision rate, rc, weight exponent s, rc^2); f: the pair's thermostat factor
- * (0: the pair is left alone).
+ * (0: the pair is left alone).  The virial of the impulse is added to `virial` (if s.virial).
  */
-inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixed dz, mixed4 p, mixed f, GLOBAL mixed4* RESTRICT velocity) {
+inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixed dz, mixed4 p, mixed f, GLOBAL mixed4* RESTRICT velocity,
+        mixed* virial) {
     const mixed r2 = dx*dx+dy*dy+dz*dz;
     if (r2 >= p.w || r2 == 0 || f == 0)
         return;
@@ -118,30 +123,40 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
     const mixed gamma = 2*p.x*mu*f;  // 2 mu friction f
     const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
     mixed u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
+    mixed J;
     if (s.rule == SWEEP_SHARDLOW) {
         const mixed noise = pairNoiseAmplitude(gamma, s.kT)*wR*xi*sqrt(s.h);
         const mixed friction = gamma*pairDissipativeWeight(wR)*s.h;
-        applyImpulse(&vi, &vj, ex, ey, ez, shardlowExplicitHalf(noise, friction, u));
+        J = shardlowExplicitHalf(noise, friction, u);
+        applyImpulse(&vi, &vj, ex, ey, ez, J);
         u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
-        applyImpulse(&vi, &vj, ex, ey, ez, shardlowImplicitHalf(noise, friction, mu, u));
+        const mixed J2 = shardlowImplicitHalf(noise, friction, mu, u);
+        applyImpulse(&vi, &vj, ex, ey, ez, J2);
+        J += J2;
     }
-    else if (s.rule == SWEEP_LOWE)
-        applyImpulse(&vi, &vj, ex, ey, ez, loweImpulse(u, xi, mu, s.kT/mu));
+    else if (s.rule == SWEEP_LOWE) {
+        J = loweImpulse(u, xi, mu, s.kT/mu);
+        applyImpulse(&vi, &vj, ex, ey, ez, J);
+    }
     else {
         // 1 - decay^2 as -expm1(-2x): in float, 1 - decay*decay loses its digits when decay is near 1 (small wR).
         const mixed x = gamma*pairDissipativeWeight(wR)*s.h/mu;
         const mixed target = pairOUVelocity(u, exp(-x), sqrt(-s.kT/mu*expm1(-2*x)), xi);
-        applyImpulse(&vi, &vj, ex, ey, ez, mu*(target-u));
+        J = mu*(target-u);
+        applyImpulse(&vi, &vj, ex, ey, ez, J);
     }
     velocity[i] = vi;
     velocity[j] = vj;
+    if (s.virial)
+        addVirialAlong(virial, dx, dy, dz, J/r);
 }
 
 /* Every pair of one cell, in the sweep order or (reverse) exactly the opposite order. */
 inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell, GLOBAL const mixed4* RESTRICT position,
         GLOBAL mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams,
         mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms,
-        GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor) {
+        GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor,
+        mixed* virial) {
     int neighbours[27];
     const int numNeighbours = sweepNeighbours(cell, numCells, halfShell, neighbours);
     const int first = cellStart[cell], last = cellStart[cell+1];
@@ -157,7 +172,7 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
                 const mixed4 rj = position[j];
                 sweepPair(s, i, j, nearestImage(ri.x-rj.x, boxSize.x, invBoxSize.x), nearestImage(ri.y-rj.y, boxSize.y, invBoxSize.y),
                           nearestImage(ri.z-rj.z, boxSize.z, invBoxSize.z), typeParams[atomType[i]*numTypes+atomType[j]],
-                          thermostatFactor(i, j, exceptionStart, exceptionPartner, exceptionFactor), velocity);
+                          thermostatFactor(i, j, exceptionStart, exceptionPartner, exceptionFactor), velocity, virial);
             }
         }
     }
@@ -171,7 +186,8 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
         unsigned int stepLow, unsigned int stepHigh, GLOBAL const mixed4* RESTRICT position, GLOBAL mixed4* RESTRICT velocity,
         GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed4 boxSize,
         mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int partner,
-        GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor) {
+        GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor,
+        int virial, int virialStride, GLOBAL mixed* RESTRICT virialRows) {
     SweepRule s;
     s.rule = rule;
     s.h = h;
@@ -181,20 +197,27 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
     s.stepLow = stepLow;
     s.stepHigh = stepHigh;
     s.partner = partner;
+    s.virial = virial;
+    mixed w[6] = {0, 0, 0, 0, 0, 0};
     if (colour < 0) {
         const int total = numCells.x*numCells.y*numCells.z;
-        if (GLOBAL_ID == 0)
+        if (GLOBAL_ID == 0) {
             for (int c = 0; c < total; c++)
                 sweepCell(s, reverse ? total-1-c : c, reverse, false, position, velocity, atomType, numTypes, typeParams,
-                          boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor);
+                          boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor, w);
+            if (virial)
+                addVirialRow(virialRows, 0, virialStride, w);
+        }
         return;
     }
     const int px = numCells.x/3, py = numCells.y/3, pz = numCells.z/3;
     for (int t = GLOBAL_ID; t < px*py*pz; t += GLOBAL_SIZE) {
         const int x = colour%3+3*(t%px), y = (colour/3)%3+3*((t/px)%py), z = colour/9+3*(t/(px*py));
         sweepCell(s, x+numCells.x*(y+numCells.y*z), reverse, true, position, velocity, atomType, numTypes, typeParams,
-                  boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor);
+                  boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor, w);
     }
+    if (virial && GLOBAL_ID < px*py*pz)
+        addVirialRow(virialRows, GLOBAL_ID, virialStride, w);
 }
 
 /* velm[slot] = velocity[atom] after a sweep; the velocity check. */

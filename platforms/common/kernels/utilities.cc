@@ -53,6 +53,25 @@ inline DEVICE bool withinBound(mixed x, mixed bound) {
     return x <= bound;
 }
 
+/*
+ * t += c d d^T, t a symmetric tensor as (xx, yy, zz, xy, xz, yz): the virial r F e e^T of a
+ * central pair force F e at d = r e, with c = F/r.
+ */
+inline DEVICE void addVirialAlong(mixed* t, mixed dx, mixed dy, mixed dz, mixed c) {
+    t[0] += c*dx*dx;
+    t[1] += c*dy*dy;
+    t[2] += c*dz*dz;
+    t[3] += c*dx*dy;
+    t[4] += c*dx*dz;
+    t[5] += c*dy*dz;
+}
+
+/* rows[k + c stride] += t[c]: a thread's tensor into its own row of a tensor array laid out by component. */
+inline DEVICE void addVirialRow(GLOBAL mixed* RESTRICT rows, int k, int stride, const mixed* t) {
+    for (int c = 0; c < 6; c++)
+        rows[k+c*stride] += t[c];
+}
+
 /* The thermostat factor f of the pair of atoms (a, b): its exception's, else 1 (exceptions listed by the lower atom index). */
 inline DEVICE mixed thermostatFactor(int a, int b, GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner,
         GLOBAL const mixed* RESTRICT exceptionFactor) {

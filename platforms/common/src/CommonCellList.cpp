@@ -87,6 +87,17 @@ void DPDPlugin::uploadMixed(ComputeContext& cc, ComputeArray& array, const std::
         uploadResized(cc, array, std::vector<float>(padded.begin(), padded.end()), name);
 }
 
+std::vector<double> DPDPlugin::downloadMixed(ComputeContext& cc, ComputeArray& array) {
+    if (mixedIsDouble(cc)) {
+        std::vector<double> values;
+        array.download(values);
+        return values;
+    }
+    std::vector<float> values;
+    array.download(values);
+    return std::vector<double>(values.begin(), values.end());
+}
+
 void DPDPlugin::uploadInts(ComputeContext& cc, ComputeArray& array, const std::vector<int>& values, const std::string& name) {
     uploadResized(cc, array, values.empty() ? std::vector<int>(1, 0) : values, name);
 }

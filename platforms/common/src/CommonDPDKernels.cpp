@@ -54,6 +54,9 @@ void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRe
     addArrayArgs(kernel, {&exclusionStart, &exclusions, &cc.getLongForceBuffer(), &cc.getEnergyBuffer()});
     for (int k = 0; k < 6; k++)
         kernel->addArg();  // the cell list's
+    virialRows.initialize(cc, 1, mixedIsDouble(cc) ? sizeof(double) : sizeof(float), "dpdSoftVirialRows");
+    kernel->addArg();  // virialOnly: set per call
+    kernel->addArg(virialRows);
 }
 
 void CommonSoftRepulsionKernel::uploadExclusions(const DPDSoftRepulsionForce& force) {
@@ -99,16 +102,28 @@ void CommonSoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force
 
 double CommonSoftRepulsionKernel::execute(ContextImpl& context, bool includeForces, bool includeEnergy) {
     ContextSelector selector(cc);
+    run(false);
+    return 0.0;  // the energy is in OpenMM's energy buffer
+}
+
+int CommonSoftRepulsionKernel::run(bool virialOnly) {
     cells->build(maxCutoff);
     // One energy slot per thread: as many threads as OpenMM's energy buffer has slots (it is
     // made after the kernels are initialized).
     const int energyThreads = std::min((int) cc.getEnergyBuffer().getSize(), std::max(cc.getNumAtoms(), 1));
+    if (virialOnly && (int) virialRows.getSize() != 6 * energyThreads) {
+        virialRows.resize(6 * energyThreads);
+        kernel->setArg(20, virialRows);
+    }
+    if (virialOnly)
+        cc.clearBuffer(virialRows);
     kernel->setArg(2, energyThreads);
     kernel->setArg(7, numTypes);
     kernel->setArg(8, typeParams);
     cells->setArgs(kernel, 13);
+    kernel->setArg(19, virialOnly ? 1 : 0);
     kernel->execute(energyThreads);
-    return 0.0;  // the energy is in OpenMM's energy buffer
+    return energyThreads;
 }
 
 void CommonSoftRepulsionKernel::copyParametersToContext(ContextImpl& context, const DPDSoftRepulsionForce& force) {
@@ -117,6 +132,12 @@ void CommonSoftRepulsionKernel::copyParametersToContext(ContextImpl& context, co
 }
 
 std::array<double, 6> CommonSoftRepulsionKernel::computeVirial(ContextImpl& context) {
-    throw OpenMMException("DPDSoftRepulsionForce: the virial (the pressure tensor) is not supported on the " +
-                          getPlatform().getName() + " platform; use the Reference or CPU platform");
+    ContextSelector selector(cc);
+    const int threads = run(true);
+    std::array<double, 6> virial{};
+    const std::vector<double> rows = downloadMixed(cc, virialRows);
+    for (int c = 0; c < 6; c++)
+        for (int k = 0; k < threads; k++)
+            virial[c] += rows[k + c * threads];
+    return virial;
 }

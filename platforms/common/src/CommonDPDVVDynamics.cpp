@@ -56,11 +56,13 @@ void CommonDPDVVDynamics::step(ContextImpl& context, const DPDVVIntegrator& inte
         carried.setValid();
     }
     const long long next = cc.getStepCount() + 1;
+    startThermostatVirial();
     if (integrator.getVariant() == DPDVVIntegrator::GrootWarren)
         grootWarrenStep(context, integrator, next);
     else
         dpdvvStep(context, integrator, next);
     checkStatus(context, next);
+    finishThermostatVirial();
     finishStep(dt);
 }
 
@@ -73,7 +75,7 @@ void CommonDPDVVDynamics::grootWarrenStep(ContextImpl& context, const DPDVVInteg
     grootWarren1->execute(numAtoms());
     // F' = FC(r) + FD(r, v~) + FR(r);  v += dt/(2m) (F + F')
     conservativeForce(context, integrator.getIntegrationForceGroups());
-    pairForces(next, dt, 3);
+    pairForces(next, dt, 3, true, 3);
     setMixedArg(cc, grootWarren2, 8, dt);
     setMixedArg(cc, grootWarren2, 9, velocityBound());
     grootWarren2->execute(numAtoms());
@@ -85,13 +87,14 @@ void CommonDPDVVDynamics::dpdvvStep(ContextImpl& context, const DPDVVIntegrator&
     setMixedArg(cc, dpdvv1, 7, dt);
     setMixedArg(cc, dpdvv1, 8, maxMove2());
     dpdvv1->execute(numAtoms());
-    // (3) FC(r), FD(r, v), FR(r);  (4) v <- v + dt/(2m) (FC + FR) + dt/(2m) FD;  (5) FD(r, v)
+    // (3) FC(r), FD(r, v), FR(r);  (4) v <- v + dt/(2m) (FC + FR) + dt/(2m) FD;  (5) FD(r, v).
+    // The step's thermostat virial: FR's, and that of the FD carried into the next step.
     conservativeForce(context, integrator.getIntegrationForceGroups());
-    pairForces(next, dt, 3);
+    pairForces(next, dt, 3, true, 2);
     sumIntoCarried(false);
     setMixedArg(cc, dpdvv2, 6, dt);
     dpdvv2->execute(numAtoms());
-    pairForces(next, dt, 1, false);
+    pairForces(next, dt, 1, false, 1);
     setMixedArg(cc, dpdvv3, 5, velocityBound());
     dpdvv3->execute(numAtoms());
 }

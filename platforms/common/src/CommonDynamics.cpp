@@ -31,15 +31,12 @@ void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostat
             refuse(integrator, platform, "a System with virtual sites");
     if (integrator.getShearRate() != 0)
         refuse(integrator, platform, "Lees-Edwards shear (setShearRate)");
-    if (integrator.getPressureTensorEnabled())
-        refuse(integrator, platform, "the pressure tensor (setPressureTensorEnabled)");
 }
 
 CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
                                const std::string& platform, const std::vector<std::string>& ruleSources, bool withPairForces) :
         cc(cc), name(std::string(integrator.className()) + " on the " + platform + " platform"), parameters(system, integrator),
         random(PairRandom::seedFor(integrator.getRandomNumberSeed())), carried(system.getNumParticles()) {
-    refuseUnsupported(system, integrator, platform);
     ContextSelector selector(cc);
     const int n = std::max(numAtoms(), 1);
     atomType.initialize<int>(cc, n, "dpdAtomType");
@@ -48,7 +45,8 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     status.initialize<int>(cc, 4, "dpdStatus");
     status.upload(std::vector<int>(4, 0));
     moveValue.initialize<float>(cc, 1, "dpdMoveValue");
-    std::vector<std::string> sources = {CommonDPDKernelSources::philox, CommonDPDKernelSources::cellList};
+    std::vector<std::string> sources = {CommonDPDKernelSources::philox, CommonDPDKernelSources::cellList,
+                                        CommonDPDKernelSources::positionStrain};
     if (withPairForces) {
         fd.initialize<long long>(cc, 3 * n, "dpdDissipativeForce");
         fr.initialize<long long>(cc, 3 * n, "dpdRandomForce");
@@ -56,6 +54,8 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     }
     sources.insert(sources.end(), ruleSources.begin(), ruleSources.end());
     program = compileDPDProgram(cc, sources);
+    strain.reset(new CommonPositionStrain(cc, program));
+    virialRows.initialize(cc, 1, mixedIsDouble(cc) ? sizeof(double) : sizeof(float), "dpdVirialRows");
     uploadParameters();
     gatherKernel = program->createKernel("gatherVelocities");
     gatherKernel->addArg(numAtoms());
@@ -117,6 +117,9 @@ void CommonDynamics::createPairKernels() {
     pairKernel->addArg(fr);
     for (int k = 0; k < 6; k++)
         pairKernel->addArg();  // the cell list's
+    pairKernel->addArg();      // virialTerms: set per pass
+    pairKernel->addArg(cc.getPaddedNumAtoms());
+    pairKernel->addArg(virialRows);
     sumKernel = program->createKernel("sumForces");
     sumKernel->addArg(numAtoms());
     sumKernel->addArg(cc.getPaddedNumAtoms());
@@ -146,7 +149,7 @@ void CommonDynamics::conservativeForce(ContextImpl& context, int groups) {
     context.calcForcesAndEnergy(true, false, groups);
 }
 
-void CommonDynamics::pairForces(long long step, double dt, int terms, bool rebuildCells) {
+void CommonDynamics::pairForces(long long step, double dt, int terms, bool rebuildCells, int virialTerms) {
     if (rebuildCells)
         cells->build(parameters.getMaxCutoff());
     setMixedArg(cc, pairKernel, 11, parameters.getKT());
@@ -156,7 +159,33 @@ void CommonDynamics::pairForces(long long step, double dt, int terms, bool rebui
     pairKernel->setArg(15, (unsigned int) ((uint64_t) step >> 32));
     pairKernel->setArg(16, terms);
     cells->setArgs(pairKernel, 19);
+    pairKernel->setArg(25, thermostatVirial != nullptr ? virialTerms : 0);
     pairKernel->execute(numAtoms());
+}
+
+void CommonDynamics::startThermostatVirial() {
+    if (thermostatVirial != nullptr && clearVirialRows(cc.getPaddedNumAtoms()))
+        pairKernel->setArg(27, virialRows);
+}
+
+void CommonDynamics::finishThermostatVirial() {
+    if (thermostatVirial != nullptr)
+        addVirialRows(cc.getPaddedNumAtoms(), 1);
+}
+
+bool CommonDynamics::clearVirialRows(int rows) {
+    const bool resized = ((int) virialRows.getSize() < 6 * rows);
+    if (resized)
+        virialRows.resize(6 * rows);
+    cc.clearBuffer(virialRows);
+    return resized;
+}
+
+void CommonDynamics::addVirialRows(int rows, double scale) {
+    const std::vector<double> values = downloadMixed(cc, virialRows);
+    for (int c = 0; c < 6; c++)
+        for (int k = 0; k < rows; k++)
+            (*thermostatVirial)[c] += scale * values[k + c * rows];
 }
 
 void CommonDynamics::sumIntoCarried(bool withDissipative) {

@@ -21,7 +21,7 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
             {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
-            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 23}}, {&scatterKernel, {"scatterVelocities", 6}},
+            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 26}}, {&scatterKernel, {"scatterVelocities", 6}},
             {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels)
         *k.first = createKernelWithArgs(program, k.second.first, k.second.second);
@@ -122,7 +122,7 @@ void CommonSweepDynamics::buildGrid() {
     sortKernel->execute(total);
 }
 
-void CommonSweepDynamics::sweep(Rule rule, double h, PairRandom::Stream stream, long long step, bool reverse, bool partner) {
+void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stream stream, long long step, bool reverse, bool partner) {
     gatherVelocities();
     buildGrid();
     const double size[4] = {boxSize[0], boxSize[1], boxSize[2], 0}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
@@ -144,11 +144,19 @@ void CommonSweepDynamics::sweep(Rule rule, double h, PairRandom::Stream stream, 
     colourKernel->setArg(19, partner ? 1 : 0);
     setArrayArgs(colourKernel, 20, {&exceptionStart, &exceptionPartner, &exceptionFactor});
     const bool coloured = (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
-    const int cellsPerColour = totalCells / 27;
+    const int cellsPerColour = totalCells / 27, rows = (coloured ? cellsPerColour : 1);
+    const bool virial = (thermostatVirial != nullptr);
+    if (virial)
+        clearVirialRows(rows);
+    colourKernel->setArg(23, virial ? 1 : 0);
+    colourKernel->setArg(24, rows);
+    colourKernel->setArg(25, virialRows);
     for (int k = 0; k < (coloured ? 27 : 1); k++) {
         colourKernel->setArg(0, coloured ? (reverse ? 26 - k : k) : -1);
-        colourKernel->execute(coloured ? cellsPerColour : 1);
+        colourKernel->execute(rows);
     }
+    if (virial)
+        addVirialRows(rows, 1 / dt);
     setMixedArg(cc, scatterKernel, 4, velocityBound());
     scatterKernel->execute(numAtoms());
 }
@@ -165,10 +173,10 @@ void CommonShardlowDynamics::step(ContextImpl& context, const ShardlowIntegrator
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
     // the pairs at the new positions, with the partners of the numbers the next step's first
     // sweep takes (as the Reference).
-    sweep(ShardlowRule, h, PairRandom::RandomForce, current, false);
+    sweep(ShardlowRule, h, dt, PairRandom::RandomForce, current, false);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder)
-        sweep(ShardlowRule, h, PairRandom::RandomForce, next, true, true);
+        sweep(ShardlowRule, h, dt, PairRandom::RandomForce, next, true, true);
     checkStatus(context, next);
     finishStep(dt);
 }
@@ -203,5 +211,5 @@ void CommonLoweAndersenDynamics::middleStep(ContextImpl& context, const LoweAnde
 
 void CommonLoweAndersenDynamics::applyThermostat(const LoweAndersenIntegrator& integrator, long long step) {
     const Rule rule = (integrator.getMethod() == LoweAndersenIntegrator::Lowe ? LoweRule : PairOrnsteinUhlenbeckRule);
-    sweep(rule, integrator.getStepSize(), PairRandom::PairThermalisation, step, false);
+    sweep(rule, integrator.getStepSize(), integrator.getStepSize(), PairRandom::PairThermalisation, step, false);
 }

@@ -2,21 +2,11 @@
 #include "openmmdpd/DPDKernels.h"
 #include "openmmdpd/internal/DPDSoftRepulsionForceImpl.h"
 #include "openmm/OpenMMException.h"
-#include "ReferencePlatform.h"
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
 
 namespace {
-
-/**
- * The positions and velocities as both platforms store them.  The strain writes positions
- * there, not through ContextImpl::setPositions, which would tell the integrator that its
- * carried forces are stale.
- */
-OpenMM::ReferencePlatform::PlatformData& platformData(OpenMM::ContextImpl& context) {
-    return *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
-}
 
 /** The relative strain of the central differences (small against 1, large against float rounding of the energy). */
 constexpr double STRAIN_STEP = 1e-3;
@@ -45,12 +35,12 @@ PressureTensorSampler::PressureTensorSampler(const OpenMM::System& system, const
 }
 
 void PressureTensorSampler::addSample(OpenMM::ContextImpl& context, double shearRate, int forceGroups,
-                                      const SymmetricTensor& thermostatVirial) {
+                                      const SymmetricTensor& thermostatVirial, PositionStrain& strain) {
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     const double inverseVolume = 1 / (box[0][0] * box[1][1] * box[2][2]);
     addTensor(sums.parts[0], kineticTerm(context, shearRate), inverseVolume);
-    addTensor(sums.parts[1], conservativeVirial(context, forceGroups), inverseVolume);
+    addTensor(sums.parts[1], conservativeVirial(context, forceGroups, strain), inverseVolume);
     addTensor(sums.parts[2], thermostatVirial, inverseVolume);
     sums.count++;
 }
@@ -92,8 +82,9 @@ PressureSums DPDPlugin::readPressureSums(CheckpointReader& reader) {
 }
 
 SymmetricTensor PressureTensorSampler::kineticTerm(OpenMM::ContextImpl& context, double shearRate) const {
-    const std::vector<Vec3>& r = *platformData(context).positions;
-    const std::vector<Vec3>& v = *platformData(context).velocities;
+    std::vector<Vec3> r, v;
+    context.getPositions(r);
+    context.getVelocities(v);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     std::vector<Vec3> u(v.size());
@@ -119,30 +110,55 @@ SymmetricTensor PressureTensorSampler::kineticTerm(OpenMM::ContextImpl& context,
     return t;
 }
 
-SymmetricTensor PressureTensorSampler::conservativeVirial(OpenMM::ContextImpl& context, int forceGroups) const {
+namespace {
+
+/** Leaves the soft forces out of the Context's force evaluations while it lives (DPDSoftRepulsionForceImpl::setLeftOut). */
+class SoftForcesLeftOut {
+public:
+    explicit SoftForcesLeftOut(const std::vector<DPDSoftRepulsionForceImpl*>& forces) : forces(forces) {
+        for (DPDSoftRepulsionForceImpl* soft : forces)
+            soft->setLeftOut(true);
+    }
+    ~SoftForcesLeftOut() {
+        for (DPDSoftRepulsionForceImpl* soft : forces)
+            soft->setLeftOut(false);
+    }
+
+private:
+    const std::vector<DPDSoftRepulsionForceImpl*>& forces;
+};
+
+} // namespace
+
+SymmetricTensor PressureTensorSampler::conservativeVirial(OpenMM::ContextImpl& context, int forceGroups,
+                                                         PositionStrain& strain) const {
     const OpenMM::System& system = context.getSystem();
-    int softGroups = 0, otherGroups = 0;
+    int otherGroups = 0;
     for (int k = 0; k < system.getNumForces(); k++) {
         const OpenMM::Force& force = system.getForce(k);
         const int group = 1 << force.getForceGroup();
-        if ((forceGroups & group) != 0)
-            (dynamic_cast<const DPDSoftRepulsionForce*>(&force) != nullptr ? softGroups : otherGroups) |= group;
+        if ((forceGroups & group) != 0 && dynamic_cast<const DPDSoftRepulsionForce*>(&force) == nullptr)
+            otherGroups |= group;
     }
+    // Every soft force gives its exact pair virial, and is left out of the strain of the
+    // other forces of its group.
     SymmetricTensor virial{};
-    const int exactGroups = softGroups & ~otherGroups;
+    std::vector<DPDSoftRepulsionForceImpl*> softForces;
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
         DPDSoftRepulsionForceImpl* soft = dynamic_cast<DPDSoftRepulsionForceImpl*>(impl);
-        if (soft != nullptr && (exactGroups & (1 << soft->getOwner().getForceGroup())) != 0)
+        if (soft != nullptr && (forceGroups & (1 << soft->getOwner().getForceGroup())) != 0) {
             addTensor(virial, soft->getKernel().getAs<CalcDPDSoftRepulsionForceKernel>().computeVirial(context));
+            softForces.push_back(soft);
+        }
     }
-    if (otherGroups != 0)
-        addTensor(virial, strainDerivative(context, otherGroups));
+    if (otherGroups != 0) {
+        SoftForcesLeftOut leftOut(softForces);
+        addTensor(virial, strainDerivative(context, otherGroups, strain));
+    }
     return virial;
 }
 
-SymmetricTensor PressureTensorSampler::strainDerivative(OpenMM::ContextImpl& context, int groups) const {
-    std::vector<Vec3>& positions = *platformData(context).positions;
-    const std::vector<Vec3> original = positions;
+SymmetricTensor PressureTensorSampler::strainDerivative(OpenMM::ContextImpl& context, int groups, PositionStrain& strain) const {
     Vec3 box0[3];
     context.getPeriodicBoxVectors(box0[0], box0[1], box0[2]);
     const int lastGroups = context.getLastForceGroups();
@@ -151,20 +167,19 @@ SymmetricTensor PressureTensorSampler::strainDerivative(OpenMM::ContextImpl& con
         const int a = STRAIN_AXES[k][0], b = STRAIN_AXES[k][1];
         double energy[2];
         for (int side = 0; side < 2; side++) {
-            const double strain = (side == 0 ? STRAIN_STEP : -STRAIN_STEP);
-            for (size_t i = 0; i < positions.size(); i++)
-                positions[i][a] = original[i][a] + strain * original[i][b];
+            const double epsilon = (side == 0 ? STRAIN_STEP : -STRAIN_STEP);
+            strain.strain(context, a, b, epsilon);
             Vec3 box[3] = {box0[0], box0[1], box0[2]};
             for (Vec3& edge : box)
-                edge[a] += strain * edge[b];
+                edge[a] += epsilon * edge[b];
             reduceBox(box);
             context.setPeriodicBoxVectors(box[0], box[1], box[2]);
             energy[side] = context.calcForcesAndEnergy(false, true, groups);
         }
         // W_ab = sum r_b F_a = -dU/d(strain)
         virial[k] = -(energy[0] - energy[1]) / (2 * STRAIN_STEP);
-        positions = original;
     }
+    strain.restore(context);
     context.setPeriodicBoxVectors(box0[0], box0[1], box0[2]);
     context.getLastForceGroups() = lastGroups;
     return virial;

@@ -23,12 +23,18 @@ public:
     void updateParametersInContext(OpenMM::ContextImpl& context);
     /** The platform's kernel (integrators that evaluate this force from their own pair list use it). */
     OpenMM::Kernel& getKernel() { return kernel; }
+    /**
+     * While left out, the force adds no force or energy: the pressure tensor takes its exact
+     * virial and strains the rest of its force group (PressureTensorSampler).
+     */
+    void setLeftOut(bool out) { leftOut = out; }
     /** Throw unless the force is consistent with the System (particle indices, box). */
     static void validate(const DPDSoftRepulsionForce& force, const OpenMM::System& system);
 
 private:
     const DPDSoftRepulsionForce& owner;
     OpenMM::Kernel kernel;
+    bool leftOut = false;
 };
 
 } // namespace DPDPlugin

@@ -71,6 +71,8 @@ void uploadMixed(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const 
 void uploadInts(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<int>& values, const std::string& name);
 /** Fill a `mixed4` array from (x, y, z, w) rows. */
 void uploadMixed4(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<double>& rows, const std::string& name);
+/** The values of a `mixed` array, as doubles. */
+std::vector<double> downloadMixed(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array);
 /** The `mixed` type is double under double or mixed precision. */
 bool mixedIsDouble(OpenMM::ComputeContext& cc);
 /** Compile kernels/utilities.cc followed by `sources`, with this plugin's defines. */

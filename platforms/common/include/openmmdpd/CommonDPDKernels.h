@@ -74,16 +74,18 @@ public:
     void initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) override;
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
-    /** Refused: the device path has no pressure tensor. */
+    /** The exact pair virial at the current positions: the same pairs, each thread's sum downloaded and added in double. */
     std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
 
 private:
     void setParameters(const DPDSoftRepulsionForce& force);
     void uploadExclusions(const DPDSoftRepulsionForce& force);
+    /** Run the kernel on as many threads as OpenMM's energy buffer has slots (virialOnly: see kernels/softRepulsion.cc). */
+    int run(bool virialOnly);
     OpenMM::ComputeContext& cc;
     std::unique_ptr<CommonCellList> cells;
     OpenMM::ComputeKernel kernel;
-    OpenMM::ComputeArray atomType, typeParams, exclusionStart, exclusions;
+    OpenMM::ComputeArray atomType, typeParams, exclusionStart, exclusions, virialRows;
     double maxCutoff = 0;
     int numTypes = 0;
 };

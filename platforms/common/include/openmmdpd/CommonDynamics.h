@@ -3,6 +3,7 @@
 
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/CommonCellList.h"
+#include "openmmdpd/CommonPositionStrain.h"
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
 #include "openmmdpd/PressureTensor.h"
@@ -39,16 +40,21 @@ public:
     double computeKineticEnergy(OpenMM::ContextImpl& context);
     void invalidateForces() { carried.invalidate(); }
     void updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
-    /** The pressure tensor is refused on the device before any step samples it. */
-    void recordThermostatVirial(SymmetricTensor*) {}
+    /**
+     * The steps from now on add the virial of the thermostat's pair forces to `sink`, if not
+     * null (PressureTensorSampler).
+     */
+    void recordThermostatVirial(SymmetricTensor* sink) { thermostatVirial = sink; }
+    /** How the pressure tensor strains the positions. */
+    PositionStrain& positionStrain() { return *strain; }
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     void createCheckpoint(std::ostream& stream) const;
     void loadCheckpoint(OpenMM::ContextImpl& context, CheckpointReader& reader);
     void resetState();
     /**
      * Throws an OpenMMException, naming the platform, for what the device path does not do
-     * (Lees-Edwards shear, the pressure tensor, constraints, virtual sites, a non-periodic
-     * System); called before a Context is made and before every step, so nothing has changed.
+     * (Lees-Edwards shear, constraints, virtual sites, a non-periodic System); called before
+     * a Context is made and before every step, so nothing has changed.
      */
     static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform);
 
@@ -59,8 +65,24 @@ protected:
     void gatherVelocities();
     /** OpenMM's forces of the groups into its force buffer (it may reorder the slots). */
     void conservativeForce(OpenMM::ContextImpl& context, int groups);
-    /** fd and/or fr (terms: 1, 2 or 3) of the pairs at the current positions, `velocity` the velocities, the numbers keyed by step. */
-    void pairForces(long long step, double dt, int terms, bool rebuildCells = true);
+    /**
+     * fd and/or fr (terms: 1, 2 or 3) of the pairs at the current positions, `velocity` the
+     * velocities, the numbers keyed by step; the virial of the terms in virialTerms goes into
+     * the step's thermostat virial while one is recorded (see startThermostatVirial).
+     */
+    void pairForces(long long step, double dt, int terms, bool rebuildCells = true, int virialTerms = 0);
+    /** Start a step's thermostat virial on the device (if one is recorded). */
+    void startThermostatVirial();
+    /** Add the step's thermostat virial to the recorded one (if any). */
+    void finishThermostatVirial();
+    /**
+     * virialRows as zeros, `rows` rows of 6 components `rows` apart: for a kernel that adds
+     * its work items' virials to their rows.  Returns whether the array was reallocated (its
+     * kernel argument must be set again).
+     */
+    bool clearVirialRows(int rows);
+    /** The recorded thermostat virial += scale times the sum of virialRows' `rows` rows. */
+    void addVirialRows(int rows, double scale);
     /** carried = FC + FR (+ FD): the sums of the current pass. */
     void sumIntoCarried(bool withDissipative);
     /**
@@ -82,10 +104,12 @@ protected:
     PairRandom random;
     CarriedForce carried;
     bool awaitingRestoreCheck = false;
+    SymmetricTensor* thermostatVirial = nullptr;  // see recordThermostatVirial
     OpenMM::ComputeProgram program;
+    std::unique_ptr<CommonPositionStrain> strain;
     std::unique_ptr<CommonCellList> cells;  // with pair forces only, as fd, fr, pairKernel and sumKernel
     OpenMM::ComputeArray atomType, typeParams, exceptionStart, exceptionPartner, exceptionFactor, velocity, fd, fr, carriedForce, status,
-            moveValue;
+            moveValue, virialRows;
     OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel;
 
 private:

@@ -53,7 +53,8 @@ public:
         dynamics->recordThermostatVirial(samplePressure ? &thermostatVirial : nullptr);
         stepKeepingTheClock(context, integrator);
         if (samplePressure)
-            pressure->addSample(context, integrator.getShearRate(), integrator.getIntegrationForceGroups(), thermostatVirial);
+            pressure->addSample(context, integrator.getShearRate(), integrator.getIntegrationForceGroups(), thermostatVirial,
+                                dynamics->positionStrain());
     }
     std::vector<double> getAveragePressureTensor(int part) const override {
         if (getPressureTensorSampleCount() == 0)

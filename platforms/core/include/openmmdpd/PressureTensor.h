@@ -104,6 +104,23 @@ void withRecordedPairImpulse(ConstrainedPairImpulse& constrained, const DPDPairP
     record.addVirial(pairs, parameters, 1 / dt, *virial);
 }
 
+/**
+ * How the pressure tensor strains the Context's positions in place and puts them back, on
+ * each platform in its own storage: not through ContextImpl::setPositions, which would tell
+ * the integrator that the force it carries is stale.
+ */
+class PositionStrain {
+public:
+    virtual ~PositionStrain() {}
+    /**
+     * Set every particle's position to x0 strained along a by b, x_a = x0_a + strain x0_b, x0
+     * the positions of before the first strain since the last restore.
+     */
+    virtual void strain(OpenMM::ContextImpl& context, int a, int b, double strain) = 0;
+    /** Put back the positions of before the first strain. */
+    virtual void restore(OpenMM::ContextImpl& context) = 0;
+};
+
 /** The running sums of the pressure tensor's samples. */
 struct PressureSums {
     std::array<SymmetricTensor, 3> parts{};  // kinetic, conservative, thermostat: sum of P over samples
@@ -116,10 +133,11 @@ struct PressureSums {
  * end of each step, kept as its three parts.
  *  - kinetic: the peculiar velocities u = v - rate (y - Ly/2) x (OpenMM's positions as stored)
  *    less their centre-of-mass velocity (the boundary jumps move the total momentum);
- *  - conservative: the integration force groups' virial.  A group of DPDSoftRepulsionForces
- *    only gives its exact pair virial (the force's kernel); any other group gives
- *    -dU/d(epsilon) by central differences over an affine strain of every particle and the
- *    box (atomic scaling: each particle's position is strained, molecules included);
+ *  - conservative: the integration force groups' virial.  A DPDSoftRepulsionForce gives its
+ *    exact pair virial (the force's kernel); the other forces give -dU/d(epsilon) of their
+ *    groups, the soft forces left out, by central differences over an affine strain of every
+ *    particle and the box (atomic scaling: each particle's position is strained, molecules
+ *    included, by the platform's PositionStrain);
  *  - thermostat: given by the step (the pair forces it applied, or the impulses of its
  *    sweeps over dt).
  * Constraint forces have no part in it, so Systems with constraints are refused.
@@ -129,7 +147,8 @@ public:
     /** @param name  the integrator's class, for error messages */
     PressureTensorSampler(const OpenMM::System& system, const std::string& name);
     /** Add the sample of the step just taken (thermostatVirial: its sum of r_ij F_ij, kJ/mol). */
-    void addSample(OpenMM::ContextImpl& context, double shearRate, int forceGroups, const SymmetricTensor& thermostatVirial);
+    void addSample(OpenMM::ContextImpl& context, double shearRate, int forceGroups, const SymmetricTensor& thermostatVirial,
+                   PositionStrain& strain);
     /** The average of a part (DPDThermostatIntegrator::PressurePart), kJ/mol/nm^3. */
     std::vector<double> average(int part) const;
     long long getCount() const { return sums.count; }
@@ -140,8 +159,8 @@ public:
 
 private:
     SymmetricTensor kineticTerm(OpenMM::ContextImpl& context, double shearRate) const;
-    SymmetricTensor conservativeVirial(OpenMM::ContextImpl& context, int forceGroups) const;
-    SymmetricTensor strainDerivative(OpenMM::ContextImpl& context, int groups) const;
+    SymmetricTensor conservativeVirial(OpenMM::ContextImpl& context, int forceGroups, PositionStrain& strain) const;
+    SymmetricTensor strainDerivative(OpenMM::ContextImpl& context, int groups, PositionStrain& strain) const;
     std::vector<double> mass;
     PressureSums sums;
 };

@@ -6,6 +6,7 @@
 #include "openmmdpd/DPDThermostatForces.h"
 #include "openmmdpd/LeesEdwardsBoundary.h"
 #include "openmmdpd/PressureTensor.h"
+#include "openmmdpd/ReferencePositionStrain.h"
 #include "openmmdpd/StepState.h"
 #include "openmm/internal/ContextImpl.h"
 #include "ReferencePlatform.h"
@@ -43,6 +44,8 @@ public:
      * pair impulses over dt) to `sink`, if not null (PressureTensorSampler).
      */
     void recordThermostatVirial(SymmetricTensor* sink) { thermostatVirial = sink; }
+    /** How the pressure tensor strains the positions. */
+    PositionStrain& positionStrain() { return strain; }
     /** The pair random numbers come from this seed from now on. */
     void setSeed(uint32_t seed) { thermostat.setSeed(seed); }
     void createCheckpoint(std::ostream& stream) const;
@@ -154,6 +157,7 @@ protected:
     DPDThermostatForces thermostat;
     CarriedForce carried;
     SymmetricTensor* thermostatVirial = nullptr;  // see recordThermostatVirial
+    ReferencePositionStrain strain;
     std::vector<OpenMM::Vec3>& force;  // carried.force
     std::vector<OpenMM::Vec3> conservative;
     mutable std::vector<double> workerSums;

@@ -9,6 +9,7 @@
 #include "openmmdpd/PairParameters.h"
 #include "openmmdpd/PairRandom.h"
 #include "openmmdpd/ReferencePairList.h"
+#include "openmmdpd/ReferencePositionStrain.h"
 #include "openmmdpd/StepState.h"
 #include "openmm/internal/ContextImpl.h"
 #include "ReferencePlatform.h"
@@ -39,6 +40,8 @@ public:
      * pair impulses over dt) to `sink`, if not null (PressureTensorSampler).
      */
     void recordThermostatVirial(SymmetricTensor* sink) { thermostatVirial = sink; }
+    /** How the pressure tensor strains the positions. */
+    PositionStrain& positionStrain() { return strain; }
     /** The pair random numbers come from this seed from now on. */
     void setSeed(uint32_t seed) { random = PairRandom(seed); }
     void createCheckpoint(std::ostream& stream) const;
@@ -95,6 +98,7 @@ protected:
     PairRandom random;
     CarriedForce carried;
     SymmetricTensor* thermostatVirial = nullptr;  // see recordThermostatVirial
+    ReferencePositionStrain strain;
 
 private:
     /** out[i] += f, out[j] -= f for a pair force f along e (and its virial, if asked for). */
