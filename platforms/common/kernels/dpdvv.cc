@@ -98,14 +98,22 @@ KERNEL void dpdvvPart1(int numAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* 
     }
 }
 
-/* DPD-VV (4): v <- v + dt/(2m) (FC + FR) + dt/(2m) FD, with carried[atom] = FC + FR already summed. */
-KERNEL void dpdvvPart2(int numAtoms, GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT atomIndex,
-        GLOBAL const mm_long* RESTRICT carried, GLOBAL const mm_long* RESTRICT fd, GLOBAL mixed4* RESTRICT velocity, mixed dt) {
+/* DPD-VV (4a): noDissipative[atom] = v + dt/(2m) (FC + FR), with carried[atom] = FC + FR already summed. */
+KERNEL void dpdvvPart2(int numAtoms, GLOBAL const mixed4* RESTRICT velm, GLOBAL const int* RESTRICT atomIndex,
+        GLOBAL const mm_long* RESTRICT carried, GLOBAL mixed4* RESTRICT noDissipative, mixed dt) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
-        mixed4 v = velm[k];
-        const mixed scale = (mixed) 0.5f*dt*v.w;
-        v = addScaledForce(addScaledForce(v, carried, a, numAtoms, scale), fd, a, numAtoms, scale);
+        const mixed4 v = velm[k];
+        noDissipative[a] = addScaledForce(v, carried, a, numAtoms, (mixed) 0.5f*dt*v.w);
+    }
+}
+
+/* DPD-VV (4b), and each iteration of SC-VV's: v <- noDissipative + dt/(2m) FD. */
+KERNEL void dpdvvDissipativeKick(int numAtoms, GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT atomIndex,
+        GLOBAL const mixed4* RESTRICT noDissipative, GLOBAL const mm_long* RESTRICT fd, GLOBAL mixed4* RESTRICT velocity, mixed dt) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
+        const int a = atomIndex[k];
+        const mixed4 v = addScaledForce(noDissipative[a], fd, a, numAtoms, (mixed) 0.5f*dt*velm[k].w);
         velm[k] = v;
         velocity[a] = v;
     }

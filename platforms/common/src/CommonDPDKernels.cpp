@@ -7,15 +7,8 @@
 using namespace DPDPlugin;
 using namespace OpenMM;
 
-void CommonIntegrateDPDVVStepKernel::refuseUnsupported(const System& system, const DPDVVIntegrator& integrator) {
-    if (integrator.getVariant() == DPDVVIntegrator::SelfConsistent)
-        throw OpenMMException("DPDVVIntegrator: the SelfConsistent variant is not supported on the " + getPlatform().getName() +
-                              " platform; use the Reference or CPU platform");
-    CommonDynamics::refuseUnsupported(system, integrator, getPlatform().getName());
-}
-
 void CommonIntegrateDPDVVStepKernel::initialize(const System& system, const DPDVVIntegrator& integrator) {
-    refuseUnsupported(system, integrator);
+    CommonDynamics::refuseUnsupported(system, integrator, getPlatform().getName());
     // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do the
     // same): until then the Context has no particle arrays.
     cc.initializeContexts();
@@ -24,7 +17,7 @@ void CommonIntegrateDPDVVStepKernel::initialize(const System& system, const DPDV
 }
 
 void CommonIntegrateDPDVVStepKernel::execute(ContextImpl& context, const DPDVVIntegrator& integrator) {
-    refuseUnsupported(context.getSystem(), integrator);
+    CommonDynamics::refuseUnsupported(context.getSystem(), integrator, getPlatform().getName());
     DynamicsStepKernel::execute(context, integrator);
 }
 

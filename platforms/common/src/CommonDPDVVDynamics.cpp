@@ -1,6 +1,8 @@
 #include "openmmdpd/CommonDPDVVDynamics.h"
 #include "CommonDPDKernelSources.h"
 #include "openmm/common/ContextSelector.h"
+#include "openmm/common/IntegrationUtilities.h"
+#include <cmath>
 
 using namespace DPDPlugin;
 using namespace OpenMM;
@@ -34,10 +36,15 @@ CommonDPDVVDynamics::CommonDPDVVDynamics(ComputeContext& cc, const System& syste
     dpdvv1->addArg();
     dpdvv1->addArg(status);
     dpdvv1->addArg(moveValue);
+    noDissipative.initialize(cc, std::max(n, 1), mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdNoDissipative");
     dpdvv2 = program->createKernel("dpdvvPart2");
     dpdvv2->addArg(n);
-    addArrayArgs(dpdvv2, {&cc.getVelm(), &cc.getAtomIndexArray(), &carriedForce, &fd, &velocity});
+    addArrayArgs(dpdvv2, {&cc.getVelm(), &cc.getAtomIndexArray(), &carriedForce, &noDissipative});
     dpdvv2->addArg();
+    dissipativeKick = program->createKernel("dpdvvDissipativeKick");
+    dissipativeKick->addArg(n);
+    addArrayArgs(dissipativeKick, {&cc.getVelm(), &cc.getAtomIndexArray(), &noDissipative, &fd, &velocity});
+    dissipativeKick->addArg();
     dpdvv3 = program->createKernel("dpdvvPart3");
     dpdvv3->addArg(n);
     addArrayArgs(dpdvv3, {&cc.getVelm(), &cc.getAtomIndexArray(), &fd, &carriedForce});
@@ -87,14 +94,37 @@ void CommonDPDVVDynamics::dpdvvStep(ContextImpl& context, const DPDVVIntegrator&
     setMixedArg(cc, dpdvv1, 7, dt);
     setMixedArg(cc, dpdvv1, 8, maxMove2());
     dpdvv1->execute(numAtoms());
-    // (3) FC(r), FD(r, v), FR(r);  (4) v <- v + dt/(2m) (FC + FR) + dt/(2m) FD;  (5) FD(r, v).
-    // The step's thermostat virial: FR's, and that of the FD carried into the next step.
+    // (3) FC(r), FD(r, v), FR(r);  (4a) v° <- v + dt/(2m) (FC + FR).  The step's thermostat
+    // virial: FR's, and that of the FD carried into the next step.
     conservativeForce(context, integrator.getIntegrationForceGroups());
     pairForces(next, dt, 3, true, 2);
     sumIntoCarried(false);
-    setMixedArg(cc, dpdvv2, 6, dt);
+    setMixedArg(cc, dpdvv2, 5, dt);
     dpdvv2->execute(numAtoms());
-    pairForces(next, dt, 1, false, 1);
+    dissipativeIterations(integrator, next);
     setMixedArg(cc, dpdvv3, 5, velocityBound());
     dpdvv3->execute(numAtoms());
+}
+
+void CommonDPDVVDynamics::dissipativeIterations(const DPDVVIntegrator& integrator, long long next) {
+    // (4b) v <- v° + dt/(2m) FD ; (5) FD <- FD(r, v), until the kinetic energy changes by
+    // less than the tolerance (relative), at most maxIterations times, for SC-VV.
+    const double dt = integrator.getStepSize();
+    const bool selfConsistent = (integrator.getVariant() == DPDVVIntegrator::SelfConsistent);
+    const int iterations = selfConsistent ? integrator.getMaxIterations() : 1;
+    setMixedArg(cc, dissipativeKick, 6, dt);
+    double previousKinetic = 0;
+    for (int it = 0; it < iterations; it++) {
+        dissipativeKick->execute(numAtoms());
+        pairForces(next, dt, 1, false, selfConsistent ? 0 : 1);
+        if (!selfConsistent)
+            return;
+        const double kinetic = cc.getIntegrationUtilities().computeKineticEnergy(0);
+        if (it > 0 && std::fabs(kinetic - previousKinetic) <= integrator.getTolerance() * kinetic)
+            break;
+        previousKinetic = kinetic;
+    }
+    // Only the last FD is carried into the next step: its virial, once more.
+    if (thermostatVirial != nullptr)
+        pairForces(next, dt, 1, false, 1);
 }

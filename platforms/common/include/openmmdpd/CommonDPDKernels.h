@@ -13,9 +13,9 @@
 namespace DPDPlugin {
 
 /**
- * DPDVVIntegrator on a ComputeContext (OpenCL, CUDA): Groot-Warren and DPD-VV.  The
- * SelfConsistent variant, and what CommonDynamics::refuseUnsupported names, raise an
- * OpenMMException naming the platform before anything changes.
+ * DPDVVIntegrator on a ComputeContext (OpenCL, CUDA): Groot-Warren, DPD-VV and SC-VV.  What
+ * CommonDynamics::refuseUnsupported names raises an OpenMMException naming the platform before
+ * anything changes.
  */
 class CommonIntegrateDPDVVStepKernel : public DynamicsStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, CommonDPDVVDynamics> {
 public:
@@ -28,7 +28,6 @@ protected:
     CommonDPDVVDynamics* createDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator) override;
 
 private:
-    void refuseUnsupported(const OpenMM::System& system, const DPDVVIntegrator& integrator);
     OpenMM::ComputeContext& cc;
 };
 

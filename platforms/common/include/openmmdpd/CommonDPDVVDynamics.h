@@ -7,8 +7,9 @@
 namespace DPDPlugin {
 
 /**
- * Groot-Warren (lambda) and DPD-VV on the device, step for step as ReferenceDPDVVDynamics
- * (kernels/dpdvv.cc).  The carried force is FC + FD + FR of the last evaluation.
+ * Groot-Warren (lambda), DPD-VV and SC-VV on the device, step for step as
+ * ReferenceDPDVVDynamics (kernels/dpdvv.cc).  The carried force is FC + FD + FR of the last
+ * evaluation.
  */
 class CommonDPDVVDynamics : public CommonDynamics {
 public:
@@ -19,7 +20,10 @@ public:
 private:
     void grootWarrenStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator, long long next);
     void dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator, long long next);
-    OpenMM::ComputeKernel grootWarren1, grootWarren2, dpdvv1, dpdvv2, dpdvv3;
+    /** DPD-VV's (4b) and (5), repeated by SC-VV until the kinetic energy settles (as the Reference's). */
+    void dissipativeIterations(const DPDVVIntegrator& integrator, long long next);
+    OpenMM::ComputeKernel grootWarren1, grootWarren2, dpdvv1, dpdvv2, dissipativeKick, dpdvv3;
+    OpenMM::ComputeArray noDissipative;  // by atom: the velocities of DPD-VV's (4a)
 };
 
 } // namespace DPDPlugin
