@@ -29,15 +29,15 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
         unsigned int stepLow, unsigned int stepHigh, int terms, GLOBAL mm_long* RESTRICT outD, GLOBAL mm_long* RESTRICT outR,
         mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
         GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int virialTerms, int paddedNumAtoms,
-        GLOBAL mixed* RESTRICT virial) {
+        GLOBAL mixed* RESTRICT virial, mixed imageVelocity) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         const mixed4 va = velocity[a];
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mm_long fd[3] = {0, 0, 0}, fr[3] = {0, 0, 0};
         mixed w[6] = {0, 0, 0, 0, 0, 0};
-        for (int n = 0; n < 27 && va.w != 0; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells);
+        for (int n = 0; n < NEIGHBOUR_SLOTS && va.w != 0; n++) {
+            const int cell = neighbourCell(atomCell[k], n, numCells, boxSize);
             if (cell < 0)
                 continue;
             for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
@@ -50,9 +50,8 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 const bool aIsLo = (a < b);
                 const mixed4 rLo = (aIsLo ? ra : rb), rHi = (aIsLo ? rb : ra);
                 const mixed4 vLo = (aIsLo ? va : vb), vHi = (aIsLo ? vb : va);
-                const mixed dx = nearestImage(rLo.x-rHi.x, boxSize.x, invBoxSize.x);
-                const mixed dy = nearestImage(rLo.y-rHi.y, boxSize.y, invBoxSize.y);
-                const mixed dz = nearestImage(rLo.z-rHi.z, boxSize.z, invBoxSize.z);
+                const mixed4 d = nearestDisplacement(rLo, rHi, boxSize, invBoxSize);
+                const mixed dx = d.x, dy = d.y, dz = d.z;
                 const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];  // friction, rc, s, rc^2
                 const mixed r2 = dx*dx+dy*dy+dz*dz;
                 if (r2 >= p.w || r2 == 0)
@@ -65,7 +64,9 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 const mm_long sign = (aIsLo ? 1 : -1);
                 mixed virialForce = 0;
                 if (terms & 1) {
-                    const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), ex*(vLo.x-vHi.x)+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
+                    // Under shear, hi's image moves at d.w U along x.
+                    const mixed vx = vLo.x-vHi.x-d.w*imageVelocity;
+                    const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), ex*vx+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
                     fd[0] += sign*toFixed(ex*f);
                     fd[1] += sign*toFixed(ey*f);
                     fd[2] += sign*toFixed(ez*f);

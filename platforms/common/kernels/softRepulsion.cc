@@ -22,8 +22,8 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
         const int a = atomIndex[k];
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mm_long f[3] = {0, 0, 0};
-        for (int n = 0; n < 27; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells);
+        for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
+            const int cell = neighbourCell(atomCell[k], n, numCells, boxSize);
             if (cell < 0)
                 continue;
             for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
@@ -33,9 +33,8 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
                     continue;
                 const mixed4 rb = loadPosition(posq, posqCorrection, k2);
                 const bool aIsLo = (a < b);
-                const mixed dx = nearestImage(aIsLo ? ra.x-rb.x : rb.x-ra.x, boxSize.x, invBoxSize.x);
-                const mixed dy = nearestImage(aIsLo ? ra.y-rb.y : rb.y-ra.y, boxSize.y, invBoxSize.y);
-                const mixed dz = nearestImage(aIsLo ? ra.z-rb.z : rb.z-ra.z, boxSize.z, invBoxSize.z);
+                const mixed4 d = (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize) : nearestDisplacement(rb, ra, boxSize, invBoxSize));
+                const mixed dx = d.x, dy = d.y, dz = d.z;
                 const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
                 const mixed r2 = dx*dx+dy*dy+dz*dz;
                 if (r2 >= p.w || r2 == 0)

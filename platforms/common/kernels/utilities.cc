@@ -1,7 +1,7 @@
 /*
  * What every openmm-dpd device program shares: positions (with the mixed-precision
  * correction), forces in 64-bit fixed point (OpenMM's scale, 2^32 per kJ/mol/nm), and the
- * nearest image in a rectangular box.
+ * nearest image in a rectangular box, or in one whose b is tilted along x (Lees-Edwards).
  */
 
 inline DEVICE mixed4 loadPosition(GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection, int k) {
@@ -43,6 +43,19 @@ inline DEVICE mixed4 addScaledForce(mixed4 v, GLOBAL const mm_long* RESTRICT for
 
 inline DEVICE mixed nearestImage(mixed d, mixed size, mixed invSize) {
     return d-floor(d*invSize+(mixed) 0.5f)*size;
+}
+
+/*
+ * r_a - r_b at its nearest image in the box (Lx, Ly, Lz) = boxSize.xyz whose b = (tilt, Ly, 0)
+ * has tilt = boxSize.w (Lees-Edwards: 0 without shear); w = the number of b taken off, whose
+ * image moves at w U along x under shear (docs/theory/lees-edwards.md).
+ */
+inline DEVICE mixed4 nearestDisplacement(mixed4 ra, mixed4 rb, mixed4 boxSize, mixed4 invBoxSize) {
+    const mixed dz = nearestImage(ra.z-rb.z, boxSize.z, invBoxSize.z);
+    const mixed images = floor((ra.y-rb.y)*invBoxSize.y+(mixed) 0.5f);
+    const mixed dy = ra.y-rb.y-images*boxSize.y;
+    const mixed dx = nearestImage(ra.x-rb.x-images*boxSize.w, boxSize.x, invBoxSize.x);
+    return make_mixed4(dx, dy, dz, images);
 }
 
 /*

@@ -154,16 +154,18 @@ CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const
     cellAtoms.initialize<int>(cc, n, "dpdCellAtoms");
     // Every argument is set at each build (the arrays are resized with the box).
     clearKernel = createKernelWithArgs(program, "clearCells", 2);
-    assignKernel = createKernelWithArgs(program, "assignCells", 6);
+    assignKernel = createKernelWithArgs(program, "assignCells", 7);
     fillKernel = createKernelWithArgs(program, "fillCells", 5);
 }
 
 void CommonCellList::build(double cutoff) {
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    if (box[1][0] != 0 || box[2][0] != 0 || box[2][1] != 0)
-        throw OpenMMException(owner + ": a triclinic periodic box is not supported; use the Reference or CPU platform");
+    if (box[2][0] != 0 || box[2][1] != 0)
+        throw OpenMMException(owner + ": a triclinic periodic box (but b tilted along x, as Lees-Edwards shear makes it) is not "
+                              "supported; use the Reference or CPU platform");
     requireCutoffFitsBox(owner, "the cutoff", cutoff, box);
+    tilt = box[1][0];
     int total = 1;
     for (int d = 0; d < 3; d++) {
         boxSize[d] = box[d][d];
@@ -172,6 +174,10 @@ void CommonCellList::build(double cutoff) {
         numCells[d] = std::max(1, (int) std::floor(box[d][d] / (cutoff * (1 + 1e-5))));
         total *= numCells[d];
     }
+    // A row across the tilted boundary is found by its neighbours above and below alike only with 3 rows or more.
+    if (tilt != 0 && numCells[1] < 3)
+        throw OpenMMException(owner + ": under Lees-Edwards shear the box height must be at least 3 cutoffs on this platform, got " +
+                              std::to_string(box[1][1]) + " nm for a cutoff of " + std::to_string(cutoff) + " nm");
     if (total != totalCells) {
         totalCells = total;
         if (!cellCount.isInitialized()) {
@@ -184,16 +190,17 @@ void CommonCellList::build(double cutoff) {
         }
     }
     const int n = cc.getNumAtoms();
-    const double inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
+    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], tilt}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
     clearKernel->setArg(0, total);
     clearKernel->setArg(1, cellCount);
     clearKernel->execute(total);
     assignKernel->setArg(0, n);
     assignKernel->setArg(1, cc.getPosq());
-    setMixed4Arg(cc, assignKernel, 2, inverse);
-    assignKernel->setArg(3, mm_int4(numCells[0], numCells[1], numCells[2], 0));
-    assignKernel->setArg(4, atomCell);
-    assignKernel->setArg(5, cellCount);
+    setMixed4Arg(cc, assignKernel, 2, size);
+    setMixed4Arg(cc, assignKernel, 3, inverse);
+    assignKernel->setArg(4, mm_int4(numCells[0], numCells[1], numCells[2], 0));
+    assignKernel->setArg(5, atomCell);
+    assignKernel->setArg(6, cellCount);
     assignKernel->execute(n);
     scan.execute(total, cellCount, cellStart);
     fillKernel->setArg(0, n);
@@ -205,7 +212,7 @@ void CommonCellList::build(double cutoff) {
 }
 
 void CommonCellList::setArgs(ComputeKernel& kernel, int first) {
-    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], 0}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
+    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], tilt}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
     setMixed4Arg(cc, kernel, first, size);
     setMixed4Arg(cc, kernel, first + 1, inverse);
     kernel->setArg(first + 2, mm_int4(numCells[0], numCells[1], numCells[2], 0));

@@ -3,6 +3,7 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
+#include "openmmdpd/internal/ForceTerms.h"
 #include <cmath>
 
 using namespace DPDPlugin;
@@ -13,6 +14,18 @@ namespace {
 [[noreturn]] void refuse(const DPDThermostatIntegrator& integrator, const std::string& platform, const std::string& what) {
     throw OpenMMException(std::string(integrator.className()) + ": " + what + " is not supported on the " + platform +
                           " platform; use the Reference or CPU platform");
+}
+
+/** The largest thermostat cutoff the integrator may use: its default's or a type pair's. */
+double largestCutoff(const DPDThermostatIntegrator& integrator) {
+    double largest = integrator.getDefaultCutoff();
+    for (int k = 0; k < integrator.getNumTypePairs(); k++) {
+        int type1, type2;
+        double friction, cutoff;
+        integrator.getTypePairParameters(k, type1, type2, friction, cutoff);
+        largest = std::max(largest, cutoff);
+    }
+    return largest;
 }
 
 } // namespace
@@ -29,6 +42,12 @@ void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostat
     for (int i = 0; i < system.getNumParticles(); i++)
         if (system.isVirtualSite(i))
             refuse(integrator, platform, "a System with virtual sites");
+    if (integrator.getShearRate() != 0 && b[1] < 3 * largestCutoff(integrator))
+        refuse(integrator, platform, "Lees-Edwards shear of a box less than 3 thermostat cutoffs high (" + std::to_string(b[1]) +
+               " nm against a cutoff of " + std::to_string(largestCutoff(integrator)) + " nm)");
+}
+
+void CommonDynamics::refuseShear(const DPDThermostatIntegrator& integrator, const std::string& platform) {
     if (integrator.getShearRate() != 0)
         refuse(integrator, platform, "Lees-Edwards shear (setShearRate)");
 }
@@ -46,7 +65,7 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     status.upload(std::vector<int>(4, 0));
     moveValue.initialize<float>(cc, 1, "dpdMoveValue");
     std::vector<std::string> sources = {CommonDPDKernelSources::philox, CommonDPDKernelSources::cellList,
-                                        CommonDPDKernelSources::positionStrain};
+                                        CommonDPDKernelSources::positionStrain, CommonDPDKernelSources::leesEdwards};
     if (withPairForces) {
         fd.initialize<long long>(cc, 3 * n, "dpdDissipativeForce");
         fr.initialize<long long>(cc, 3 * n, "dpdRandomForce");
@@ -62,10 +81,51 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     gatherKernel->addArg(cc.getVelm());
     gatherKernel->addArg(cc.getAtomIndexArray());
     gatherKernel->addArg(velocity);
+    createSlideKernels(system);
     if (withPairForces) {
         cells.reset(new CommonCellList(cc, program, name));
         createPairKernels();
     }
+}
+
+void CommonDynamics::createSlideKernels(const System& system) {
+    std::vector<int> start(1, 0), atoms;
+    for (const std::vector<int>& molecule : findMolecules(system)) {
+        atoms.insert(atoms.end(), molecule.begin(), molecule.end());
+        start.push_back((int) atoms.size());
+    }
+    uploadInts(cc, moleculeStart, start, "dpdMoleculeStart");
+    uploadInts(cc, moleculeAtoms, atoms, "dpdMoleculeAtoms");
+    slotOf.initialize<int>(cc, std::max(numAtoms(), 1), "dpdSlotOf");
+    findSlotsKernel = program->createKernel("findSlots");
+    findSlotsKernel->addArg(numAtoms());
+    addArrayArgs(findSlotsKernel, {&cc.getAtomIndexArray(), &slotOf});
+    ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
+    slideKernel = program->createKernel("slideMolecules");
+    slideKernel->addArg((int) start.size() - 1);
+    addArrayArgs(slideKernel, {&moleculeStart, &moleculeAtoms, &slotOf, &cc.getPosq(), &posqCorrection, &cc.getVelm(), &velocity});
+    for (int k = 0; k < 4; k++)
+        slideKernel->addArg();  // jumpAlso, the box, 1/Ly, U: set per call
+}
+
+void CommonDynamics::slide(double dt, bool jumpVelocity) {
+    const double rate = parameters.getShearRate();
+    if (rate == 0)
+        return;
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    const double Lx = box[0][0], Ly = box[1][1], U = rate * Ly;
+    // OpenMM's reduced form needs |offset| <= Lx/2; b and b - a give the same lattice.
+    const double offset = box[1][0] + U * dt;
+    box[1][0] = offset - Lx * std::round(offset / Lx);
+    cc.setPeriodicBoxVectors(box[0], box[1], box[2]);
+    findSlotsKernel->execute(numAtoms());
+    const double size[4] = {Lx, Ly, box[2][2], box[1][0]};
+    slideKernel->setArg(8, jumpVelocity ? 1 : 0);
+    setMixed4Arg(cc, slideKernel, 9, size);
+    setMixedArg(cc, slideKernel, 10, 1 / Ly);
+    setMixedArg(cc, slideKernel, 11, U);
+    slideKernel->execute(std::max((int) moleculeStart.getSize() - 1, 1));
 }
 
 void CommonDynamics::updateParameters(const System& system, const DPDThermostatIntegrator& integrator) {
@@ -120,6 +180,7 @@ void CommonDynamics::createPairKernels() {
     pairKernel->addArg();      // virialTerms: set per pass
     pairKernel->addArg(cc.getPaddedNumAtoms());
     pairKernel->addArg(virialRows);
+    pairKernel->addArg();      // the image velocity U of shear: set per pass
     sumKernel = program->createKernel("sumForces");
     sumKernel->addArg(numAtoms());
     sumKernel->addArg(cc.getPaddedNumAtoms());
@@ -160,6 +221,9 @@ void CommonDynamics::pairForces(long long step, double dt, int terms, bool rebui
     pairKernel->setArg(16, terms);
     cells->setArgs(pairKernel, 19);
     pairKernel->setArg(25, thermostatVirial != nullptr ? virialTerms : 0);
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    setMixedArg(cc, pairKernel, 28, parameters.getShearRate() * box[1][1]);
     pairKernel->execute(numAtoms());
 }
 

@@ -32,15 +32,16 @@ private:
 
 /**
  * A cell list on the device (kernels/cellList.cc), rebuilt at the current positions before
- * every pair pass: cells at least the cutoff wide in the rectangular periodic box.  A pair
- * kernel takes its six arguments (box size, inverse box size, cell counts, each slot's
- * cell, cell starts, slots by cell) last, set by setArgs.
+ * every pair pass: cells at least the cutoff wide in the periodic box, rectangular or with b
+ * tilted along x (Lees-Edwards shear; the tilt is the box size's fourth component).  A pair
+ * kernel takes its six arguments (box size, inverse box size, cell counts, each slot's cell,
+ * cell starts, slots by cell), set by setArgs.
  */
 class CommonCellList {
 public:
     /** @param program  a program compiled with kernels/cellList.cc; owner names the caller in errors */
     CommonCellList(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program, const std::string& owner);
-    /** Refuses (OpenMMException) a box that is not rectangular or too small for the cutoff. */
+    /** Refuses (OpenMMException) a box tilted otherwise, or too small for the cutoff. */
     void build(double cutoff);
     /** Set the cell-list arguments of a pair kernel, from argument index `first` on. */
     void setArgs(OpenMM::ComputeKernel& kernel, int first);
@@ -51,7 +52,7 @@ private:
     OpenMM::ComputeKernel clearKernel, assignKernel, fillKernel;
     CommonCellScan scan;
     OpenMM::ComputeArray atomCell, cellCount, cellStart, cellAtoms;
-    double boxSize[3], invBoxSize[3];
+    double boxSize[3], invBoxSize[3], tilt = 0;
     int numCells[3], totalCells = 0;
 };
 

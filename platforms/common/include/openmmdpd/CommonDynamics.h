@@ -53,10 +53,13 @@ public:
     void resetState();
     /**
      * Throws an OpenMMException, naming the platform, for what the device path does not do
-     * (Lees-Edwards shear, constraints, virtual sites, a non-periodic System); called before
-     * a Context is made and before every step, so nothing has changed.
+     * (constraints, virtual sites, a non-periodic System, a box under shear less than 3
+     * cutoffs high); called before a Context is made and before every step, so nothing has
+     * changed.
      */
     static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform);
+    /** The same for Lees-Edwards shear, for the update rules that do not shear on the device. */
+    static void refuseShear(const DPDThermostatIntegrator& integrator, const std::string& platform);
 
 protected:
     /** Whether the carried force holds for the Context's state (see CarriedForce). */
@@ -83,6 +86,12 @@ protected:
     bool clearVirialRows(int rows);
     /** The recorded thermostat virial += scale times the sum of virialRows' `rows` rows. */
     void addVirialRows(int rows, double scale);
+    /**
+     * Under shear, after a drift of duration dt: slide the box and bring the molecules that
+     * crossed back, with their velocity jumps (also in `velocity`, with jumpVelocity), as
+     * LeesEdwardsBoundary::slide (kernels/leesEdwards.cc).
+     */
+    void slide(double dt, bool jumpVelocity);
     /** carried = FC + FR (+ FD): the sums of the current pass. */
     void sumIntoCarried(bool withDissipative);
     /**
@@ -110,10 +119,12 @@ protected:
     std::unique_ptr<CommonCellList> cells;  // with pair forces only, as fd, fr, pairKernel and sumKernel
     OpenMM::ComputeArray atomType, typeParams, exceptionStart, exceptionPartner, exceptionFactor, velocity, fd, fr, carriedForce, status,
             moveValue, virialRows;
-    OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel;
+    OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel, findSlotsKernel, slideKernel;
+    OpenMM::ComputeArray moleculeStart, moleculeAtoms, slotOf;  // for the sliding boundaries
 
 private:
     void uploadParameters();
+    void createSlideKernels(const OpenMM::System& system);
     void createPairKernels();
 };
 
