@@ -11,11 +11,15 @@ KERNEL void clearCells(int numCells, GLOBAL int* RESTRICT cellCount) {
         cellCount[c] = 0;
 }
 
-inline DEVICE int cellAlong(mixed x, mixed invSize, int n) {
-    mixed f = x*invSize;
+/* The cell of n along an axis that holds the fractional coordinate f (taken modulo 1). */
+inline DEVICE int cellOfFraction(mixed f, int n) {
     f -= floor(f);
     const int c = (int) (f*n);
     return (c < 0 ? 0 : (c >= n ? n-1 : c));  // also keeps a non-finite position inside the arrays
+}
+
+inline DEVICE int cellAlong(mixed x, mixed invSize, int n) {
+    return cellOfFraction(x*invSize, n);
 }
 
 KERNEL void assignCells(int numAtoms, GLOBAL const real4* RESTRICT posq, mixed4 boxSize, mixed4 invBoxSize, int4 numCells,

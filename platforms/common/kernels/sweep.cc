@@ -11,6 +11,10 @@
  * Everything here is indexed by atom: position[a] at the sweep, velocity[a] = (v, 1/m)
  * (1/m = 0: a particle the thermostat leaves alone), cellAtoms sorted by atom index.
  *
+ * Under Lees-Edwards shear the box's b = (tilt, Ly, 0) (tilt = boxSize.w) and the grid is the
+ * Reference's, in fractional coordinates: s_x = x/Lx + y invBoxSize.w, invBoxSize.w =
+ * -tilt/(Lx Ly); a pair across the y boundary sees its partner's image move at n U.
+ *
  * For the pressure tensor, a sweep can also add the virial r J e e^T of the impulse J each
  * pair receives to the row of the work item that swept it (6 components virialStride apart).
  */
@@ -22,7 +26,7 @@ KERNEL void sweepAssign(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL 
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         const mixed4 r = loadPosition(posq, posqCorrection, k);
-        const int c = cellAlong(r.x, invBoxSize.x, numCells.x) +
+        const int c = cellOfFraction(invBoxSize.x*r.x+invBoxSize.w*r.y, numCells.x) +
                 numCells.x*(cellAlong(r.y, invBoxSize.y, numCells.y) + numCells.y*cellAlong(r.z, invBoxSize.z, numCells.z));
         position[a] = r;
         atomCell[a] = c;
@@ -82,11 +86,16 @@ inline DEVICE int sweepNeighbours(int cell, int4 n, bool halfShell, int* out) {
 
 typedef struct {
     int rule;
-    mixed h, kT;
+    mixed h, kT, imageVelocity;  /* U under shear */
     unsigned int seed, stream, stepLow, stepHigh;
     int partner;  /* xi the partner of the key's Box-Muller number (boxMullerPartner) */
     int virial;   /* whether to add the pairs' impulse virials */
 } SweepRule;
+
+/* The relative velocity along e of i and the image of j, which moves at images U along x. */
+inline DEVICE mixed normalVelocity(mixed4 vi, mixed4 vj, mixed ex, mixed ey, mixed ez, mixed imagesU) {
+    return ex*(vi.x-vj.x-imagesU)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
+}
 
 /* The impulse J along e on the pair: v_i += J/m_i e, v_j -= J/m_j e (FreePairImpulse). */
 inline DEVICE void applyImpulse(mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixed ez, mixed J) {
@@ -100,13 +109,13 @@ inline DEVICE void applyImpulse(mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixe
 }
 
 /*
- * One pair (i, j) at d = r_i - r_j: the rule's update of both velocities in place
+ * One pair (i, j) at d = r_i - r_j (d.w: the images of b taken off): the rule's update of both velocities in place
  * (ShardlowPairUpdate, LowePairUpdate, PairOrnsteinUhlenbeckUpdate).  p: the type pair's
  * (friction or collision rate, rc, weight exponent s, rc^2); f: the pair's thermostat factor
  * (0: the pair is left alone).  The virial of the impulse is added to `virial` (if s.virial).
  */
-inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixed dz, mixed4 p, mixed f, GLOBAL mixed4* RESTRICT velocity,
-        mixed* virial) {
+inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed4 d, mixed4 p, mixed f, GLOBAL mixed4* RESTRICT velocity, mixed* virial) {
+    const mixed dx = d.x, dy = d.y, dz = d.z;
     const mixed r2 = dx*dx+dy*dy+dz*dz;
     if (r2 >= p.w || r2 == 0 || f == 0)
         return;
@@ -122,14 +131,15 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed dx, mixed dy, mixe
     const mixed mu = 1/(vi.w+vj.w);
     const mixed gamma = 2*p.x*mu*f;  // 2 mu friction f
     const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
-    mixed u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
+    const mixed imagesU = d.w*s.imageVelocity;
+    mixed u = normalVelocity(vi, vj, ex, ey, ez, imagesU);
     mixed J;
     if (s.rule == SWEEP_SHARDLOW) {
         const mixed noise = pairNoiseAmplitude(gamma, s.kT)*wR*xi*sqrt(s.h);
         const mixed friction = gamma*pairDissipativeWeight(wR)*s.h;
         J = shardlowExplicitHalf(noise, friction, u);
         applyImpulse(&vi, &vj, ex, ey, ez, J);
-        u = ex*(vi.x-vj.x)+ey*(vi.y-vj.y)+ez*(vi.z-vj.z);
+        u = normalVelocity(vi, vj, ex, ey, ez, imagesU);
         const mixed J2 = shardlowImplicitHalf(noise, friction, mu, u);
         applyImpulse(&vi, &vj, ex, ey, ez, J2);
         J += J2;
@@ -170,8 +180,7 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
             for (int t = 0; t < end-begin; t++) {
                 const int j = cellAtoms[reverse ? end-1-t : begin+t];
                 const mixed4 rj = position[j];
-                sweepPair(s, i, j, nearestImage(ri.x-rj.x, boxSize.x, invBoxSize.x), nearestImage(ri.y-rj.y, boxSize.y, invBoxSize.y),
-                          nearestImage(ri.z-rj.z, boxSize.z, invBoxSize.z), typeParams[atomType[i]*numTypes+atomType[j]],
+                sweepPair(s, i, j, nearestDisplacement(ri, rj, boxSize, invBoxSize), typeParams[atomType[i]*numTypes+atomType[j]],
                           thermostatFactor(i, j, exceptionStart, exceptionPartner, exceptionFactor), velocity, virial);
             }
         }
@@ -187,7 +196,7 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
         GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed4 boxSize,
         mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int partner,
         GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor,
-        int virial, int virialStride, GLOBAL mixed* RESTRICT virialRows) {
+        int virial, int virialStride, GLOBAL mixed* RESTRICT virialRows, mixed imageVelocity) {
     SweepRule s;
     s.rule = rule;
     s.h = h;
@@ -198,6 +207,7 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
     s.stepHigh = stepHigh;
     s.partner = partner;
     s.virial = virial;
+    s.imageVelocity = imageVelocity;
     mixed w[6] = {0, 0, 0, 0, 0, 0};
     if (colour < 0) {
         const int total = numCells.x*numCells.y*numCells.z;

@@ -47,10 +47,6 @@ void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostat
                " nm against a cutoff of " + std::to_string(largestCutoff(integrator)) + " nm)");
 }
 
-void CommonDynamics::refuseShear(const DPDThermostatIntegrator& integrator, const std::string& platform) {
-    if (integrator.getShearRate() != 0)
-        refuse(integrator, platform, "Lees-Edwards shear (setShearRate)");
-}
 
 CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
                                const std::string& platform, const std::vector<std::string>& ruleSources, bool withPairForces) :

@@ -21,7 +21,7 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
             {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
-            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 26}}, {&scatterKernel, {"scatterVelocities", 6}},
+            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 27}}, {&scatterKernel, {"scatterVelocities", 6}},
             {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels)
         *k.first = createKernelWithArgs(program, k.second.first, k.second.second);
@@ -60,6 +60,8 @@ void CommonSweepDynamics::kickDrift(double kick, double drift) {
     setMixedArg(cc, kickDriftKernel, 7, drift);
     setMixedArg(cc, kickDriftKernel, 8, maxMove2());
     kickDriftKernel->execute(numAtoms());
+    if (drift != 0)
+        slide(drift, false);  // the sweeps gather the velocities afresh
 }
 
 void CommonSweepDynamics::takeConservativeForce(ContextImpl& context, int forceGroups, double kick) {
@@ -90,6 +92,9 @@ void CommonSweepDynamics::buildGrid() {
         invBoxSize[k] = rows[k][k];
         total *= numCells[k];
     }
+    // Under shear: b = (tilt, Ly, 0), and the fractional x takes y's share, rows[0][1].
+    boxSize[3] = box[1][0];
+    invBoxSize[3] = rows[0][1];
     if (total != totalCells) {
         if (!cellCount.isInitialized()) {
             cellCount.initialize<int>(cc, total, "dpdSweepCellCount");
@@ -101,7 +106,7 @@ void CommonSweepDynamics::buildGrid() {
         }
         totalCells = total;
     }
-    const double inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
+    const double inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], invBoxSize[3]};
     const mm_int4 cells(numCells[0], numCells[1], numCells[2], 0);
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     clearKernel->setArg(0, total);
@@ -125,7 +130,8 @@ void CommonSweepDynamics::buildGrid() {
 void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stream stream, long long step, bool reverse, bool partner) {
     gatherVelocities();
     buildGrid();
-    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], 0}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
+    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], boxSize[3]},
+                 inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], invBoxSize[3]};
     colourKernel->setArg(1, reverse ? 1 : 0);
     colourKernel->setArg(2, (int) rule);
     setMixedArg(cc, colourKernel, 3, h);
@@ -151,6 +157,7 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
     colourKernel->setArg(23, virial ? 1 : 0);
     colourKernel->setArg(24, rows);
     colourKernel->setArg(25, virialRows);
+    setMixedArg(cc, colourKernel, 26, parameters.getShearRate() * boxSize[1]);
     for (int k = 0; k < (coloured ? 27 : 1); k++) {
         colourKernel->setArg(0, coloured ? (reverse ? 26 - k : k) : -1);
         colourKernel->execute(rows);

@@ -42,14 +42,12 @@ public:
     CommonSweepStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
             DynamicsStepKernel<Interface, Integrator, Dynamics>(name, platform), cc(cc) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
-        CommonDynamics::refuseShear(integrator, this->getPlatform().getName());
         CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName());
         cc.initializeContexts();  // as CommonIntegrateDPDVVStepKernel::initialize
         OpenMM::ContextSelector selector(cc);
         DynamicsStepKernel<Interface, Integrator, Dynamics>::initialize(system, integrator);
     }
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
-        CommonDynamics::refuseShear(integrator, this->getPlatform().getName());
         CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName());
         DynamicsStepKernel<Interface, Integrator, Dynamics>::execute(context, integrator);
     }

@@ -58,8 +58,6 @@ public:
      * changed.
      */
     static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform);
-    /** The same for Lees-Edwards shear, for the update rules that do not shear on the device. */
-    static void refuseShear(const DPDThermostatIntegrator& integrator, const std::string& platform);
 
 protected:
     /** Whether the carried force holds for the Context's state (see CarriedForce). */

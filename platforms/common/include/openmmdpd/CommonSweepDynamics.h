@@ -25,7 +25,7 @@ protected:
     void ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r) ; v += dt/2m F. */
     void velocityVerlet(OpenMM::ContextImpl& context, int forceGroups, double dt);
-    /** v += kick/m F ; r += drift v (F the carried force); flags a position that blew up. */
+    /** v += kick/m F ; r += drift v (F the carried force), then the sliding boundaries; flags a position that blew up. */
     void kickDrift(double kick, double drift);
     /** F <- FC(r) at the current positions; then v += kick/m F unless kick is 0. */
     void takeConservativeForce(OpenMM::ContextImpl& context, int forceGroups, double kick);
@@ -46,7 +46,7 @@ private:
             conservativeKernel;
     OpenMM::ComputeArray position, atomCell, cellCount, cellStart, cellAtoms;
     int numCells[3] = {0, 0, 0}, totalCells = 0;
-    double boxSize[3], invBoxSize[3];
+    double boxSize[4], invBoxSize[4];  // the fourth: under shear, b's tilt and rows[0][1] (buildGrid)
 };
 
 /** Shardlow's S1 and S2 (ShardlowIntegrator) on the device. */
