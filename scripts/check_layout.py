@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """The layout rules anyone can check: no platform code finds out which integrator
-it was given by casting, no function in platforms/ is longer than 70 lines, and the
+it was given by casting, no function in platforms/ is longer than 70 lines, the
 pair formulas (the weights wR = 1 - r/rc and wD, and the noise amplitude sqrt(2 gamma kT))
-are written only in PairFormulas.h, which the host and the GPU kernels both compile.
+are written only in PairFormulas.h, which the host and the GPU kernels both compile, and
+nothing that a GPU build links (platforms/core, platforms/common) reads the Reference
+platform's data.
 
     /usr/bin/python3 scripts/check_layout.py        # exit status 1 and a list if broken
 
@@ -19,6 +21,8 @@ CAST = re.compile(r"dynamic_cast<const .*Integrator")
 FORMULAS = "PairFormulas.h"
 # A weight or noise amplitude written out again: 1 - r/rc, wR * wR, sqrt(2 gamma kT).
 FORMULA_COPY = re.compile(r"\b1\s*-\s*r\s*/|\bwR\s*\*\s*wR\b|sqrt\(\s*2\s*\*\s*gamma")
+REFERENCE_DATA = re.compile(r'#include\s+"Reference|ReferencePlatform::PlatformData')
+DEVICE_LINKED = ("core", "common")
 
 
 def strip(text):
@@ -58,10 +62,13 @@ def main():
                 problems.append(f"{rel}:{n}: casts an integrator: {line.strip()}")
             if path.name != FORMULAS and FORMULA_COPY.search(code[n - 1]):
                 problems.append(f"{rel}:{n}: writes a pair formula of {FORMULAS} again: {line.strip()}")
+            if rel.parts[1] in DEVICE_LINKED and REFERENCE_DATA.search(line):
+                problems.append(f"{rel}:{n}: reads the Reference platform's data, which a GPU build does not have: {line.strip()}")
         for start, length in long_functions(path):
             problems.append(f"{rel}:{start}: a function of {length} lines (limit {MAX_LINES})")
     print("\n".join(problems) if problems else
-          f"layout: no integrator casts, no function over 70 lines, no pair formula outside {FORMULAS} in platforms/")
+          f"layout: no integrator casts, no function over 70 lines, no pair formula outside {FORMULAS} in platforms/, "
+          "no Reference platform data in what a GPU build links")
     return 1 if problems else 0
 
 
