@@ -1,6 +1,8 @@
-// The OpenCL platform's kernels (platforms/common) against the Reference platform and the host's
-// PairRandom.  OpenCL runs on the CPU here (POCL), in single precision unless a test asks for
-// mixed; each Context compiles OpenMM's programs and ours (seconds), so the tests share few.
+// The GPU platforms' kernels (platforms/common) against the Reference platform and the host's
+// PairRandom, on OpenCL (TestDPDOpenCL; POCL runs it on the CPU here) or CUDA (TestDPDCUDA,
+// built with OPENMMDPD_BUILD_CUDA_TESTS for scripts/gpu-check.sh), in single precision unless a
+// test asks for mixed; each Context compiles OpenMM's programs and ours (seconds), so the tests
+// share few.
 //
 // Tolerance: a position or velocity on the device is a float (6e-8 relative); a step adds the
 // rounding of ~20 pair terms in float before the fixed-point sum, so after 3 steps the device
@@ -18,15 +20,25 @@
 #include "openmm/VerletIntegrator.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/internal/ContextImpl.h"
+#if OPENMMDPD_TEST_CUDA
+#include "openmmdpd/CudaDPDKernelFactory.h"
+#else
 #include "openmmdpd/OpenCLDPDKernelFactory.h"
+#endif
 
 using namespace DPDPlugin;
 
 namespace {
 
-bool haveOpenCL() {
+#if OPENMMDPD_TEST_CUDA
+const std::string GPU = "CUDA";
+#else
+const std::string GPU = "OpenCL";
+#endif
+
+bool haveDevice() {
     try {
-        Platform::getPlatformByName("OpenCL");
+        Platform::getPlatformByName(GPU);
         return true;
     }
     catch (const OpenMMException&) {
@@ -34,9 +46,9 @@ bool haveOpenCL() {
     }
 }
 
-#define REQUIRE_OPENCL() \
-    if (!haveOpenCL()) \
-        GTEST_SKIP() << "OpenMM has no OpenCL platform here"
+#define REQUIRE_DEVICE() \
+    if (!haveDevice()) \
+        GTEST_SKIP() << "OpenMM has no " << GPU << " platform here"
 
 // Reaches the ContextImpl of a Context (Force's protected accessor), for the device's ComputeContext.
 class ContextAccess : public Force {
@@ -50,7 +62,11 @@ protected:
 
 ComputeContext& computeContext(Context& context) {
     ContextAccess access;
+#if OPENMMDPD_TEST_CUDA
+    return getCudaComputeContext(access.of(context));
+#else
     return getOpenCLComputeContext(access.of(context));
+#endif
 }
 
 // A soft DPD fluid of two particle types with their own type pairs, mixed masses and a few exclusions.
@@ -102,11 +118,11 @@ Vec3 momentum(System& system, const State& state) {
 } // namespace
 
 TEST(GpuPlatform, PhiloxWordsEqualTheHostsBitForBit) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeFluid(8, 0, positions));
     VerletIntegrator integrator(0.001);
-    Context context(*system, integrator, Platform::getPlatformByName("OpenCL"));
+    Context context(*system, integrator, Platform::getPlatformByName(GPU));
     std::vector<PairRandomKey> keys;
     std::mt19937 rng(3);
     for (int k = 0; k < 500; k++)
@@ -127,12 +143,12 @@ TEST(GpuPlatform, PhiloxWordsEqualTheHostsBitForBit) {
 }
 
 TEST(GpuPlatform, SoftRepulsionForceEqualsReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(600, positions));
     VerletIntegrator a(0.001), b(0.001);
     Context reference(*system, a, Platform::getPlatformByName("Reference"));
-    Context device(*system, b, Platform::getPlatformByName("OpenCL"));
+    Context device(*system, b, Platform::getPlatformByName(GPU));
     reference.setPositions(positions);
     device.setPositions(positions);
     const State expected = reference.getState(State::Forces | State::Energy);
@@ -145,7 +161,7 @@ TEST(GpuPlatform, SoftRepulsionForceEqualsReference) {
 // The box that Lees-Edwards shear makes, b = (tilt, Ly, 0), at tilts up to OpenMM's Lx/2: the
 // rows across the y boundary are found shifted along x (kernels/cellList.cc).
 TEST(GpuPlatform, SoftRepulsionForceEqualsReferenceInATiltedBox) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(600, positions));
     Vec3 a, b, c;
@@ -153,7 +169,7 @@ TEST(GpuPlatform, SoftRepulsionForceEqualsReferenceInATiltedBox) {
     for (double tilt : {0.3, 1.7, -2.6, 2.65}) {
         VerletIntegrator first(0.001), second(0.001);
         Context reference(*system, first, Platform::getPlatformByName("Reference"));
-        Context device(*system, second, Platform::getPlatformByName("OpenCL"));
+        Context device(*system, second, Platform::getPlatformByName(GPU));
         for (Context* context : {&reference, &device}) {
             context->setPeriodicBoxVectors(a, Vec3(tilt, b[1], 0), c);
             context->setPositions(positions);
@@ -203,11 +219,11 @@ std::vector<Run> runSteps(System& system, const std::vector<Vec3>& positions, co
     return runs;
 }
 
-// Steps 1 and 3 on OpenCL equal the Reference's within 2e-5 relative (see the tolerance note above).
+// Steps 1 and 3 on the device equal the Reference's within 2e-5 relative (see the tolerance note above).
 void expectFollowsReference(System& system, const std::vector<Vec3>& positions, const MakeIntegrator& make, const std::string& label,
                             const std::map<std::string, std::string>& properties = {}) {
     const std::vector<Run> expected = runSteps(system, positions, make, "Reference", {});
-    const std::vector<Run> actual = runSteps(system, positions, make, "OpenCL", properties);
+    const std::vector<Run> actual = runSteps(system, positions, make, GPU, properties);
     Vec3 a, b, c;
     system.getDefaultPeriodicBoxVectors(a, b, c);
     for (int k = 0; k < 2; k++) {
@@ -238,12 +254,12 @@ void expectFollowsReference(const MakeIntegrator& make, int n, const std::string
 } // namespace
 
 TEST(GpuPlatform, GrootWarrenFollowsReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     expectFollowsReference(dpdvv(DPDVVIntegrator::GrootWarren), 600, "GW");
 }
 
 TEST(GpuPlatform, DPDVVFollowsReferenceInSingleAndMixedPrecision) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     expectFollowsReference(dpdvv(DPDVVIntegrator::DPDVV), 600, "DPD-VV");
     expectFollowsReference(dpdvv(DPDVVIntegrator::DPDVV), 600, "DPD-VV mixed precision", {{"Precision", "mixed"}});
 }
@@ -252,21 +268,21 @@ TEST(GpuPlatform, DPDVVFollowsReferenceInSingleAndMixedPrecision) {
 // sum may stop an iteration earlier or later than the Reference's, which moves the velocities
 // by about that much, well inside the 2e-5.
 TEST(GpuPlatform, SelfConsistentFollowsReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     expectFollowsReference(dpdvv(DPDVVIntegrator::SelfConsistent), 600, "SC-VV");
     expectFollowsReference(dpdvv(DPDVVIntegrator::SelfConsistent), 600, "SC-VV mixed precision", {{"Precision", "mixed"}});
 }
 
 TEST(GpuPlatform, MomentumSeedsAndCheckpoints) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(600, positions));
     for (DPDVVIntegrator::Variant variant : {DPDVVIntegrator::GrootWarren, DPDVVIntegrator::DPDVV, DPDVVIntegrator::SelfConsistent}) {
         DPDVVIntegrator first(KT_KELVIN, 4.5, 1.0, 0.02), second(KT_KELVIN, 4.5, 1.0, 0.02);
         configure(first, variant);
         configure(second, variant);
-        std::unique_ptr<Context> a = makeContext(*system, first, "OpenCL", positions);
-        std::unique_ptr<Context> b = makeContext(*system, second, "OpenCL", positions);
+        std::unique_ptr<Context> a = makeContext(*system, first, GPU, positions);
+        std::unique_ptr<Context> b = makeContext(*system, second, GPU, positions);
         const Vec3 p0 = momentum(*system, a->getState(State::Velocities));
         first.step(5);
         second.step(5);
@@ -278,7 +294,7 @@ TEST(GpuPlatform, MomentumSeedsAndCheckpoints) {
             ASSERT_EQ(sa.getPositions()[i], sb.getPositions()[i]) << "one seed, two runs: particle " << i;
             ASSERT_EQ(sa.getVelocities()[i], sb.getVelocities()[i]) << "one seed, two runs: particle " << i;
         }
-        expectCheckpointContinuesBitForBit(*a, first, "OpenCL variant " + std::to_string(variant));
+        expectCheckpointContinuesBitForBit(*a, first, GPU + " variant " + std::to_string(variant));
         // A byte flipped anywhere is refused, and loadCheckpoint leaves the Context as it was.
         std::stringstream checkpoint;
         a->createCheckpoint(checkpoint);
@@ -298,11 +314,11 @@ TEST(GpuPlatform, MomentumSeedsAndCheckpoints) {
 }
 
 TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(100, positions));
     DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.02);
-    std::unique_ptr<Context> context = makeContext(*system, integrator, "OpenCL", positions);
+    std::unique_ptr<Context> context = makeContext(*system, integrator, GPU, positions);
     integrator.step(1);
     const State before = context->getState(State::Positions);
     integrator.setShearRate(0.1);
@@ -312,10 +328,10 @@ TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
     EXPECT_EQ(context->getState(0).getStepCount(), 1);
     system->addConstraint(0, 1, 0.5);
     DPDVVIntegrator constrained(KT_KELVIN, 4.5, 1.0, 0.02);
-    expectErrorNaming([&] { makeContext(*system, constrained, "OpenCL", positions); }, "constraints is not supported on the OpenCL");
-    // An integrator with no OpenCL kernels: OpenMM's own refusal, when the Context is made.
+    expectErrorNaming([&] { makeContext(*system, constrained, GPU, positions); }, "constraints is not supported on the " + GPU);
+    // An integrator with no device kernels: OpenMM's own refusal, when the Context is made.
     EDPDIntegrator edpd(KT_KELVIN, 4.5, 1.0, 1.0, 0.02);
-    expectErrorNaming([&] { makeContext(*system, edpd, "OpenCL", positions); }, "does not support all required kernels");
+    expectErrorNaming([&] { makeContext(*system, edpd, GPU, positions); }, "does not support all required kernels");
 }
 
 namespace {
@@ -353,8 +369,8 @@ void expectSweepMomentumSeedsAndCheckpoints(const MakeIntegrator& make, const st
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(900, positions));
     std::unique_ptr<DPDThermostatIntegrator> first = make(900), second = make(900);
-    std::unique_ptr<Context> a = makeContext(*system, *first, "OpenCL", positions);
-    std::unique_ptr<Context> b = makeContext(*system, *second, "OpenCL", positions);
+    std::unique_ptr<Context> a = makeContext(*system, *first, GPU, positions);
+    std::unique_ptr<Context> b = makeContext(*system, *second, GPU, positions);
     const Vec3 p0 = momentum(*system, a->getState(State::Velocities));
     first->step(5);
     second->step(5);
@@ -369,13 +385,13 @@ void expectSweepMomentumSeedsAndCheckpoints(const MakeIntegrator& make, const st
         ASSERT_EQ(sa.getPositions()[i], sb.getPositions()[i]) << label << ": one seed, two runs: particle " << i;
         ASSERT_EQ(sa.getVelocities()[i], sb.getVelocities()[i]) << label << ": one seed, two runs: particle " << i;
     }
-    expectCheckpointContinuesBitForBit(*a, *first, "OpenCL " + label);
+    expectCheckpointContinuesBitForBit(*a, *first, GPU + " " + label);
 }
 
 } // namespace
 
 TEST(GpuPlatform, ShardlowFollowsReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     expectFollowsReference(shardlow(1), 900, "S1");
     expectFollowsReference(shardlow(2), 900, "S2");
     expectFollowsReference(shardlow(2), 900, "S2 mixed precision", {{"Precision", "mixed"}});
@@ -383,7 +399,7 @@ TEST(GpuPlatform, ShardlowFollowsReference) {
 }
 
 TEST(GpuPlatform, LoweAndersenFollowsReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     expectFollowsReference(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet), 900, "Lowe");
     expectFollowsReference(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::AfterVerlet), 900,
                                 "pair OU");
@@ -420,7 +436,7 @@ MakeIntegrator withExceptions(const MakeIntegrator& make) {
 } // namespace
 
 TEST(GpuPlatform, ThermostatExceptionsFollowReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     expectFollowsReference(withExceptions(dpdvv(DPDVVIntegrator::GrootWarren)), 600, "GW, exceptions");
     expectFollowsReference(withExceptions(shardlow(2)), 900, "S2, exceptions");
     expectFollowsReference(withExceptions(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet)), 900,
@@ -432,7 +448,7 @@ TEST(GpuPlatform, ThermostatExceptionsFollowReference) {
 TEST(GpuPlatform, WeightExponentsFollowReference) {
     // In mixed precision: single precision's pow (under OpenMM's fast math) leaves the
     // Reference's trajectory faster than the tolerance allows over 3 steps.
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     const std::map<std::string, std::string> mixed = {{"Precision", "mixed"}};
     expectFollowsReference(withWeightExponents(dpdvv(DPDVVIntegrator::GrootWarren)), 600, "GW, s = 1", mixed);
     expectFollowsReference(withWeightExponents(shardlow(2)), 900, "S2, s = 1 and 1.5", mixed);
@@ -445,7 +461,7 @@ TEST(GpuPlatform, WeightExponentsFollowReference) {
 // particles sit in 40 clumps of 25, 0 to ~10 to a cell.  A wrong cell start loses or repeats
 // pairs, and the trajectory leaves the Reference's.
 TEST(GpuPlatform, SparseClumpedCellsFollowReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(1000, positions));
     const double box = 27.0;
@@ -487,14 +503,14 @@ std::string blowUpReport(Integrator& integrator) {
 // 10-20 nm and one at 1800 kT (threshold 40 kT) stop step 3 with the Reference's report, and the
 // step count stays 2.
 TEST(GpuPlatform, BlowUpsStopTheStepTheyHappenInAsOnReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(600, positions));
     for (const MakeIntegrator& make : {dpdvv(DPDVVIntegrator::GrootWarren),
                                        loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle)}) {
         std::unique_ptr<DPDThermostatIntegrator> reference = make(600), device = make(600);
         std::unique_ptr<Context> onReference = makeContext(*system, *reference, "Reference", positions);
-        std::unique_ptr<Context> onDevice = makeContext(*system, *device, "OpenCL", positions);
+        std::unique_ptr<Context> onDevice = makeContext(*system, *device, GPU, positions);
         const State start = onReference->getState(State::Positions | State::Velocities);
         for (double speed : {std::nan(""), 1e30, 1000.0, 60.0}) {
             std::vector<std::string> reports;
@@ -548,7 +564,7 @@ System* makeBondedSoftSystem(int n, std::vector<Vec3>& positions) {
 }
 
 /*
- * One integrator's pressure tensor parts on OpenCL against the Reference's, on the bonded soft
+ * One integrator's pressure tensor parts on the device against the Reference's, on the bonded soft
  * fluid of n particles: the conservative part takes both the soft force's exact pair virial
  * and the strain derivative of the springs' energy.  Each part's components agree within 1e-4
  * of the part's largest component: one step of a float trajectory (whose divergence, 2e-5
@@ -560,7 +576,7 @@ void expectPressureFollowsReference(int n, const std::string& label, const MakeI
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeBondedSoftSystem(n, positions));
     const std::vector<std::vector<double>> expected = pressureParts(*system, positions, make, "Reference");
-    const std::vector<std::vector<double>> actual = pressureParts(*system, positions, make, "OpenCL");
+    const std::vector<std::vector<double>> actual = pressureParts(*system, positions, make, GPU);
     for (int p = 0; p < 4; p++) {
         double scale = 0;
         for (double x : expected[p])
@@ -575,7 +591,7 @@ void expectPressureFollowsReference(int n, const std::string& label, const MakeI
 // Every integrator of the device; the sweeps on a coloured grid (600 particles) and on one
 // work item (100: fewer than 3 cells on an axis).
 TEST(GpuPlatform, PressureTensorFollowsReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     expectPressureFollowsReference(600, "GW", dpdvv(DPDVVIntegrator::GrootWarren));
     expectPressureFollowsReference(600, "DPD-VV", dpdvv(DPDVVIntegrator::DPDVV));
     expectPressureFollowsReference(600, "SC-VV", dpdvv(DPDVVIntegrator::SelfConsistent));
@@ -605,7 +621,7 @@ MakeIntegrator sheared(const MakeIntegrator& make, double rate) {
 // across them see their partner's image move; the pressure tensor's kinetic part takes the
 // peculiar velocities.
 TEST(GpuPlatform, ShearFollowsReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeBondedSoftSystem(600, positions));
     expectFollowsReference(*system, positions, sheared(dpdvv(DPDVVIntegrator::GrootWarren), 0.5), "GW sheared");
@@ -618,7 +634,7 @@ TEST(GpuPlatform, ShearFollowsReference) {
 
 // The sweeps under shear, in the Reference's pair order on the grid of the sheared lattice.
 TEST(GpuPlatform, ShearedSweepsFollowReference) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeBondedSoftSystem(600, positions));
     expectFollowsReference(*system, positions, sheared(shardlow(1), 0.5), "S1 sheared");
@@ -634,7 +650,7 @@ TEST(GpuPlatform, ShearedSweepsFollowReference) {
 // The strain puts the positions back to the bit and the virials change nothing: the same
 // trajectory with the pressure tensor sampled or not.
 TEST(GpuPlatform, SamplingThePressureTensorLeavesTheTrajectoryAlone) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeBondedSoftSystem(600, positions));
     for (DPDVVIntegrator::Variant variant : {DPDVVIntegrator::GrootWarren, DPDVVIntegrator::DPDVV}) {
@@ -642,7 +658,7 @@ TEST(GpuPlatform, SamplingThePressureTensorLeavesTheTrajectoryAlone) {
         for (bool sample : {false, true}) {
             std::unique_ptr<DPDThermostatIntegrator> integrator = dpdvv(variant)(600);
             integrator->setPressureTensorEnabled(sample);
-            std::unique_ptr<Context> context = makeContext(*system, *integrator, "OpenCL", positions);
+            std::unique_ptr<Context> context = makeContext(*system, *integrator, GPU, positions);
             integrator->step(4);
             states.push_back(context->getState(State::Positions | State::Velocities));
         }
@@ -652,7 +668,7 @@ TEST(GpuPlatform, SamplingThePressureTensorLeavesTheTrajectoryAlone) {
 }
 
 TEST(GpuPlatform, SweepMomentumSeedsAndCheckpoints) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     expectSweepMomentumSeedsAndCheckpoints(shardlow(1), "S1");
     expectSweepMomentumSeedsAndCheckpoints(shardlow(2), "S2");
     expectSweepMomentumSeedsAndCheckpoints(loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet), "Lowe");
@@ -661,11 +677,11 @@ TEST(GpuPlatform, SweepMomentumSeedsAndCheckpoints) {
 }
 
 TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
-    REQUIRE_OPENCL();
+    REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(100, positions));
     std::unique_ptr<DPDThermostatIntegrator> s2 = shardlow(2)(100);
-    std::unique_ptr<Context> context = makeContext(*system, *s2, "OpenCL", positions);
+    std::unique_ptr<Context> context = makeContext(*system, *s2, GPU, positions);
     s2->step(1);
     const State before = context->getState(State::Positions | State::Velocities);
     s2->setShearRate(0.1);
@@ -677,6 +693,6 @@ TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
     EXPECT_EQ(after.getStepCount(), 1);
     system->addConstraint(0, 1, 0.5);
     std::unique_ptr<DPDThermostatIntegrator> lowe = loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle)(100);
-    expectErrorNaming([&] { makeContext(*system, *lowe, "OpenCL", positions); },
-                      "LoweAndersenIntegrator: a System with constraints is not supported on the OpenCL platform");
+    expectErrorNaming([&] { makeContext(*system, *lowe, GPU, positions); },
+                      "LoweAndersenIntegrator: a System with constraints is not supported on the " + GPU + " platform");
 }

@@ -8,6 +8,9 @@ extern "C" void registerDPDCpuKernelFactories();
 #if OPENMMDPD_HAVE_OPENCL
 extern "C" void registerDPDOpenCLKernelFactories();
 #endif
+#if OPENMMDPD_HAVE_CUDA
+extern "C" void registerDPDCudaKernelFactories();
+#endif
 
 int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
@@ -21,6 +24,9 @@ int main(int argc, char** argv) {
 #endif
 #if OPENMMDPD_HAVE_OPENCL
     registerDPDOpenCLKernelFactories();
+#endif
+#if OPENMMDPD_HAVE_CUDA
+    registerDPDCudaKernelFactories();
 #endif
     return RUN_ALL_TESTS();
 }

@@ -1,11 +1,12 @@
 """What an option costs an integrator's step: the instability sentinel, Lees-Edwards shear, a
 thermostat weight exponent other than 2, thermostat exceptions.
 
-Scene soft on the CPU platform; each integrator as is and with the option, alternated --repeats
-times, medians side by side (the two may differ by less than the noise).
+Scene soft on the CPU platform (or --platform's); each integrator as is and with the option,
+alternated --repeats times, medians side by side (the two may differ by less than the noise).
 
     python3 -m openmmdpd.bench sentinel --sizes 32000 --threads 1 --repeats 9
     python3 -m openmmdpd.bench shear --rate 0.1 --integrators GW S1 --sizes 32000 --threads 1 --repeats 9
+    python3 -m openmmdpd.bench shear --pressure-tensor --integrators GW --sizes 1000000 --platform CUDA
     python3 -m openmmdpd.bench weight-exponent --exponent 1 --integrators GW S1 --sizes 32000 --threads 1
     python3 -m openmmdpd.bench exceptions --chain-length 10 --integrators GW S1 --sizes 32000 --threads 1
 
@@ -19,11 +20,9 @@ OpenMM's Langevin), by default those of the rates mode.
 """
 import statistics
 
-import openmm
-
 from .bench_rates import DEFAULT_INTEGRATORS
-from .bench_timing import (add_integrators_argument, add_mode, add_round_arguments, add_system_arguments,
-                           steps_per_second, timed_steps, warm_up)
+from .bench_timing import (add_integrators_argument, add_mode, add_platform_argument, add_round_arguments,
+                           add_system_arguments, make_context, steps_per_second, timed_steps, waiter, warm_up)
 from .catalog import INSTABILITY_THRESHOLD, integrators
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
@@ -60,6 +59,7 @@ def add_parsers(modes):
     shear = add_mode(modes, "shear", SHEAR_SUMMARY, f"Each of --integrators unsheared and sheared at --rate, "
                      f"alternated. {SHEAR_DURATION}", run_shear)
     shear.add_argument("--rate", type=float, default=0.1, help="the shear rate (1/ps)")
+    shear.add_argument("--pressure-tensor", action="store_true", help="the sheared runs also sample the pressure tensor")
     sheared = shear_integrators()
     add_integrators_argument(shear, [name for name in DEFAULT_INTEGRATORS if name in sheared], names=sheared)
     add_cost_arguments(shear)
@@ -79,22 +79,27 @@ def add_parsers(modes):
 def add_cost_arguments(parser):
     add_system_arguments(parser, [4000, 32000], [1, 2], 0.04)
     add_round_arguments(parser, 1.0, "alternated measurements; medians kept")
+    add_platform_argument(parser)
 
 
 def run_sentinel(args):
-    print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; instability threshold 0 (off) and "
+    print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; instability threshold 0 (off) and "
                  f"{INSTABILITY_THRESHOLD:g} kT alternated, medians of {args.repeats}", ["GW"],
                  ("steps/s off", "steps/s on"), lambda i, n: i.setInstabilityThreshold(INSTABILITY_THRESHOLD))
 
 
 def run_shear(args):
-    print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; no shear and Lees-Edwards shear at rate "
-                 f"{args.rate:g}/ps alternated, medians of {args.repeats}", args.integrators,
-                 ("steps/s", "steps/s sheared"), lambda i, n: i.setShearRate(args.rate))
+    def shear(integrator, n):
+        integrator.setShearRate(args.rate)
+        integrator.setPressureTensorEnabled(args.pressure_tensor)
+    sampled = " with the pressure tensor" if args.pressure_tensor else ""
+    print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; no shear and Lees-Edwards shear at rate "
+                 f"{args.rate:g}/ps{sampled} alternated, medians of {args.repeats}", args.integrators,
+                 ("steps/s", "steps/s sheared"), shear)
 
 
 def run_weight_exponent(args):
-    print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; weight exponent 2 and {args.exponent:g} alternated, "
+    print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; weight exponent 2 and {args.exponent:g} alternated, "
                  f"medians of {args.repeats}", args.integrators, ("steps/s", f"steps/s s={args.exponent:g}"),
                  lambda i, n: i.setDefaultWeightExponent(args.exponent))
 
@@ -104,7 +109,7 @@ def run_exceptions(args):
         chains = range(0, n - n % args.chain_length, args.chain_length)
         integrator.createThermostatExceptionsFromBonds(
             [(i, i + 1) for start in chains for i in range(start, start + args.chain_length - 1)], 0.0, 1.0)
-    print_paired(args, f"scene soft, CPU platform, dt={args.dt:g}; no exceptions and the 1-2 pairs of chains of "
+    print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; no exceptions and the 1-2 pairs of chains of "
                  f"{args.chain_length} excluded, alternated, medians of {args.repeats}", args.integrators,
                  ("steps/s", "steps/s excl."), exclude_chain_bonds)
 
@@ -122,20 +127,20 @@ def print_paired(args, title, names, columns, change):
 def measure_paired(n, threads, args, name, change):
     """Integrator `name` as is and with change(integrator, n) applied, alternated: (median
     steps/s as is, median changed, median of the per-round cost changed/as-is - 1)."""
-    platform = openmm.Platform.getPlatformByName("CPU")
     scene = soft_scene(num_particles=n)
     runs = []
     for changed in (False, True):
         integrator = integrators("soft")[name](args.dt)  # the scene's catalog: OC has its averages
         if changed:
             change(integrator, n)
-        context = openmm.Context(scene.system, integrator, platform, {"Threads": str(threads)})
+        context = make_context(scene.system, integrator, threads, args)
         context.setPositions(scene.positions)
         context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
-        runs.append((context, integrator, timed_steps(warm_up(integrator, args), args)))
+        wait = waiter(context, args)
+        runs.append((context, wait, integrator, timed_steps(warm_up(integrator, args, wait), args)))
     plain, changed = [], []
     for _ in range(args.repeats):
-        for rates, (_, integrator, steps) in zip((plain, changed), runs):
-            rates.append(steps_per_second(integrator, steps))
+        for rates, (_, wait, integrator, steps) in zip((plain, changed), runs):
+            rates.append(steps_per_second(integrator, steps, wait))
     cost = statistics.median(a / b - 1 for a, b in zip(plain, changed))
     return statistics.median(plain), statistics.median(changed), cost
