@@ -18,6 +18,7 @@
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmm/VerletIntegrator.h"
+#include "openmm/CustomBondForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/internal/ContextImpl.h"
 #if OPENMMDPD_TEST_CUDA
@@ -322,7 +323,7 @@ TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
     integrator.step(1);
     const State before = context->getState(State::Positions);
     integrator.setShearRate(0.1);
-    expectErrorNaming([&] { integrator.step(1); }, "Lees-Edwards shear of a box less than 3 thermostat cutoffs high (2.92");
+    expectErrorNaming([&] { integrator.step(1); }, "Lees-Edwards shear of a box less than 3 cutoffs high (2.92");
     integrator.setShearRate(0);
     EXPECT_EQ(context->getState(State::Positions).getPositions(), before.getPositions()) << "nothing changed";
     EXPECT_EQ(context->getState(0).getStepCount(), 1);
@@ -647,6 +648,32 @@ TEST(GpuPlatform, ShearedSweepsFollowReference) {
     expectPressureFollowsReference(600, "S1 sheared", sheared(shardlow(1), 0.5));
 }
 
+// OpenMM's own device kernels take the box as the Context was made (rectangular): a periodic
+// force of its own is refused under shear and with the pressure tensor, naming it; an empty
+// CustomBondForce that only makes the System periodic is not.
+TEST(GpuPlatform, RefusesOpenMMPeriodicForcesUnderShearOrStrain) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeSoftSystem(600, positions));
+    CustomBondForce* marker = new CustomBondForce("0");
+    marker->setUsesPeriodicBoundaryConditions(true);
+    system->addForce(marker);
+    std::unique_ptr<DPDThermostatIntegrator> allowed = sheared(dpdvv(DPDVVIntegrator::GrootWarren), 0.5)(600);
+    allowed->setPressureTensorEnabled(true);
+    makeContext(*system, *allowed, GPU, positions);
+    HarmonicBondForce* bonds = new HarmonicBondForce();
+    bonds->addBond(0, 1, 0.0, 4.0);
+    bonds->setUsesPeriodicBoundaryConditions(true);
+    bonds->setName("PeriodicSprings");
+    system->addForce(bonds);
+    for (bool shear : {true, false}) {
+        std::unique_ptr<DPDThermostatIntegrator> integrator = dpdvv(DPDVVIntegrator::GrootWarren)(600);
+        integrator->setShearRate(shear ? 0.5 : 0.0);
+        integrator->setPressureTensorEnabled(!shear);
+        expectErrorNaming([&] { makeContext(*system, *integrator, GPU, positions); }, "OpenMM's periodic PeriodicSprings (force 2");
+    }
+}
+
 // The strain puts the positions back to the bit and the virials change nothing: the same
 // trajectory with the pressure tensor sampled or not.
 TEST(GpuPlatform, SamplingThePressureTensorLeavesTheTrajectoryAlone) {
@@ -685,7 +712,7 @@ TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
     s2->step(1);
     const State before = context->getState(State::Positions | State::Velocities);
     s2->setShearRate(0.1);
-    expectErrorNaming([&] { s2->step(1); }, "ShardlowIntegrator: Lees-Edwards shear of a box less than 3 thermostat cutoffs high");
+    expectErrorNaming([&] { s2->step(1); }, "ShardlowIntegrator: Lees-Edwards shear of a box less than 3 cutoffs high");
     s2->setShearRate(0);
     const State after = context->getState(State::Positions | State::Velocities);
     EXPECT_EQ(after.getPositions(), before.getPositions()) << "nothing changed";

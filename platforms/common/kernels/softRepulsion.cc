@@ -14,11 +14,14 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
         mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
         GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int virialOnly,
         GLOBAL mixed* RESTRICT virial) {
-    if (GLOBAL_ID >= energyThreads)
+    // Threads beyond the energy slots return; a launch that a platform capped below them has
+    // fewer, and each strides by the number that run.
+    const int threads = min((int) GLOBAL_SIZE, energyThreads);
+    if (GLOBAL_ID >= threads)
         return;
     mixed energy = 0;
     mixed w[6] = {0, 0, 0, 0, 0, 0};
-    for (int k = GLOBAL_ID; k < numAtoms; k += energyThreads) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += threads) {
         const int a = atomIndex[k];
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mm_long f[3] = {0, 0, 0};

@@ -17,7 +17,9 @@ void CommonIntegrateDPDVVStepKernel::initialize(const System& system, const DPDV
 }
 
 void CommonIntegrateDPDVVStepKernel::execute(ContextImpl& context, const DPDVVIntegrator& integrator) {
-    CommonDynamics::refuseUnsupported(context.getSystem(), integrator, getPlatform().getName());
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    CommonDynamics::refuseUnsupported(context.getSystem(), integrator, getPlatform().getName(), box);
     DynamicsStepKernel::execute(context, integrator);
 }
 

@@ -3,7 +3,9 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
+#include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/internal/ForceTerms.h"
+#include "openmm/CustomBondForce.h"
 #include <cmath>
 
 using namespace DPDPlugin;
@@ -16,8 +18,8 @@ namespace {
                           " platform; use the Reference or CPU platform");
 }
 
-/** The largest thermostat cutoff the integrator may use: its default's or a type pair's. */
-double largestCutoff(const DPDThermostatIntegrator& integrator) {
+/** The largest cutoff of a pair search on the device: the thermostat's (its default or a type pair's) or a soft force's. */
+double largestCutoff(const System& system, const DPDThermostatIntegrator& integrator) {
     double largest = integrator.getDefaultCutoff();
     for (int k = 0; k < integrator.getNumTypePairs(); k++) {
         int type1, type2;
@@ -25,12 +27,40 @@ double largestCutoff(const DPDThermostatIntegrator& integrator) {
         integrator.getTypePairParameters(k, type1, type2, friction, cutoff);
         largest = std::max(largest, cutoff);
     }
+    for (int k = 0; k < system.getNumForces(); k++)
+        if (const DPDSoftRepulsionForce* soft = dynamic_cast<const DPDSoftRepulsionForce*>(&system.getForce(k)))
+            largest = std::max(largest, soft->getMaxCutoff());
     return largest;
+}
+
+/**
+ * OpenMM's own device kernels take the box as the Context was made, rectangular: a periodic
+ * force of its own would ignore the tilt of a sheared box, or of the pressure tensor's
+ * strains.  (An empty CustomBondForce, which only makes a System periodic, has nothing to
+ * compute.)
+ */
+void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform) {
+    for (int k = 0; k < system.getNumForces(); k++) {
+        const Force& force = system.getForce(k);
+        const CustomBondForce* bonds = dynamic_cast<const CustomBondForce*>(&force);
+        if (!force.usesPeriodicBoundaryConditions() || dynamic_cast<const DPDSoftRepulsionForce*>(&force) != nullptr ||
+            (bonds != nullptr && bonds->getNumBonds() == 0))
+            continue;
+        refuse(integrator, platform, "Lees-Edwards shear or the pressure tensor with OpenMM's periodic " + force.getName() +
+               " (force " + std::to_string(k) + ": its device kernels take a rectangular box)");
+    }
 }
 
 } // namespace
 
 void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform) {
+    Vec3 box[3];
+    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
+    refuseUnsupported(system, integrator, platform, box);
+}
+
+void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
+                                       const Vec3* box) {
     if (!system.usesPeriodicBoundaryConditions())
         refuse(integrator, platform, "a non-periodic System");
     Vec3 a, b, c;
@@ -42,11 +72,14 @@ void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostat
     for (int i = 0; i < system.getNumParticles(); i++)
         if (system.isVirtualSite(i))
             refuse(integrator, platform, "a System with virtual sites");
-    if (integrator.getShearRate() != 0 && b[1] < 3 * largestCutoff(integrator))
-        refuse(integrator, platform, "Lees-Edwards shear of a box less than 3 thermostat cutoffs high (" + std::to_string(b[1]) +
-               " nm against a cutoff of " + std::to_string(largestCutoff(integrator)) + " nm)");
+    if (integrator.getShearRate() != 0 || integrator.getPressureTensorEnabled())
+        refusePeriodicForces(system, integrator, platform);
+    // As the cell lists count their rows: a row across the tilted boundary needs 3.
+    const double cutoff = largestCutoff(system, integrator);
+    if (integrator.getShearRate() != 0 && std::floor(box[1][1] / (cutoff * (1 + 1e-5))) < 3)
+        refuse(integrator, platform, "Lees-Edwards shear of a box less than 3 cutoffs high (" + std::to_string(box[1][1]) +
+               " nm against a cutoff of " + std::to_string(cutoff) + " nm)");
 }
-
 
 CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
                                const std::string& platform, const std::vector<std::string>& ruleSources, bool withPairForces) :

@@ -44,3 +44,8 @@ void CommonPositionStrain::restore(ContextImpl& context) {
     restoreKernel->execute(cc.getNumAtoms());
     saved = false;
 }
+
+void CommonPositionStrain::setBox(ContextImpl& context, const Vec3* box) {
+    ContextSelector selector(cc);
+    cc.setPeriodicBoxVectors(box[0], box[1], box[2]);
+}

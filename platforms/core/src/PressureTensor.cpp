@@ -158,10 +158,37 @@ SymmetricTensor PressureTensorSampler::conservativeVirial(OpenMM::ContextImpl& c
     return virial;
 }
 
+namespace {
+
+/** Puts back the positions, the box and the last force groups when it goes, also when an evaluation under the strain throws. */
+class StrainedState {
+public:
+    StrainedState(OpenMM::ContextImpl& context, PositionStrain& strain) :
+            context(context), strain(strain), lastGroups(context.getLastForceGroups()) {
+        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    }
+    ~StrainedState() {
+        try {
+            strain.restore(context);
+            strain.setBox(context, box);
+            context.getLastForceGroups() = lastGroups;
+        }
+        catch (...) {
+            // A destructor must not throw; the error that ended the strain is the one to report.
+        }
+    }
+    Vec3 box[3];
+
+private:
+    OpenMM::ContextImpl& context;
+    PositionStrain& strain;
+    int lastGroups;
+};
+
+} // namespace
+
 SymmetricTensor PressureTensorSampler::strainDerivative(OpenMM::ContextImpl& context, int groups, PositionStrain& strain) const {
-    Vec3 box0[3];
-    context.getPeriodicBoxVectors(box0[0], box0[1], box0[2]);
-    const int lastGroups = context.getLastForceGroups();
+    StrainedState strained(context, strain);
     SymmetricTensor virial{};
     for (int k = 0; k < 6; k++) {
         const int a = STRAIN_AXES[k][0], b = STRAIN_AXES[k][1];
@@ -169,18 +196,15 @@ SymmetricTensor PressureTensorSampler::strainDerivative(OpenMM::ContextImpl& con
         for (int side = 0; side < 2; side++) {
             const double epsilon = (side == 0 ? STRAIN_STEP : -STRAIN_STEP);
             strain.strain(context, a, b, epsilon);
-            Vec3 box[3] = {box0[0], box0[1], box0[2]};
+            Vec3 box[3] = {strained.box[0], strained.box[1], strained.box[2]};
             for (Vec3& edge : box)
                 edge[a] += epsilon * edge[b];
             reduceBox(box);
-            context.setPeriodicBoxVectors(box[0], box[1], box[2]);
+            strain.setBox(context, box);
             energy[side] = context.calcForcesAndEnergy(false, true, groups);
         }
         // W_ab = sum r_b F_a = -dU/d(strain)
         virial[k] = -(energy[0] - energy[1]) / (2 * STRAIN_STEP);
     }
-    strain.restore(context);
-    context.setPeriodicBoxVectors(box0[0], box0[1], box0[2]);
-    context.getLastForceGroups() = lastGroups;
     return virial;
 }

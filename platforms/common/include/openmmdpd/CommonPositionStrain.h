@@ -14,6 +14,8 @@ public:
     CommonPositionStrain(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program);
     void strain(OpenMM::ContextImpl& context, int a, int b, double strain) override;
     void restore(OpenMM::ContextImpl& context) override;
+    /** On the ComputeContext itself (OpenMM's kernels take the box it holds). */
+    void setBox(OpenMM::ContextImpl& context, const OpenMM::Vec3* box) override;
 
 private:
     OpenMM::ComputeContext& cc;

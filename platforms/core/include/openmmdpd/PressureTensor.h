@@ -105,9 +105,11 @@ void withRecordedPairImpulse(ConstrainedPairImpulse& constrained, const DPDPairP
 }
 
 /**
- * How the pressure tensor strains the Context's positions in place and puts them back, on
- * each platform in its own storage: not through ContextImpl::setPositions, which would tell
- * the integrator that the force it carries is stale.
+ * How the pressure tensor strains the Context's positions and box in place and puts them
+ * back, on each platform in its own storage: not through ContextImpl::setPositions, which
+ * would tell the integrator that the force it carries is stale, and on the GPU platforms not
+ * through ContextImpl::setPeriodicBoxVectors, which refuses a triclinic box in a Context made
+ * with a rectangular one and re-wraps the positions.
  */
 class PositionStrain {
 public:
@@ -119,6 +121,8 @@ public:
     virtual void strain(OpenMM::ContextImpl& context, int a, int b, double strain) = 0;
     /** Put back the positions of before the first strain. */
     virtual void restore(OpenMM::ContextImpl& context) = 0;
+    /** Set the periodic box vectors (a strained box, or the one to put back). */
+    virtual void setBox(OpenMM::ContextImpl& context, const OpenMM::Vec3* box) = 0;
 };
 
 /** The running sums of the pressure tensor's samples. */

@@ -24,6 +24,9 @@ public:
             positions(context) = original;
         original.clear();
     }
+    void setBox(OpenMM::ContextImpl& context, const OpenMM::Vec3* box) override {
+        context.setPeriodicBoxVectors(box[0], box[1], box[2]);
+    }
 
 private:
     static std::vector<OpenMM::Vec3>& positions(OpenMM::ContextImpl& context) {
