@@ -1,4 +1,4 @@
-"""The OpenCL platform's kernels from Python: <kT> against the CPU platform's.
+"""The OpenCL platform's kernels from Python: <kT> and the sheared viscosity against the CPU platform's.
 
 The trajectories on OpenCL follow the Reference platform's to float rounding for a few steps
 (tests/TestGpuPlatform.cpp); over a long run they part ways, so what must agree is the
@@ -6,17 +6,23 @@ statistics.  Each case runs the same scene, integrator and seed on OpenCL and on
 platform (whose trajectories equal the Reference platform's to 1e-10, TestPlatformsAgree)
 and compares <kT>: each sigma (pymbar's statistical inefficiency) must be <= 0.003, else the
 test FAILS (a 1 % difference must be visible), and the two must agree within 3 combined sigma.
-Slow: POCL runs OpenCL on this CPU at ~20 steps/s for N = 2000.  Skipped where OpenMM has no
-OpenCL platform or openmmdpd no OpenCL plugin.
+Under Lees-Edwards shear (model B, N 4000, GW, rate 0.5) the velocity profile's slope is the
+rate within 2 % on OpenCL, and the NEMD viscosity -<P_xy>/rate agrees with the CPU's within 3
+combined sigma (each <= 0.02, to see a 5 % difference).
+Slow: POCL runs OpenCL on this CPU at ~20 steps/s for N = 2000 (the sheared case: ~8 minutes).
+Skipped where OpenMM has no OpenCL platform or openmmdpd no OpenCL plugin.
 """
 import numpy as np
 import openmm
 import pytest
+from openmm import unit
 
 import openmmdpd
+from openmmdpd import shear
 from openmmdpd.analysis import standard_error
 from openmmdpd.catalog import integrators
-from openmmdpd.scenes import ideal_scene, soft_scene
+from openmmdpd.pressure import pressure_tensor
+from openmmdpd.scenes import build_scene, ideal_scene, soft_scene
 
 from dpdtest import make_context, reduced_kT, set_velocities
 
@@ -36,7 +42,8 @@ def have_opencl():
 pytestmark = pytest.mark.skipif(not have_opencl(), reason="no OpenCL platform or no openmmdpd OpenCL plugin")
 
 SCENES = {"ideal": ideal_scene, "soft": soft_scene}
-GPU_INTEGRATORS = ["GW", "DPD-VV", "S1", "S2", "Lowe", "PairOU"]
+GPU_INTEGRATORS = ["GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU"]
+SHEAR_RATE, SHEAR_DT, SHEAR_TIME, BLOCK = 0.5, 0.01, 60.0, 0.5
 
 
 def mean_kT(scene_name, integrator_name, platform_name):
@@ -64,6 +71,44 @@ def test_opencl_kT_agrees_with_cpu(scene_name, integrator_name):
           f"CPU {cpu:.4f} +- {cpu_sigma:.4f}")
     assert device_sigma <= MAX_SIGMA and cpu_sigma <= MAX_SIGMA, "too short to see a 1 % difference"
     assert abs(device - cpu) <= 3 * np.hypot(device_sigma, cpu_sigma)
+
+
+def sheared_model_b(platform_name):
+    """(eta, sigma, slope/rate, sigma) of GW on model B at SHEAR_RATE over SHEAR_TIME, from block
+    means of P_xy and the velocity profile at the end of each block, after 5 time units."""
+    scene = build_scene("soft", seed=2024)
+    integrator = integrators("soft")["GW"](SHEAR_DT)
+    integrator.setRandomNumberSeed(2024)
+    integrator.setShearRate(SHEAR_RATE / unit.picosecond)
+    integrator.setPressureTensorEnabled(True)
+    context = make_context(scene, integrator, platform_name)
+    height = scene.system.getDefaultPeriodicBoxVectors()[1][1].value_in_unit(unit.nanometer)
+    set_velocities(context, scene.system, 7)
+    v = context.getState(getVelocities=True).getVelocities(asNumpy=True).value_in_unit(unit.nanometer / unit.picosecond)
+    positions = scene.positions.value_in_unit(unit.nanometer)
+    v[:, 0] += shear.streaming_velocity(positions[:, 1], SHEAR_RATE, height)
+    context.setVelocities(v)
+    integrator.step(round(5 / SHEAR_DT))
+    pxy, slopes = [], []
+    for _ in range(round(SHEAR_TIME / BLOCK)):
+        integrator.resetPressureTensor()
+        integrator.step(round(BLOCK / SHEAR_DT))
+        pxy.append(pressure_tensor(integrator)[3])
+        state = context.getState(getPositions=True, getVelocities=True)
+        r, u = state.getPositions(asNumpy=True), state.getVelocities(asNumpy=True)
+        slopes.append(shear.profile_slope(*shear.velocity_profile(r, u, height, 10))[0] / SHEAR_RATE)
+    return (-np.mean(pxy) / SHEAR_RATE, standard_error(pxy) / SHEAR_RATE, np.mean(slopes), standard_error(slopes))
+
+
+@pytest.mark.slow
+def test_opencl_shear_profile_and_viscosity_agree_with_cpu():
+    eta, sigma, slope, slope_sigma = sheared_model_b("OpenCL")
+    cpu, cpu_sigma, _, _ = sheared_model_b("CPU")
+    print(f"model B, GW, rate {SHEAR_RATE}: OpenCL eta {eta:.4f} +- {sigma:.4f}, slope/rate {slope:.4f} +- "
+          f"{slope_sigma:.4f}; CPU eta {cpu:.4f} +- {cpu_sigma:.4f}")
+    assert slope_sigma <= 0.02 / 3 and abs(slope - 1) <= 0.02
+    assert sigma <= 0.02 and cpu_sigma <= 0.02, "too short to see a 5 % difference"
+    assert abs(eta - cpu) <= 3 * np.hypot(sigma, cpu_sigma)
 
 
 def test_unsupported_integrator_is_refused_on_opencl():
