@@ -1,0 +1,710 @@
+"""Export a DPD model to LAMMPS (docs/guide/lammps.md): a data file and an input script that run
+the same System and thermostat in LAMMPS, and readers that parse both back into numbers.
+
+Units: the reduced units of this package (r_c = 1 nm, m = 1 amu, energies in kJ/mol, 1 ps)
+are LAMMPS `units lj` with sigma = 1 nm, m = 1 amu and epsilon = 1 kJ/mol, so tau = 1 ps and
+every number but the temperature is written unchanged; the temperature is written as
+kT / (1 kJ/mol), the lj temperature (Boltzmann's constant is 1 there).
+
+What maps (anything else is refused, naming it, before a file is written):
+
+- `DPDSoftRepulsionForce` (periodic) and the integrator's thermostat table -> `pair_style dpd`
+  (`dpd/ext` where a weight exponent s is not 2: ws = s/2), one `pair_coeff I J a gamma rc`
+  per pair of LAMMPS atom types, an atom type per distinct (soft-repulsion type, thermostat
+  type, mass); gamma_IJ = 2 mu_IJ friction;
+- `HarmonicBondForce` -> `bond_style harmonic` (K = k/2, r0), `HarmonicAngleForce` ->
+  `angle_style harmonic` (K = k/2, theta0 in degrees), `CMMotionRemover` -> `fix momentum`;
+- the soft force's exclusions and the thermostat exceptions -> `special_bonds lj f12 f13 f14`,
+  where they are one factor per class of pairs 1, 2 or 3 bonds apart (LAMMPS scales the
+  conservative and dissipative forces of such a pair by the factor);
+- `DPDVVIntegrator` GrootWarren with lambda 1/2 -> `fix nve` with `pair dpd`;
+  `ShardlowIntegrator` order 1 -> `fix shardlow` + `fix nve` with `pair_style dpd/fdt`;
+- the shear rate -> a triclinic box and `fix deform 1 xy erate rate remap v`.
+"""
+import math
+import os
+from collections import namedtuple
+
+import numpy as np
+import openmm
+from openmm import unit
+
+from .dpdplugin import (DenOtterClarkeIntegrator, DPDSoftRepulsionForce, DPDThermostatIntegrator,
+                        DPDVVIntegrator, EDPDIntegrator, LoweAndersenIntegrator, ShardlowIntegrator,
+                        StaggeredDPDIntegrator)
+from .units import kT_from_temperature
+
+__all__ = ["export_lammps", "read_lammps_data", "read_lammps_input", "LammpsFiles", "LammpsData",
+           "LammpsInput", "MAX_SEED"]
+
+#: The largest seed LAMMPS's Marsaglia generator takes (pair dpd adds the rank of the process).
+MAX_SEED = 900000000
+
+LammpsFiles = namedtuple("LammpsFiles", "data input")
+LammpsFiles.__doc__ = "The paths export_lammps wrote: the data file and the input script."
+
+LammpsData = namedtuple("LammpsData", "masses types molecules positions images velocities bonds angles box")
+LammpsData.__doc__ = """A LAMMPS data file read back (read_lammps_data), atoms in the order of their ids.
+
+masses: {atom type: mass}; types, molecules: (N,) ints; positions: (N, 3) in the box; images:
+(N, 3) image flags (unwrapped = positions + images @ box); velocities: (N, 3) or None; bonds:
+(M, 3) ints (type, atom index, atom index), indices from 0; angles: (K, 4) likewise; box: 3 x 3
+rows a, b, c (LAMMPS's xhi - xlo, (xy, yhi - ylo, 0), (xz, yz, zhi - zlo))."""
+
+LammpsInput = namedtuple("LammpsInput", "header commands pair_style pair_coeffs bond_coeffs angle_coeffs "
+                                        "special_bonds fixes")
+LammpsInput.__doc__ = """A LAMMPS input script read back (read_lammps_input).
+
+header: the leading comment lines; commands: [(command, [arguments])] in order; pair_style:
+its arguments; pair_coeffs: {(I, J): [floats]}; bond_coeffs, angle_coeffs: {type: [floats]};
+special_bonds: its arguments; fixes: {fix id: [group, style, arguments...]}."""
+
+# The integrators with a DPD friction (not Lowe's collision rate) that LAMMPS has no scheme of:
+# an explicit approximate=True writes velocity Verlet with pair dpd for them, and says so.
+_VERLET_LIKE = (DPDVVIntegrator, EDPDIntegrator, DenOtterClarkeIntegrator)
+
+_Model = namedtuple("_Model", "masses soft thermostat bonds angles exclusions exceptions momentum")
+
+
+# --- Reading the System --------------------------------------------------------------------
+
+def _value(quantity, target):
+    return float(quantity.value_in_unit(target)) if unit.is_quantity(quantity) else float(quantity)
+
+
+class _PairTable:
+    """A type-pair table (soft repulsion or thermostat): values for a pair of types, either order."""
+
+    def __init__(self, types, default, pairs):
+        self.types, self.default, self.pairs = types, default, pairs
+
+    def __call__(self, type1, type2):
+        return self.pairs.get((min(type1, type2), max(type1, type2)), self.default)
+
+
+def _soft_table(force, num_particles):
+    rate = unit.kilojoule_per_mole / unit.nanometer
+    pairs = {}
+    for index in range(force.getNumTypePairs()):
+        t1, t2, a, cutoff = force.getTypePairParameters(index)
+        pairs[(min(t1, t2), max(t1, t2))] = (_value(a, rate), _value(cutoff, unit.nanometer))
+    default = (_value(force.getDefaultA(), rate), _value(force.getDefaultCutoff(), unit.nanometer))
+    return _PairTable([force.getParticleType(i) for i in range(num_particles)], default, pairs)
+
+
+def _thermostat_table(integrator, num_particles):
+    """(friction 1/ps, cutoff nm, weight exponent s) per pair of thermostat types."""
+    pairs = {}
+    for index in range(integrator.getNumTypePairs()):
+        t1, t2, friction, cutoff = integrator.getTypePairParameters(index)
+        pairs[(min(t1, t2), max(t1, t2))] = (_value(friction, unit.picosecond**-1), _value(cutoff, unit.nanometer),
+                                             float(integrator.getTypePairWeightExponent(index)))
+    default = (_value(integrator.getDefaultFriction(), unit.picosecond**-1),
+               _value(integrator.getDefaultCutoff(), unit.nanometer), float(integrator.getDefaultWeightExponent()))
+    return _PairTable([integrator.getParticleType(i) for i in range(num_particles)], default, pairs)
+
+
+def _describe(force):
+    name = force.getName()
+    kind = type(force).__name__
+    return f"{kind} {name!r}" if name and name != kind else kind
+
+
+def _harmonic_bonds(force):
+    bonds = []
+    for index in range(force.getNumBonds()):
+        i, j, length, k = force.getBondParameters(index)
+        bonds.append((i, j, _value(k, unit.kilojoule_per_mole / unit.nanometer**2) / 2,
+                      _value(length, unit.nanometer)))
+    return bonds
+
+
+def _harmonic_angles(force):
+    angles = []
+    for index in range(force.getNumAngles()):
+        i, j, k, theta0, stiffness = force.getAngleParameters(index)
+        angles.append((i, j, k, _value(stiffness, unit.kilojoule_per_mole / unit.radian**2) / 2,
+                       math.degrees(_value(theta0, unit.radian))))
+    return angles
+
+
+def _soft_force(force, num_particles, found):
+    if found["soft"] is not None:
+        raise ValueError(f"export_lammps: the System has two DPDSoftRepulsionForces ({_describe(found['soft'][0])} "
+                         f"and {_describe(force)}); LAMMPS's pair dpd takes one a per pair of types")
+    if force.getNonbondedMethod() != DPDSoftRepulsionForce.CutoffPeriodic:
+        raise ValueError(f"export_lammps: {_describe(force)} is not periodic (CutoffNonPeriodic); "
+                         f"the script writes a periodic box (boundary p p p)")
+    exclusions = {tuple(sorted(force.getExclusionParticles(k))) for k in range(force.getNumExclusions())}
+    found["soft"] = (force, _soft_table(force, num_particles), exclusions)
+
+
+def _is_empty(force):
+    """A bonded Force with no terms adds nothing (the scenes' periodic marker is one)."""
+    counts = {openmm.CustomBondForce: "getNumBonds", openmm.CustomAngleForce: "getNumAngles",
+              openmm.HarmonicBondForce: "getNumBonds", openmm.HarmonicAngleForce: "getNumAngles"}
+    method = counts.get(type(force))
+    return method is not None and getattr(force, method)() == 0
+
+
+def _read_forces(system, integrator):
+    n = system.getNumParticles()
+    found = {"soft": None, "bonds": [], "angles": [], "momentum": None}
+    groups = integrator.getIntegrationForceGroups()
+    for force in system.getForces():
+        if not groups & (1 << force.getForceGroup()):
+            raise ValueError(f"export_lammps: {_describe(force)} is in force group {force.getForceGroup()}, which "
+                             f"the integrator does not integrate; LAMMPS would apply it")
+        if isinstance(force, DPDSoftRepulsionForce):
+            _soft_force(force, n, found)
+        elif type(force) is openmm.HarmonicBondForce:
+            found["bonds"] += _harmonic_bonds(force)
+        elif type(force) is openmm.HarmonicAngleForce:
+            found["angles"] += _harmonic_angles(force)
+        elif type(force) is openmm.CMMotionRemover:
+            found["momentum"] = force.getFrequency()
+        elif not _is_empty(force):
+            raise ValueError(f"export_lammps: {_describe(force)} has no LAMMPS equivalent here; exported are "
+                             f"DPDSoftRepulsionForce, HarmonicBondForce, HarmonicAngleForce and CMMotionRemover")
+    return found
+
+
+def _check_particles(system):
+    if system.getNumParticles() == 0:
+        raise ValueError("export_lammps: the System has no particles")
+    if system.getNumConstraints():
+        raise ValueError(f"export_lammps: the System has {system.getNumConstraints()} constraints; "
+                         f"constraints are not exported")
+    for i in range(system.getNumParticles()):
+        if system.isVirtualSite(i) or _value(system.getParticleMass(i), unit.dalton) <= 0:
+            raise ValueError(f"export_lammps: particle {i} is massless or a virtual site; every LAMMPS atom "
+                             f"needs a mass > 0")
+    if not system.usesPeriodicBoundaryConditions():
+        raise ValueError("export_lammps: the System is not periodic; the script writes a periodic box")
+
+
+def _read_model(system, integrator):
+    _check_particles(system)
+    n = system.getNumParticles()
+    found = _read_forces(system, integrator)
+    soft, exclusions = (None, set()) if found["soft"] is None else found["soft"][1:]
+    exceptions = {}
+    for index in range(integrator.getNumThermostatExceptions()):
+        i, j, factor = integrator.getThermostatExceptionParameters(index)
+        exceptions[(min(i, j), max(i, j))] = float(factor)
+    masses = np.array([_value(system.getParticleMass(i), unit.dalton) for i in range(n)])
+    return _Model(masses, soft, _thermostat_table(integrator, n), found["bonds"], found["angles"], exclusions,
+                 exceptions, found["momentum"])
+
+
+# --- The integrator ------------------------------------------------------------------------
+
+def _integrator_name(integrator):
+    name = type(integrator).__name__
+    if isinstance(integrator, DPDVVIntegrator):
+        variant = {DPDVVIntegrator.GrootWarren: f"GrootWarren, lambda {integrator.getLambda()!r}",
+                   DPDVVIntegrator.DPDVV: "DPDVV", DPDVVIntegrator.SelfConsistent: "SelfConsistent"}
+        return f"{name} ({variant[integrator.getVariant()]})"
+    if isinstance(integrator, ShardlowIntegrator):
+        return f"{name} (order {integrator.getOrder()})"
+    if isinstance(integrator, LoweAndersenIntegrator):
+        method = "Lowe" if integrator.getMethod() == LoweAndersenIntegrator.Lowe else "PairOrnsteinUhlenbeck"
+        return f"{name} ({method})"
+    if isinstance(integrator, StaggeredDPDIntegrator):
+        base = "VelocityVerlet" if integrator.getBaseScheme() == StaggeredDPDIntegrator.VelocityVerlet else \
+            "LoweAndersen"
+        return f"{name} ({base} base, {integrator.getNumSubSteps()} sub-steps)"
+    return name
+
+
+def _exact_scheme(integrator):
+    """'verlet', 'shardlow', or None where LAMMPS has no scheme of this integrator."""
+    if isinstance(integrator, DPDVVIntegrator) and integrator.getVariant() == DPDVVIntegrator.GrootWarren \
+            and integrator.getLambda() == 0.5:
+        return "verlet"
+    if isinstance(integrator, ShardlowIntegrator) and integrator.getOrder() == 1:
+        return "shardlow"
+    return None
+
+
+def _closest_scheme(integrator):
+    """The scheme approximate=True writes, or None where the friction means something else."""
+    if isinstance(integrator, ShardlowIntegrator):
+        return "shardlow"
+    if isinstance(integrator, _VERLET_LIKE):
+        return "verlet"
+    if isinstance(integrator, LoweAndersenIntegrator) and integrator.getMethod() != LoweAndersenIntegrator.Lowe:
+        return "verlet"
+    if isinstance(integrator, StaggeredDPDIntegrator) and \
+            integrator.getBaseScheme() == StaggeredDPDIntegrator.VelocityVerlet:
+        return "verlet"
+    return None
+
+
+_SCHEMES = {"verlet": "fix nve with pair dpd (velocity Verlet, GrootWarren lambda 1/2)",
+            "shardlow": "fix shardlow + fix nve with pair dpd/fdt (Shardlow S1)"}
+
+
+def _scheme(integrator, approximate):
+    """(scheme, warning or None)."""
+    if not isinstance(integrator, DPDThermostatIntegrator):
+        raise ValueError(f"export_lammps: {type(integrator).__name__} is not a DPD integrator of openmmdpd; "
+                         f"give DPDVVIntegrator (GrootWarren, lambda 0.5) or ShardlowIntegrator (order 1)")
+    name = _integrator_name(integrator)
+    exact = _exact_scheme(integrator)
+    if exact is not None:
+        return exact, None
+    closest = _closest_scheme(integrator)
+    if closest is None:
+        raise ValueError(f"export_lammps: {name} has no LAMMPS equivalent (its friction parameters are collision "
+                         f"rates); export DPDVVIntegrator (GrootWarren, lambda 0.5) or ShardlowIntegrator (order 1)")
+    if not approximate:
+        raise ValueError(f"export_lammps: {name} has no LAMMPS equivalent; LAMMPS has velocity Verlet "
+                         f"(DPDVVIntegrator GrootWarren, lambda 0.5) and Shardlow S1 (ShardlowIntegrator order 1). "
+                         f"Pass approximate=True to write the closest, {_SCHEMES[closest]}, with a warning")
+    return closest, f"WARNING: approximate: {name} is written as {_SCHEMES[closest]}, another scheme"
+
+
+# --- Atom types and pair coefficients ------------------------------------------------------
+
+def _atom_types(model):
+    """(the distinct (soft type, thermostat type, mass), sorted; each particle's LAMMPS type from 1)."""
+    soft = model.soft.types if model.soft is not None else [0] * len(model.masses)
+    keys = [(soft[i], model.thermostat.types[i], float(model.masses[i])) for i in range(len(model.masses))]
+    distinct = sorted(set(keys))
+    number = {key: index + 1 for index, key in enumerate(distinct)}
+    return distinct, np.array([number[key] for key in keys])
+
+
+def _pair_cutoff(a, soft_cutoff, gamma, thermostat_cutoff, where):
+    """LAMMPS's one cutoff of a pair: the soft force's and the thermostat's must agree where both act."""
+    if soft_cutoff is None or a == 0:
+        return thermostat_cutoff
+    if gamma == 0 or math.isclose(soft_cutoff, thermostat_cutoff, rel_tol=1e-12):
+        return soft_cutoff
+    raise ValueError(f"export_lammps: {where} has the soft-repulsion cutoff {soft_cutoff!r} nm and the thermostat "
+                     f"cutoff {thermostat_cutoff!r} nm; LAMMPS's pair dpd has one cutoff per pair of types")
+
+
+def _pair_coefficients(model, distinct):
+    """[(I, J, a, gamma, s, rc)] for every pair of LAMMPS types I <= J."""
+    rows = []
+    for first in range(len(distinct)):
+        for second in range(first, len(distinct)):
+            (s1, t1, m1), (s2, t2, m2) = distinct[first], distinct[second]
+            a, soft_cutoff = model.soft(s1, s2) if model.soft is not None else (0.0, None)
+            friction, cutoff, exponent = model.thermostat(t1, t2)
+            gamma = 2 * m1 * m2 / (m1 + m2) * friction
+            where = (f"the pair of soft-repulsion types ({s1}, {s2}) with thermostat types ({t1}, {t2})")
+            rows.append((first + 1, second + 1, a, gamma, exponent,
+                         _pair_cutoff(a, soft_cutoff, gamma, cutoff, where)))
+    return rows
+
+
+# --- special_bonds ---------------------------------------------------------------------------
+
+def _bond_distances(num_particles, bonds):
+    """{(i, j), i < j: 1, 2 or 3} for the pairs 1, 2 or 3 bonds apart (the shortest path), as
+    LAMMPS's special lists class them."""
+    neighbours = [set() for _ in range(num_particles)]
+    for i, j, *_ in bonds:
+        neighbours[i].add(j)
+        neighbours[j].add(i)
+    distances = {}
+    for start in {i for bond in bonds for i in bond[:2]}:
+        seen, shell = {start}, {start}
+        for distance in (1, 2, 3):
+            shell = {k for i in shell for k in neighbours[i]} - seen
+            seen |= shell
+            for k in shell:
+                distances[(min(start, k), max(start, k))] = distance
+    return distances
+
+
+def _pair_factor(model, pair):
+    """The one factor LAMMPS must scale a pair by: its thermostat factor, which the soft force must match."""
+    thermostat = model.exceptions.get(pair, 1.0)
+    if model.soft is None or model.soft(model.soft.types[pair[0]], model.soft.types[pair[1]])[0] == 0:
+        return thermostat
+    conservative = 0.0 if pair in model.exclusions else 1.0
+    if conservative != thermostat:
+        raise ValueError(f"export_lammps: particles {pair[0]} and {pair[1]} have the soft-repulsion factor "
+                         f"{conservative} ({'excluded' if conservative == 0 else 'not excluded'}) and the "
+                         f"thermostat factor {thermostat}; LAMMPS's special_bonds scale both by one factor")
+    return thermostat
+
+
+def _special_factors(model):
+    """(f12, f13, f14) for special_bonds lj; refuses what one factor per class cannot say."""
+    distances = _bond_distances(len(model.masses), model.bonds)
+    factors = {1: {}, 2: {}, 3: {}}
+    for pair in set(distances) | model.exclusions | set(model.exceptions):
+        factor = _pair_factor(model, pair)
+        distance = distances.get(pair)
+        if distance is None:
+            if factor != 1.0:
+                raise ValueError(f"export_lammps: particles {pair[0]} and {pair[1]} have the factor {factor} but "
+                                 f"are not 1, 2 or 3 bonds apart; LAMMPS's special_bonds scale only those")
+            continue
+        factors[distance].setdefault(factor, pair)
+    for distance, found in factors.items():
+        if len(found) > 1:
+            (f1, p1), (f2, p2) = sorted(found.items())[:2]
+            raise ValueError(f"export_lammps: pairs {distance} bonds apart have different factors ({p1}: {f1}, "
+                             f"{p2}: {f2}); LAMMPS's special_bonds take one factor per class")
+    return tuple(next(iter(factors[d])) if factors[d] else 1.0 for d in (1, 2, 3))
+
+
+# --- Box, positions, velocities ------------------------------------------------------------
+
+def _array(values, target, name, num_particles):
+    if unit.is_quantity(values):
+        values = values.value_in_unit(target)
+    values = [[_value(x, target) for x in row] if not unit.is_quantity(row) else list(row.value_in_unit(target))
+              for row in values]
+    array = np.asarray(values, dtype=float)
+    if array.shape != (num_particles, 3) or not np.all(np.isfinite(array)):
+        raise ValueError(f"export_lammps: {name} must be {num_particles} finite 3-vectors, got shape {array.shape}")
+    return array
+
+
+def _source(positions, velocities, box_vectors, system):
+    """(positions, velocities or None, box vectors) from a Context, a State or plain arguments."""
+    if isinstance(positions, openmm.Context):
+        positions = positions.getState(getPositions=True, getVelocities=True)
+    if isinstance(positions, openmm.State):
+        state = positions
+        positions = state.getPositions()
+        if velocities is None:
+            velocities = state.getVelocities()
+        if box_vectors is None:
+            box_vectors = state.getPeriodicBoxVectors()
+    if box_vectors is None:
+        box_vectors = system.getDefaultPeriodicBoxVectors()
+    n = system.getNumParticles()
+    box = _array(box_vectors, unit.nanometer, "box_vectors", 3)
+    return (_array(positions, unit.nanometer, "positions", n),
+            None if velocities is None else _array(velocities, unit.nanometer / unit.picosecond, "velocities", n),
+            box)
+
+
+def _check_box(box, shear_rate, scheme):
+    if box[0, 1] or box[0, 2] or box[1, 2] or min(box[0, 0], box[1, 1], box[2, 2]) <= 0:
+        raise ValueError(f"export_lammps: the box vectors {box.tolist()} are not in OpenMM's reduced form "
+                         f"(a along x, b in the xy plane, positive lengths)")
+    if abs(box[1, 0]) > box[0, 0] / 2 or abs(box[2, 0]) > box[0, 0] / 2 or abs(box[2, 1]) > box[1, 1] / 2:
+        raise ValueError(f"export_lammps: the box's tilt {box.tolist()} exceeds half a box length; reduce it as "
+                         f"OpenMM does (LAMMPS requires |xy|, |xz| <= Lx/2, |yz| <= Ly/2)")
+    triclinic = bool(box[1, 0] or box[2, 0] or box[2, 1] or shear_rate)
+    if shear_rate and (box[2, 0] or box[2, 1]):
+        raise ValueError("export_lammps: a sheared box must have c = (0, 0, Lz)")
+    if scheme == "shardlow" and triclinic:
+        raise ValueError("export_lammps: LAMMPS's fix shardlow supports only orthogonal boxes; this box is "
+                         "triclinic (tilted, or sheared)")
+    return triclinic
+
+
+def _wrap(positions, box):
+    """(positions inside the box, image flags) with positions = wrapped + images @ box."""
+    fractions = np.linalg.solve(box.T, positions.T).T
+    images = np.floor(fractions)
+    return positions - images @ box, images.astype(int)
+
+
+def _molecules(num_particles, bonds, angles):
+    """Molecule ids from 1 for the connected parts of the bond graph; 0 for unbonded atoms."""
+    parent = list(range(num_particles))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+    for term in [b[:2] for b in bonds] + [a[:3] for a in angles]:
+        for other in term[1:]:
+            parent[root(other)] = root(term[0])
+    bonded = sorted({i for term in [b[:2] for b in bonds] + [a[:3] for a in angles] for i in term})
+    ids, molecules = {}, np.zeros(num_particles, dtype=int)
+    for i in bonded:
+        molecules[i] = ids.setdefault(root(i), len(ids) + 1)
+    return molecules
+
+
+# --- Writing -------------------------------------------------------------------------------
+
+def _number(x):
+    """A float as text that reads back to the same double."""
+    return repr(float(x))
+
+
+def _term_types(parameters):
+    """(each term's type from 1, [the distinct parameter tuples]) for bonds or angles."""
+    distinct = sorted(set(parameters))
+    number = {p: index + 1 for index, p in enumerate(distinct)}
+    return [number[p] for p in parameters], distinct
+
+
+def _type_names(topology, types):
+    """{LAMMPS type: ", " + the topology's atom names of that type} for the Masses comments."""
+    names = {}
+    for atom, number in zip(topology.atoms(), types) if topology is not None else ():
+        names.setdefault(number, set()).add(atom.name)
+    return {number: ", atoms " + " ".join(sorted(found)[:4]) + (" ..." if len(found) > 4 else "")
+            for number, found in names.items()}
+
+
+def _data_header(model, distinct, names, bond_types, angle_types, box, triclinic):
+    lines = ["LAMMPS data file written by openmmdpd.lammps.export_lammps", "",
+             f"{len(model.masses)} atoms", f"{len(distinct)} atom types"]
+    lines += [f"{len(model.bonds)} bonds", f"{len(bond_types)} bond types"]
+    if model.angles:
+        lines += [f"{len(model.angles)} angles", f"{len(angle_types)} angle types"]
+    lines += ["", f"0.0 {_number(box[0, 0])} xlo xhi", f"0.0 {_number(box[1, 1])} ylo yhi",
+              f"0.0 {_number(box[2, 2])} zlo zhi"]
+    if triclinic:
+        lines.append(f"{_number(box[1, 0])} {_number(box[2, 0])} {_number(box[2, 1])} xy xz yz")
+    lines += ["", "Masses", ""]
+    lines += [f"{t} {_number(mass)}  # soft-repulsion type {soft}, thermostat type {thermostat}{names.get(t, '')}"
+              for t, (soft, thermostat, mass) in enumerate(distinct, 1)]
+    return lines
+
+
+def _data_file(model, distinct, types, names, box, triclinic, positions, velocities):
+    bond_numbers, bond_types = _term_types([b[2:] for b in model.bonds])
+    angle_numbers, angle_types = _term_types([a[3:] for a in model.angles])
+    lines = _data_header(model, distinct, names, bond_types, angle_types, box, triclinic)
+    wrapped, images = _wrap(positions, box)
+    molecules = _molecules(len(types), model.bonds, model.angles)
+    lines += ["", f"Atoms  # {'molecular' if model.angles else 'bond'}", ""]
+    lines += [f"{i + 1} {molecules[i]} {types[i]} {' '.join(map(_number, wrapped[i]))} {' '.join(map(str, images[i]))}"
+              for i in range(len(types))]
+    if velocities is not None:
+        lines += ["", "Velocities", ""]
+        lines += [f"{i + 1} {' '.join(map(_number, v))}" for i, v in enumerate(velocities)]
+    if model.bonds:
+        lines += ["", "Bonds", ""]
+        lines += [f"{k + 1} {t} {b[0] + 1} {b[1] + 1}" for k, (t, b) in enumerate(zip(bond_numbers, model.bonds))]
+    if model.angles:
+        lines += ["", "Angles", ""]
+        lines += [f"{k + 1} {t} {a[0] + 1} {a[1] + 1} {a[2] + 1}"
+                  for k, (t, a) in enumerate(zip(angle_numbers, model.angles))]
+    return "\n".join(lines) + "\n", bond_types, angle_types
+
+
+def _pair_lines(scheme, rows, kT, seed):
+    """pair_style and pair_coeff: dpd (a gamma rc), dpd/ext (a gamma 0 ws 1 rc) or dpd/fdt (a sigma rc)."""
+    global_cutoff = _number(max(row[5] for row in rows))
+    if scheme == "shardlow":
+        # dpd/fdt skips every conservative force when its last pair_coeff has a = 0: end on a nonzero a.
+        rows = sorted(rows, key=lambda row: row[2] != 0)
+        lines = [f"pair_style dpd/fdt {_number(kT)} {global_cutoff} {seed}"]
+        return lines + [f"pair_coeff {i} {j} {_number(a)} {_number(math.sqrt(2 * kT * gamma))} {_number(rc)}"
+                        for i, j, a, gamma, _, rc in rows]
+    if all(row[4] == 2.0 for row in rows):
+        lines = [f"pair_style dpd {_number(kT)} {global_cutoff} {seed}"]
+        return lines + [f"pair_coeff {i} {j} {_number(a)} {_number(gamma)} {_number(rc)}"
+                        for i, j, a, gamma, _, rc in rows]
+    lines = [f"pair_style dpd/ext {_number(kT)} {global_cutoff} {seed}"]
+    return lines + [f"pair_coeff {i} {j} {_number(a)} {_number(gamma)} 0.0 {_number(s / 2)} 1.0 {_number(rc)}"
+                    for i, j, a, gamma, s, rc in rows]
+
+
+def _header(integrator, scheme, warning, kT, factors):
+    lines = ["# A DPD model exported by openmmdpd.lammps.export_lammps from an OpenMM System.",
+             "# Units: LAMMPS lj with sigma = 1 nm, m = 1 amu (g/mol), epsilon = 1 kJ/mol, so tau = 1 ps;",
+             "#   forces in kJ/mol/nm, friction gamma in amu/ps, and the lj temperature T* = kT / (1 kJ/mol)",
+             f"#   = {_number(kT)} (OpenMM temperature {_number(_value(integrator.getTemperature(), unit.kelvin))} K).",
+             f"# Integrator: {_integrator_name(integrator)} -> {_SCHEMES[scheme]}."]
+    if scheme == "verlet":
+        lines.append("#   fix nve evaluates pair dpd with the velocities after its first half kick: lambda = 1/2.")
+    if any(0 < f < 1 for f in factors):
+        lines.append("# special_bonds factors between 0 and 1 keep fluctuation-dissipation only where LAMMPS's pair "
+                     "dpd scales the random force by sqrt(factor), as its current sources do.")
+    if warning:
+        lines.append(f"# {warning}")
+    return lines
+
+
+def _input_script(integrator, model, plan, data_name, steps):
+    scheme, warning, kT, seed, rows, factors, bond_types, angle_types, triclinic, shear, has_velocities = plan
+    lines = _header(integrator, scheme, warning, kT, factors)
+    lines += ["", "units lj", f"atom_style {'molecular' if model.angles else 'bond'}", "boundary p p p",
+              "newton on", "comm_modify vel yes", f"read_data {data_name}", ""]
+    lines += _pair_lines(scheme, rows, kT, seed)
+    if bond_types:
+        lines += ["", "bond_style harmonic"]
+        lines += [f"bond_coeff {t} {_number(k)} {_number(r0)}" for t, (k, r0) in enumerate(bond_types, 1)]
+    if angle_types:
+        lines += ["", "angle_style harmonic"]
+        lines += [f"angle_coeff {t} {_number(k)} {_number(theta)}" for t, (k, theta) in enumerate(angle_types, 1)]
+    lines += ["", f"special_bonds lj {' '.join(map(_number, factors))}",
+              "neighbor 0.3 bin", "neigh_modify every 1 delay 0 check yes", "",
+              f"timestep {_number(_value(integrator.getStepSize(), unit.picosecond))}"]
+    if not has_velocities:
+        lines.append(f"velocity all create {_number(kT)} {seed} dist gaussian mom yes")
+    if scheme == "shardlow":
+        lines.append("fix shardlow all shardlow")
+    lines.append("fix integrate all nve")
+    if shear:
+        lines.append(f"fix shear all deform 1 xy erate {_number(shear)} remap v flip yes")
+    if model.momentum:
+        lines.append(f"fix momentum all momentum {model.momentum} linear 1 1 1")
+    lines += ["", "thermo_style custom step temp press pe ke", "thermo 100", f"run {steps}"]
+    return "\n".join(lines) + "\n"
+
+
+def _seed(integrator, seed):
+    seed = integrator.getRandomNumberSeed() if seed is None else seed
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 1 <= seed <= MAX_SEED:
+        raise ValueError(f"export_lammps: seed must be an integer from 1 to {MAX_SEED} (LAMMPS's random number "
+                         f"generator), got {seed!r}; the integrator's seed 0 (a new one per Context) has no "
+                         f"LAMMPS equivalent: pass seed= or set one with setRandomNumberSeed")
+    return int(seed)
+
+
+def _plan(integrator, model, box, seed, approximate):
+    """Everything the two files say, checked: the refusals all happen here, before any file."""
+    scheme, warning = _scheme(integrator, approximate)
+    shear = _value(integrator.getShearRate(), unit.picosecond**-1)
+    triclinic = _check_box(box, shear, scheme)
+    distinct, types = _atom_types(model)
+    rows = _pair_coefficients(model, distinct)
+    factors = _special_factors(model)
+    if scheme == "shardlow":
+        if any(row[4] != 2.0 for row in rows):
+            raise ValueError("export_lammps: LAMMPS's pair dpd/fdt has only the weight exponent 2; this "
+                             "ShardlowIntegrator sets another (setDefaultWeightExponent, setTypePairWeightExponent)")
+        if any(0 < f < 1 for f in factors):
+            raise ValueError(f"export_lammps: LAMMPS's fix shardlow ignores special_bonds factors between 0 and 1; "
+                             f"the factors here are {factors}")
+    kT = kT_from_temperature(integrator.getTemperature())
+    return scheme, warning, kT, _seed(integrator, seed), distinct, types, rows, factors, triclinic, shear
+
+
+def export_lammps(system, integrator, positions, path, velocities=None, box_vectors=None, topology=None,
+                  steps=0, seed=None, approximate=False):
+    """Write a LAMMPS data file (path + ".data") and input script (path + ".in") that run this model.
+
+    :param system: the OpenMM System: a DPDSoftRepulsionForce, HarmonicBondForce,
+        HarmonicAngleForce and CMMotionRemover are exported; any other Force is refused.
+    :param integrator: DPDVVIntegrator (GrootWarren, lambda 0.5) or ShardlowIntegrator (order 1);
+        others are refused unless approximate=True (then the closest scheme, with a warning in
+        the script's header; Lowe-Andersen collisions are refused always).
+    :param positions: positions (nm), or an OpenMM State or Context (then its positions,
+        velocities and box vectors are used).
+    :param path: the files' path without extension; the script reads the data file by its name,
+        so run LAMMPS in that folder (``lmp -in model.in``).
+    :param velocities: nm/ps; None: those of a State or Context if given, else the script draws
+        them (``velocity all create``).
+    :param box_vectors: the box (nm); default: the State's, else the System's default box.
+    :param topology: optional; its atom names are noted beside each atom type's mass, and its
+        number of atoms must be the System's.
+    :param steps: the number of steps the script runs, >= 0.
+    :param seed: the random seed, 1 to MAX_SEED; default: the integrator's (which must not be 0).
+    :param approximate: write the closest scheme for an integrator LAMMPS has no equivalent of.
+    :returns: LammpsFiles(data, input). Nothing is written when anything is refused.
+    """
+    if topology is not None and topology.getNumAtoms() != system.getNumParticles():
+        raise ValueError(f"export_lammps: the topology has {topology.getNumAtoms()} atoms, the System "
+                         f"{system.getNumParticles()} particles")
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
+        raise ValueError(f"export_lammps: steps must be an integer >= 0, got {steps!r}")
+    model = _read_model(system, integrator)
+    positions, velocities, box = _source(positions, velocities, box_vectors, system)
+    scheme, warning, kT, seed, distinct, types, rows, factors, triclinic, shear = \
+        _plan(integrator, model, box, seed, approximate)
+    data, bond_types, angle_types = _data_file(model, distinct, types, _type_names(topology, types), box,
+                                               triclinic, positions, velocities)
+    files = LammpsFiles(os.fspath(path) + ".data", os.fspath(path) + ".in")
+    plan = (scheme, warning, kT, seed, rows, factors, bond_types, angle_types, triclinic, shear,
+            velocities is not None)
+    script = _input_script(integrator, model, plan, os.path.basename(files.data), int(steps))
+    _write_both(files, data, script)
+    return files
+
+
+def _write_both(files, data, script):
+    """Both files or neither: each is written beside its target, then moved into place."""
+    temporary = [name + ".partial" for name in files]
+    try:
+        for name, text in zip(temporary, (data, script)):
+            with open(name, "w") as f:
+                f.write(text)
+        for source, target in zip(temporary, files):
+            os.replace(source, target)
+    finally:
+        for name in temporary:
+            if os.path.exists(name):
+                os.remove(name)
+
+
+# --- Reading back --------------------------------------------------------------------------
+
+_SECTIONS = ("Masses", "Atoms", "Velocities", "Bonds", "Angles")
+
+
+def _data_sections(path):
+    """({header keyword: [numbers]}, {section: [rows of numbers]}) of a data file, comments removed."""
+    with open(path) as f:
+        lines = f.read().splitlines()[1:]  # the first line is a title
+    header, sections, current = {}, {}, None
+    for line in lines:
+        words = line.split("#", 1)[0].split()
+        if not words:
+            continue
+        if words[0] in _SECTIONS:
+            current = sections.setdefault(words[0], [])
+        elif current is not None:
+            current.append([float(w) for w in words])
+        else:
+            numbers = [w for w in words if not w.isalpha()]
+            header[" ".join(w for w in words if w.isalpha())] = [float(w) for w in numbers]
+    return header, sections
+
+
+def _rows(sections, name, width):
+    rows = sorted(sections.get(name, []))
+    return np.array(rows, dtype=float).reshape(-1, width)
+
+
+def read_lammps_data(path):
+    """Read a data file export_lammps wrote (atom style bond or molecular) into a LammpsData."""
+    header, sections = _data_sections(path)
+    atoms = _rows(sections, "Atoms", 9)
+    velocities = _rows(sections, "Velocities", 4) if "Velocities" in sections else None
+    xy, xz, yz = header.get("xy xz yz", [0.0, 0.0, 0.0])
+    lengths = [header[f"{x}lo {x}hi"][1] - header[f"{x}lo {x}hi"][0] for x in "xyz"]
+    box = np.array([[lengths[0], 0, 0], [xy, lengths[1], 0], [xz, yz, lengths[2]]])
+    bonds, angles = _rows(sections, "Bonds", 4), _rows(sections, "Angles", 5)
+    return LammpsData(masses={int(t): m for t, m in sections.get("Masses", [])},
+                      types=atoms[:, 2].astype(int), molecules=atoms[:, 1].astype(int),
+                      positions=atoms[:, 3:6], images=atoms[:, 6:9].astype(int),
+                      velocities=None if velocities is None else velocities[:, 1:],
+                      bonds=np.column_stack([bonds[:, 1], bonds[:, 2:] - 1]).astype(int),
+                      angles=np.column_stack([angles[:, 1], angles[:, 2:] - 1]).astype(int), box=box)
+
+
+def read_lammps_input(path):
+    """Read an input script export_lammps wrote into a LammpsInput (commands and coefficients)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    header = []
+    for line in lines:
+        if not line.startswith("#"):
+            break
+        header.append(line[1:].strip())
+    commands = [(words[0], words[1:]) for words in (line.split("#", 1)[0].split() for line in lines) if words]
+    pair_style, special, coefficients, fixes = [], [], {"pair_coeff": {}, "bond_coeff": {}, "angle_coeff": {}}, {}
+    for command, arguments in commands:
+        if command == "pair_coeff":
+            coefficients[command][(int(arguments[0]), int(arguments[1]))] = [float(x) for x in arguments[2:]]
+        elif command in ("bond_coeff", "angle_coeff"):
+            coefficients[command][int(arguments[0])] = [float(x) for x in arguments[1:]]
+        elif command == "pair_style":
+            pair_style = arguments
+        elif command == "special_bonds":
+            special = arguments
+        elif command == "fix":
+            fixes[arguments[0]] = arguments[1:]
+    return LammpsInput(header, commands, pair_style, coefficients["pair_coeff"], coefficients["bond_coeff"],
+                       coefficients["angle_coeff"], special, fixes)

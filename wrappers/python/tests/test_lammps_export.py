@@ -1,0 +1,371 @@
+"""openmmdpd.lammps: the data file and input script written for LAMMPS say every parameter of
+the System and integrator, read back and compared with values computed here from the OpenMM
+objects themselves: a_ij, gamma_ij = 2 mu_ij friction and r_c for every pair of particles
+(through their LAMMPS types), each atom's mass and type, each bond (i, j, K = k/2, r0) and
+angle, the box and positions, the temperature, seed, time step, the integrator's fixes, the
+special_bonds factors and the shear fix.  What cannot be expressed is refused, naming the
+Force or integrator, with nothing written.  (Running the scripts in LAMMPS is not part of
+this file.)"""
+import math
+import os
+
+import numpy as np
+import openmm
+import pytest
+from openmm import unit
+
+import openmmdpd
+from openmmdpd import lammps, scenes
+
+N, DENSITY, DT, SEED = 60, 3.0, 0.04, 4242
+
+
+def value(quantity, target):
+    """A Quantity's number(s) in `target`; plain numbers and arrays are taken as in it already."""
+    if unit.is_quantity(quantity):
+        return quantity.value_in_unit(target)
+    return float(quantity) if np.ndim(quantity) == 0 else np.asarray(quantity, dtype=float)
+
+
+def soft_parameters(system, i, j):
+    """(a, cutoff) of particles i and j from the System's DPDSoftRepulsionForce, or None."""
+    for force in system.getForces():
+        if isinstance(force, openmmdpd.DPDSoftRepulsionForce):
+            ti, tj = force.getParticleType(i), force.getParticleType(j)
+            for k in range(force.getNumTypePairs()):
+                t1, t2, a, rc = force.getTypePairParameters(k)
+                if {t1, t2} == {ti, tj}:
+                    return value(a, unit.kilojoule_per_mole / unit.nanometer), value(rc, unit.nanometer)
+            return (value(force.getDefaultA(), unit.kilojoule_per_mole / unit.nanometer),
+                    value(force.getDefaultCutoff(), unit.nanometer))
+    return None
+
+
+def thermostat_parameters(integrator, system, i, j):
+    """(gamma_ij = 2 mu_ij friction, cutoff, weight exponent) of particles i and j."""
+    ti, tj = integrator.getParticleType(i), integrator.getParticleType(j)
+    friction, rc, s = integrator.getDefaultFriction(), integrator.getDefaultCutoff(), integrator.getDefaultWeightExponent()
+    for k in range(integrator.getNumTypePairs()):
+        t1, t2, f, c = integrator.getTypePairParameters(k)
+        if {t1, t2} == {ti, tj}:
+            friction, rc, s = f, c, integrator.getTypePairWeightExponent(k)
+    mi, mj = (value(system.getParticleMass(p), unit.dalton) for p in (i, j))
+    return 2 * mi * mj / (mi + mj) * value(friction, unit.picosecond**-1), value(rc, unit.nanometer), s
+
+
+def expected_pair(system, integrator, i, j):
+    """(a, gamma, cutoff, s) LAMMPS must use for particles i and j."""
+    gamma, rc, s = thermostat_parameters(integrator, system, i, j)
+    soft = soft_parameters(system, i, j)
+    return (0.0 if soft is None else soft[0]), gamma, rc, s
+
+
+def check_pairs(system, integrator, data, script, kT):
+    style = script.pair_style[0]
+    for i in range(system.getNumParticles()):
+        for j in range(i + 1, system.getNumParticles()):
+            a, gamma, rc, s = expected_pair(system, integrator, i, j)
+            ti, tj = sorted((data.types[i], data.types[j]))
+            coefficients = script.pair_coeffs[(ti, tj)]
+            if style == "dpd":
+                assert coefficients == pytest.approx([a, gamma, rc], rel=1e-14) and s == 2
+            elif style == "dpd/ext":  # a gamma gammaT ws wsT rc, ws = s/2
+                assert coefficients == pytest.approx([a, gamma, 0.0, s / 2, 1.0, rc], rel=1e-14)
+            else:
+                assert style == "dpd/fdt" and s == 2
+                assert coefficients == pytest.approx([a, math.sqrt(2 * kT * gamma), rc], rel=1e-14)
+
+
+def check_terms(system, data, script):
+    """Each bond (i, j, K = k/2, r0) and angle (i, j, k, K = k/2, theta0 in degrees)."""
+    bonds, angles = {}, {}
+    for force in system.getForces():
+        if type(force) is openmm.HarmonicBondForce:
+            for k in range(force.getNumBonds()):
+                i, j, r0, stiffness = force.getBondParameters(k)
+                bonds[(i, j)] = (value(stiffness, unit.kilojoule_per_mole / unit.nanometer**2) / 2,
+                                 value(r0, unit.nanometer))
+        if type(force) is openmm.HarmonicAngleForce:
+            for k in range(force.getNumAngles()):
+                i, j, l, theta, stiffness = force.getAngleParameters(k)
+                angles[(i, j, l)] = (value(stiffness, unit.kilojoule_per_mole / unit.radian**2) / 2,
+                                     math.degrees(value(theta, unit.radian)))
+    written = {(i, j): tuple(script.bond_coeffs[t]) for t, i, j in data.bonds}
+    assert written.keys() == bonds.keys()
+    assert all(written[b] == pytest.approx(bonds[b], rel=1e-14) for b in bonds)
+    written = {(i, j, l): tuple(script.angle_coeffs[t]) for t, i, j, l in data.angles}
+    assert written.keys() == angles.keys()
+    assert all(written[b] == pytest.approx(angles[b], rel=1e-14) for b in angles)
+
+
+def fixes_of(script):
+    return {fix: arguments[1] for fix, arguments in script.fixes.items()}
+
+
+def export(system, integrator, source, tmp_path, **options):
+    files = lammps.export_lammps(system, integrator, source, os.fspath(tmp_path / "model"), **options)
+    assert files == (os.fspath(tmp_path / "model.data"), os.fspath(tmp_path / "model.in"))
+    return lammps.read_lammps_data(files.data), lammps.read_lammps_input(files.input)
+
+
+def check_export(system, integrator, positions, tmp_path, box, velocities=None, **options):
+    """Export, read back and check everything but the special_bonds and the integrator's fixes."""
+    data, script = export(system, integrator, positions, tmp_path, velocities=velocities, **options)
+    kT = openmmdpd.kT_from_temperature(integrator.getTemperature())
+    n = system.getNumParticles()
+    assert [data.masses[t] for t in data.types] == [value(system.getParticleMass(i), unit.dalton) for i in range(n)]
+    assert len(data.masses) == len(set(data.types)) == max(data.types)
+    check_pairs(system, integrator, data, script, kT)
+    check_terms(system, data, script)
+    assert data.box == pytest.approx(np.asarray(box), abs=1e-14)
+    unwrapped = data.positions + data.images @ data.box
+    assert unwrapped == pytest.approx(np.asarray(value(positions, unit.nanometer)), abs=1e-12)
+    fractions = np.linalg.solve(data.box.T, data.positions.T).T
+    assert np.all((fractions >= 0) & (fractions < 1))
+    if velocities is not None:
+        assert data.velocities == pytest.approx(np.asarray(value(velocities, unit.nanometer / unit.picosecond)))
+    assert [float(x) for x in script.pair_style[1:3]] == pytest.approx(
+        [kT, max(row[-1] for row in script.pair_coeffs.values())], rel=1e-14)
+    assert int(script.pair_style[3]) == options.get("seed", integrator.getRandomNumberSeed())
+    commands = dict(script.commands)
+    assert commands["units"] == ["lj"] and commands["comm_modify"] == ["vel", "yes"]
+    assert float(commands["timestep"][0]) == value(integrator.getStepSize(), unit.picosecond)
+    return data, script
+
+
+def two_type_fluid():
+    """A two-type soft fluid whose thermostat types differ from its soft types, with two masses."""
+    types = [i % 2 for i in range(N)]
+    scene = scenes.soft_scene(num_particles=N, density=DENSITY, a=[[25.0, 40.0], [40.0, 25.0]],
+                              soft_repulsion_types=types)
+    for i in range(0, N, 5):
+        scene.system.setParticleMass(i, 2.0)
+    integrator = openmmdpd.DPDVVIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    for i in range(0, N, 3):
+        integrator.setParticleType(i, 1)
+    integrator.addTypePair(0, 1, 3.0, 1.0)
+    integrator.addTypePair(1, 1, 6.0, 1.0)
+    return scene, integrator
+
+
+def box_of(system):
+    return [list(value(v, unit.nanometer)) for v in system.getDefaultPeriodicBoxVectors()]
+
+
+def test_a_two_type_fluid_with_other_thermostat_types_and_masses(tmp_path):
+    scene, integrator = two_type_fluid()
+    rng = np.random.default_rng(3)
+    velocities = rng.normal(size=(N, 3))
+    # Positions outside the box: written wrapped, with image flags that restore them.
+    positions = scene.positions.value_in_unit(unit.nanometer) + rng.integers(-2, 3, size=(N, 3)) * box_of(scene.system)[0][0]
+    data, script = check_export(scene.system, integrator, positions, tmp_path, box_of(scene.system),
+                                velocities=velocities, steps=500)
+    # (soft type, thermostat type, mass): 2 x 2 x 2 combinations, all present.
+    assert len(data.masses) == 8 and script.pair_style[0] == "dpd"
+    assert fixes_of(script) == {"integrate": "nve"}
+    assert script.special_bonds == ["lj", "1.0", "1.0", "1.0"]
+    assert dict(script.commands)["run"] == ["500"]
+    assert "velocity" not in dict(script.commands)
+    assert any("T* = kT / (1 kJ/mol)" in line for line in script.header)
+
+
+def chains_system():
+    """Chains of 5 beads in the fluid: harmonic bonds (two kinds), angles, bonded pairs
+    excluded from the repulsion and from the thermostat (special_bonds lj 0 1 1)."""
+    scene, integrator = two_type_fluid()
+    system = scene.system
+    chains = [list(range(c, c + 5)) for c in range(0, 20, 5)]
+    bonds = [(i, j) for chain in chains for i, j in zip(chain[:-1], chain[1:])]
+    springs = openmm.HarmonicBondForce()
+    angles = openmm.HarmonicAngleForce()
+    for k, (i, j) in enumerate(bonds):
+        springs.addBond(i, j, 0.5 if k % 2 else 0.0, 100.0 if k % 2 else 4.0)
+    for chain in chains:
+        for i, j, l in zip(chain, chain[1:], chain[2:]):
+            angles.addAngle(i, j, l, math.pi if j % 2 else 2.0, 6.0)
+    springs.setUsesPeriodicBoundaryConditions(True)
+    angles.setUsesPeriodicBoundaryConditions(True)
+    system.addForce(springs)
+    system.addForce(angles)
+    soft = next(f for f in system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
+    for i, j in bonds:
+        soft.addExclusion(i, j)
+    integrator.createThermostatExceptionsFromBonds(bonds, 0.0, 1.0)
+    system.addForce(openmm.CMMotionRemover(10))
+    return scene, integrator, chains
+
+
+def test_chains_with_bonds_angles_and_special_bonds(tmp_path):
+    scene, integrator, chains = chains_system()
+    data, script = check_export(scene.system, integrator, scene.positions, tmp_path, box_of(scene.system),
+                                topology=scene.topology)
+    assert len(script.bond_coeffs) == 2 and len(script.angle_coeffs) == 2
+    with open(tmp_path / "model.data") as f:
+        masses = f.read().split("Masses")[1].split("Atoms")[0]
+    assert masses.count(", atoms S\n") == len(data.masses)  # the topology's atom names beside each type
+    assert dict(script.commands)["atom_style"] == ["molecular"]
+    assert script.special_bonds == ["lj", "0.0", "1.0", "1.0"]
+    assert script.fixes["momentum"] == ["all", "momentum", "10", "linear", "1", "1", "1"]
+    assert [len(set(data.molecules[chain])) for chain in chains] == [1] * len(chains)
+    assert len({data.molecules[chain[0]] for chain in chains}) == len(chains) and not any(data.molecules[20:])
+    # No velocities given: the script draws them at kT with the seed.
+    assert dict(script.commands)["velocity"] == ["all", "create", "1.0", str(SEED), "dist", "gaussian", "mom", "yes"]
+
+
+def test_weight_exponents_write_dpd_ext(tmp_path):
+    scene, integrator = two_type_fluid()
+    integrator.setDefaultWeightExponent(1.0)
+    integrator.setTypePairWeightExponent(1, 0.5)
+    data, script = check_export(scene.system, integrator, scene.positions, tmp_path, box_of(scene.system),
+                                seed=17)
+    assert script.pair_style[0] == "dpd/ext" and script.pair_style[3] == "17"
+    assert {row[3] for row in script.pair_coeffs.values()} == {0.5, 0.25}
+
+
+def test_shardlow_order_1_writes_fix_shardlow_and_dpd_fdt(tmp_path):
+    scene, _ = two_type_fluid()
+    integrator = openmmdpd.ShardlowIntegrator(openmmdpd.reduced_temperature(1.5), 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    integrator.addTypePair(0, 1, 2.0, 1.0)
+    integrator.setParticleType(3, 1)
+    soft = next(f for f in scene.system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
+    soft.setTypePairParameters(1, 1, 1, 0.0, 1.0)  # a = 0 between type-1 beads
+    data, script = check_export(scene.system, integrator, scene.positions, tmp_path, box_of(scene.system))
+    assert script.pair_style[0] == "dpd/fdt" and float(script.pair_style[1]) == pytest.approx(1.5, rel=1e-14)
+    fixes = [arguments[2] for command, arguments in script.commands if command == "fix"]
+    assert fixes == ["shardlow", "nve"]  # LAMMPS requires fix shardlow first
+    pair_lines = [arguments for command, arguments in script.commands if command == "pair_coeff"]
+    assert float(pair_lines[-1][2]) != 0  # dpd/fdt drops all conservative forces if its last a is 0
+
+
+def test_shear_from_a_context_writes_a_tilted_box_and_fix_deform(tmp_path):
+    scene, integrator = two_type_fluid()
+    integrator.setShearRate(0.2)
+    context = openmm.Context(scene.system, integrator, openmm.Platform.getPlatformByName("Reference"))
+    context.setPositions(scene.positions)
+    context.setVelocitiesToTemperature(openmmdpd.KT_TEMPERATURE, 1)
+    integrator.step(5)
+    state = context.getState(getPositions=True, getVelocities=True)
+    box = [list(value(v, unit.nanometer)) for v in state.getPeriodicBoxVectors()]
+    assert box[1][0] != 0
+    data, script = check_export(scene.system, integrator, state.getPositions(), tmp_path, box,
+                                velocities=state.getVelocities(), box_vectors=state.getPeriodicBoxVectors())
+    from_context, _ = export(scene.system, integrator, context, tmp_path)
+    assert from_context.box == pytest.approx(data.box) and from_context.positions == pytest.approx(data.positions)
+    assert from_context.velocities == pytest.approx(data.velocities)
+    assert script.fixes["shear"] == ["all", "deform", "1", "xy", "erate", "0.2", "remap", "v", "flip", "yes"]
+    assert script.fixes["integrate"] == ["all", "nve"]
+
+
+def test_a_fluid_without_conservative_force(tmp_path):
+    scene = scenes.ideal_scene(num_particles=N, density=DENSITY)
+    integrator = openmmdpd.DPDVVIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    data, script = check_export(scene.system, integrator, scene.positions, tmp_path, box_of(scene.system))
+    assert script.pair_coeffs == {(1, 1): [0.0, 4.5, 1.0]}
+
+
+def test_approximate_writes_the_closest_scheme_and_says_so(tmp_path):
+    scene, integrator = two_type_fluid()
+    integrator.setLambda(0.65)
+    data, script = check_export(scene.system, integrator, scene.positions, tmp_path, box_of(scene.system),
+                                approximate=True)
+    assert fixes_of(script) == {"integrate": "nve"}
+    assert any(line.startswith("WARNING: approximate: DPDVVIntegrator (GrootWarren, lambda 0.65)")
+               for line in script.header)
+
+
+def lowe():
+    integrator = openmmdpd.LoweAndersenIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    return integrator
+
+
+def dpdvv_variant():
+    integrator = openmmdpd.DPDVVIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setVariant(openmmdpd.DPDVVIntegrator.DPDVV)
+    integrator.setRandomNumberSeed(SEED)
+    return integrator
+
+
+def with_charges(scene):
+    force = openmm.NonbondedForce()
+    for i in range(N):
+        force.addParticle(0.1 if i % 2 else -0.1, 0.3, 0.0)
+    scene.system.addForce(force)
+
+
+def with_wca():
+    return scenes.polymer_scene(num_particles=N, density=DENSITY, chain_length=5)
+
+
+def unequal_cutoffs(scene, integrator):
+    integrator.addTypePair(0, 0, 4.5, 0.9)
+
+
+def fractional_bond_factor(scene, integrator):
+    springs = openmm.HarmonicBondForce()
+    springs.addBond(0, 1, 0.0, 4.0)
+    scene.system.addForce(springs)
+    integrator.addThermostatException(0, 1, 0.5)
+
+
+def far_exception(scene, integrator):
+    soft = next(f for f in scene.system.getForces() if isinstance(f, openmmdpd.DPDSoftRepulsionForce))
+    soft.addExclusion(0, 7)
+    integrator.addThermostatException(0, 7, 0.0)
+
+
+def shardlow_under_shear():
+    integrator = openmmdpd.ShardlowIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    integrator.setShearRate(0.1)
+    return integrator
+
+
+REFUSALS = {
+    "a CustomNonbondedForce": (lambda s, i: None, with_wca, None, "CustomNonbondedForce 'WCA'"),
+    "a NonbondedForce with charges": (lambda s, i: with_charges(s), None, None, "NonbondedForce"),
+    "Lowe-Andersen collisions": (lambda s, i: None, None, lowe, "LoweAndersenIntegrator (Lowe)"),
+    "DPD-VV": (lambda s, i: None, None, dpdvv_variant, "DPDVVIntegrator (DPDVV) has no LAMMPS equivalent"),
+    "seed 0": (lambda s, i: i.setRandomNumberSeed(0), None, None, "seed must be an integer from 1"),
+    "cutoffs that differ": (unequal_cutoffs, None, None, "LAMMPS's pair dpd has one cutoff per pair of types"),
+    "a factor the soft force lacks": (fractional_bond_factor, None, None, "the soft-repulsion factor 1.0"),
+    "an exception not along bonds": (far_exception, None, None, "are not 1, 2 or 3 bonds apart"),
+    "Shardlow under shear": (lambda s, i: None, None, shardlow_under_shear, "fix shardlow supports only orthogonal"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(REFUSALS))
+def test_what_cannot_be_expressed_is_refused_with_nothing_written(case, tmp_path):
+    change, make_scene, make_integrator, message = REFUSALS[case]
+    scene, integrator = two_type_fluid()
+    scene = make_scene() if make_scene else scene
+    integrator = make_integrator() if make_integrator else integrator
+    change(scene, integrator)
+    with pytest.raises(ValueError, match="export_lammps: ") as error:
+        lammps.export_lammps(scene.system, integrator, scene.positions, os.fspath(tmp_path / "model"),
+                             approximate=case == "Lowe-Andersen collisions")
+    assert message in str(error.value)
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_force_field_model_with_shardlow(tmp_path):
+    """The Groot–Madden diblock melt, built from its force field as the examples do, with
+    removeCMMotion left on: repulsion, bonds and the force field's thermostat table."""
+    from openmm import app
+    from openmmdpd import forcefield, packer
+    ff = app.ForceField(forcefield.data_path("groot-madden-diblock.xml"))
+    names = ["AE"] + ["AM"] * 4 + ["BM"] * 4 + ["BE"]
+    chain = packer.Molecule([(name, [name[0]]) for name in names], [(i, i + 1) for i in range(9)])
+    topology, positions = packer.pack([(chain, 12)], box=[3.5] * 3, bond_length=0.8, seed=4)
+    system = ff.createSystem(topology, nonbondedMethod=app.CutoffPeriodic)
+    integrator = openmmdpd.ShardlowIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    forcefield.apply_thermostat_parameters(integrator, ff, topology)
+    integrator.setRandomNumberSeed(SEED)
+    data, script = check_export(system, integrator, positions, tmp_path, box_of(system), topology=topology)
+    assert sorted(script.pair_coeffs[(1, 2)][:1] + script.pair_coeffs[(1, 1)][:1]) == [25.0, 40.0]
+    assert len(data.bonds) == 12 * 9 and script.bond_coeffs == {1: [2.0, 0.0]}  # K = k/2 = 4/2
+    assert script.special_bonds == ["lj", "1.0", "1.0", "1.0"]  # bonded beads repel in this model
+    assert script.fixes["momentum"][:3] == ["all", "momentum", "1"]
