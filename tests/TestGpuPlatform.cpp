@@ -168,13 +168,13 @@ TEST(GpuPlatform, SoftRepulsionForceEqualsReferenceInATiltedBox) {
     Vec3 a, b, c;
     system->getDefaultPeriodicBoxVectors(a, b, c);
     for (double tilt : {0.3, 1.7, -2.6, 2.65}) {
+        // The System's own box: OpenMM 8 refuses to tilt a Context made with a rectangular one.
+        system->setDefaultPeriodicBoxVectors(a, Vec3(tilt, b[1], 0), c);
         VerletIntegrator first(0.001), second(0.001);
         Context reference(*system, first, Platform::getPlatformByName("Reference"));
         Context device(*system, second, Platform::getPlatformByName(GPU));
-        for (Context* context : {&reference, &device}) {
-            context->setPeriodicBoxVectors(a, Vec3(tilt, b[1], 0), c);
+        for (Context* context : {&reference, &device})
             context->setPositions(positions);
-        }
         const State expected = reference.getState(State::Forces | State::Energy);
         const State actual = device.getState(State::Forces | State::Energy);
         EXPECT_LT(maxDifference(expected.getForces(), actual.getForces()), 1e-5 * maxNorm(expected.getForces())) << "tilt " << tilt;
