@@ -62,6 +62,13 @@ def standard_error(samples):
     return float(np.sqrt(timeseries.statisticalInefficiency(x) * x.var() / len(x)))
 
 
+def jackknife_error(left_out):
+    """The jackknife standard error of an estimate from its values with each of n segments left
+    out in turn: sqrt((n - 1)/n sum (x_i - mean)^2)."""
+    x = np.asarray(left_out, dtype=float)
+    return float(np.sqrt((len(x) - 1) / len(x) * np.sum((x - x.mean()) ** 2)))
+
+
 def ratio_with_error(numerator, denominator):
     """(<a> / <b>, its standard error) for paired series a, b, such as the configurational
     temperature <sum |F|^2> / <sum lap U>: linearised, the error of the ratio R is that of

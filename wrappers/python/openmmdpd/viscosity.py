@@ -18,15 +18,23 @@ and its three components.
 
 Green–Kubo: at rate 0, eta = V/kT Delta [C(0)/2 + sum_{k>=1} C(k)], C the autocorrelation of
 the block-averaged off-diagonal components (averaged over xy, xz, yz, without subtracting the
-mean, which is 0 by symmetry), Delta = --block (the block series goes to gk_series_SCENE.npz).
-Block averaging leaves the integral unchanged (the zero-frequency power of a series is that of
-its block means), and the C(0)/2 term carries the random force's white-noise stress, which has
-no correlation at lag >= 1. The plateau is read at the first lag 2k such that |I(2k) - I(k)| is
-within 1 standard error of 0 (the integral has stopped changing; DPD's stress correlation has
-a slow tail that keeps it rising past C's first zero); the error is the spread over --segments
-independent consecutive segments, each integrated to the same lag. The same integral without
-the thermostat part (total - thermostat) is reported to show that the dissipative and random
-stress matters.
+mean, which is 0 by symmetry), Delta = --block (the block series goes to gk_series_SCENE.npz,
+from which --reanalyse redoes this analysis). Block averaging leaves the integral unchanged (the
+zero-frequency power of a series is that of its block means), and the C(0)/2 term carries the
+random force's white-noise stress, which has no correlation at lag >= 1.
+
+DPD's stress correlation falls by an order of magnitude within a few tenths of a time unit and
+then has a slow tail, about a tenth of eta with a decay time of 1 or more, smaller than the
+noise of a single lag: the running integral I(t) looks flat early and keeps creeping up, so
+reading it where it first stops changing (the earlier rule, shoulder_lag) comes out low. The
+rule here fits the tail: for each window from a start t0 (5 spread over --gk-fit-start, past
+the fast decay) to an end t1 (3 spread over --gk-fit-end), C is fitted by A exp(-(t - t0)/tau)
+(least squares, tau scanned on a grid up to a quarter of the window), and eta(t0, t1) = I(t0) +
+the fit's sum beyond t0. eta is the mean over the 15 windows; its error adds in quadrature the
+statistical error (jackknife: the whole estimate redone with each of --segments consecutive
+segments left out) and a systematic one for the choice of window (half the spread of eta(t0,
+t1)). The same estimate without the thermostat part (total - thermostat) shows that the
+dissipative and random stress matters.
 """
 import csv
 import os
@@ -38,7 +46,7 @@ import openmm
 from openmm import unit
 
 from . import options, shear
-from .analysis import standard_error
+from .analysis import jackknife_error, standard_error
 from .catalog import integrators
 from .charts import use_file_backend
 from .pressure import PARTS, check_integrator, pressure_tensor
@@ -52,8 +60,11 @@ PROFILE_BINS = 10
 NEMD_COLUMNS = ["scene", "integrator", "dt", "rate", "time", "eta", "eta_err", "eta_kinetic", "eta_conservative",
                 "eta_thermostat", "Pxy", "Pxy_err", "N1", "N1_err", "slope_ratio", "slope_ratio_err", "profile_rms",
                 "kT", "kT_err", "kT_x", "kT_y", "kT_z"]
-GK_COLUMNS = ["scene", "integrator", "dt", "series", "time", "block", "plateau_time", "eta", "eta_err", "eta_2lag",
-              "eta_4lag"]
+GK_COLUMNS = ["scene", "integrator", "dt", "series", "time", "block", "fit_start_from", "fit_start_to", "fit_end_from",
+              "fit_end_to", "eta", "eta_err", "eta_stat", "eta_sys", "tau", "tail", "shoulder_time", "eta_shoulder"]
+TAU_GRID = 200  # decay times the tail fit scans (about 2 % apart with the defaults)
+FIT_STARTS = 5  # tail-fit starts spread over --gk-fit-start
+FIT_ENDS = 3  # and ends over --gk-fit-end
 
 
 # --- Green–Kubo ----------------------------------------------------------------------------------
@@ -79,12 +90,12 @@ def running_integral(correlation, interval):
     return interval * (np.cumsum(c) - 0.5 * c[0])
 
 
-def plateau_lag(running, segment_running, sigmas=1.0):
-    """The first lag L = 2k (k >= 1) over whose second half the integral has stopped changing:
-    |I(2k) - I(k)| within `sigmas` standard errors of 0, the error from the same difference
-    over the segments (rows of segment_running); the longest even lag if it never does.  Read
-    at 2k rather than k, so that what was still rising within the noise is included.  A slowly
-    decaying tail keeps DPD's integral rising past C's first zero: the first zero reads too low."""
+def shoulder_lag(running, segment_running, sigmas=1.0):
+    """The earlier rule, kept to show its bias: the first lag L = 2k (k >= 1) with |I(2k) - I(k)|
+    within `sigmas` standard errors of 0 (the error from the segments, rows of segment_running);
+    the longest even lag if there is none.  Where C has a slow tail small next to the noise of
+    a single lag, this shoulder comes before the tail is integrated and reads too low
+    (test_viscosity: 5 % low on series with a 10 % tail)."""
     running, segments = np.asarray(running, dtype=float), np.asarray(segment_running, dtype=float)
     for k in range(1, (len(running) - 1) // 2 + 1):
         rise = segments[:, 2 * k] - segments[:, k]
@@ -93,28 +104,75 @@ def plateau_lag(running, segment_running, sigmas=1.0):
     return max(2, (len(running) - 1) // 2 * 2)
 
 
-def green_kubo(series, interval, scale=1.0, max_lag=None, segments=8):
+def exponential_tail(correlation, start, end, interval):
+    """(A, tau, tail) of the least-squares A exp(-(t - t0)/tau) to C from lag `start` (t0) to
+    lag `end`: tau scanned on a log grid from Delta to a quarter of the fit window (which then
+    spans four decay times, so the data and not the extrapolation fix it), A linear at each tau;
+    tail = Delta sum_{k > start} A q^(k - start), q = exp(-Delta/tau), the rest of the integral."""
+    y = np.asarray(correlation, dtype=float)[start:end + 1]
+    taus = np.geomspace(interval, max(interval, (len(y) - 1) * interval / 4), TAU_GRID)
+    shapes = np.exp(-np.outer(1 / taus, np.arange(len(y)) * interval))
+    amplitudes = shapes @ y / np.einsum("ij,ij->i", shapes, shapes)
+    best = np.argmin(np.sum((y - amplitudes[:, None] * shapes) ** 2, axis=1))
+    a, tau = float(amplitudes[best]), float(taus[best])
+    q = np.exp(-interval / tau)
+    return a, tau, interval * a * q / (1 - q)
+
+
+def tail_fit_estimates(correlation, interval, windows):
+    """eta(t0, t1) = I(t0) + the tail of the exponential fitted from t0 to t1, for each window
+    (start lag, end lag)."""
+    running = running_integral(correlation, interval)
+    return np.array([running[k] + exponential_tail(correlation, k, end, interval)[2] for k, end in windows])
+
+
+def fit_windows(fit_start, fit_end, interval, max_lag):
+    """The (start, end) lags of the tail fits: FIT_STARTS starts evenly over the times fit_start,
+    FIT_ENDS ends evenly in log over fit_end (both cut at max_lag), each window at least 4 lags;
+    the middle window first."""
+    def lags(times, count, spacing):
+        first, last = (min(max(1, round(t / interval)), max_lag) for t in times)
+        return np.unique(spacing(first, max(first, last), count).round().astype(int))
+    starts = lags(fit_start, FIT_STARTS, np.linspace)
+    ends = lags(fit_end, FIT_ENDS, np.geomspace)
+    middle = (starts[len(starts) // 2], ends[len(ends) // 2])
+    windows = [(k, e) for k in starts for e in ends if e - k >= 4]
+    if not windows:
+        raise ValueError(f"no tail-fit window of 4 lags: starts {starts * interval}, ends {ends * interval}")
+    return sorted(windows, key=lambda w: w != middle)
+
+
+def green_kubo(series, interval, scale=1.0, max_lag=None, segments=8, fit_start=(0.5, 1.5), fit_end=(5.0, 20.0)):
     """Green–Kubo integral scale * Delta [C(0)/2 + sum C(k)] of series (n, m) sampled every
-    interval, its columns' correlations averaged: a dict with the plateau lag (plateau_lag), the
-    integral there with its standard error from the spread over `segments` consecutive segments,
-    the values at twice and four times the lag, the lags, C and running integral (scaled) for
-    charts, and each segment's running integral (rows)."""
+    interval, its columns' correlations averaged, with C's tail fitted by an exponential
+    (tail_fit_estimates) over every window of fit_windows: eta is the mean over the windows,
+    eta_stat its jackknife error over `segments` consecutive segments, eta_sys half the spread
+    over the windows, eta_err the two in quadrature; with tau and tail (the middle window's
+    fit), the earlier shoulder rule's value (eta_shoulder, shoulder_lag), the lags, C and running
+    integral (scaled) for charts, and the jackknife's estimates (one per segment left out)."""
     x = np.asarray(series, dtype=float)
     x = x.reshape(len(x), -1)
-    if segments < 2 or len(x) // segments < 3:
-        raise ValueError(f"need at least 2 segments of 3 samples; got {len(x)} samples for {segments} segments")
+    if segments < 2 or len(x) // segments < 6:
+        raise ValueError(f"need at least 2 segments of 6 samples; got {len(x)} samples for {segments} segments")
     max_lag = min(len(x) // segments - 1, max_lag if max_lag is not None else len(x) // segments - 1)
-    if max_lag < 2:
-        raise ValueError(f"max_lag must be >= 2, got {max_lag}")
+    if max_lag < 5:
+        raise ValueError(f"max_lag must be >= 5, got {max_lag}")
     c = autocorrelation(x, max_lag)
+    parts = np.array([autocorrelation(part, max_lag) for part in np.array_split(x, segments)])
+    windows = fit_windows(fit_start, fit_end, interval, max_lag)
+    each = scale * tail_fit_estimates(c, interval, windows)
+    left_out = np.array([scale * tail_fit_estimates(np.delete(parts, i, axis=0).mean(axis=0), interval, windows).mean()
+                         for i in range(segments)])
+    stat, sys_err = jackknife_error(left_out), float(each.max() - each.min()) / 2
+    _, tau, tail = exponential_tail(c, *windows[0], interval)
     running = scale * running_integral(c, interval)
-    per_segment = np.array([scale * running_integral(autocorrelation(part, max_lag), interval)
-                            for part in np.array_split(x, segments)])
-    lag = plateau_lag(running, per_segment)
-    return dict(lag=lag, plateau_time=lag * interval, eta=float(running[lag]),
-                eta_err=float(per_segment[:, lag].std(ddof=1) / np.sqrt(segments)),
-                eta_2lag=float(running[min(2 * lag, max_lag)]), eta_4lag=float(running[min(4 * lag, max_lag)]),
-                lags=np.arange(max_lag + 1) * interval, correlation=c, running=running, segment_running=per_segment)
+    shoulder = shoulder_lag(running, np.array([scale * running_integral(p, interval) for p in parts]))
+    starts, ends = (np.array([w[k] for w in windows]) * interval for k in (0, 1))
+    return dict(fit_start_from=starts.min(), fit_start_to=starts.max(), fit_end_from=ends.min(), fit_end_to=ends.max(),
+                eta=float(each.mean()), eta_err=float(np.hypot(stat, sys_err)), eta_stat=stat, eta_sys=sys_err,
+                tau=float(tau),
+                tail=float(scale * tail), shoulder_time=shoulder * interval, eta_shoulder=float(running[shoulder]),
+                lags=np.arange(max_lag + 1) * interval, correlation=c, running=running, jackknife=left_out)
 
 
 # --- runs ----------------------------------------------------------------------------------------
@@ -203,19 +261,21 @@ def green_kubo_runs(scene, args):
     box = scene.system.getDefaultPeriodicBoxVectors()
     volume = box[0][0] * box[1][1] * box[2][2] / unit.nanometer**3
     kT = kT_from_temperature(integrator.getTemperature())
+    off_diagonal = tensors[:, :, OFF_DIAGONAL]
+    # Only what Green–Kubo reads, in float32: about 48 bytes a block keeps the file commit-sized.
     np.savez_compressed(os.path.join(args.out, f"gk_series_{args.scene_name}.npz"), interval=interval,
-                        volume=volume, kT=kT, tensors=tensors.astype(np.float32))
-    return green_kubo_results(tensors, interval, volume / kT, args)
+                        volume=volume, kT=kT, off_diagonal=off_diagonal.astype(np.float32))
+    return green_kubo_results(off_diagonal, interval, volume / kT, args)
 
 
-def green_kubo_results(tensors, interval, scale, args):
-    """{series name: green_kubo dict} of block tensors (blocks, parts, 6) for the total, each
-    part, and the total without the thermostat part."""
-    off = tensors[:, :, OFF_DIAGONAL]
+def green_kubo_results(off, interval, scale, args):
+    """{series name: green_kubo dict} of the block tensors' off-diagonal components (blocks,
+    parts, 3: xy, xz, yz) for the total, each part, and the total without the thermostat part."""
     series = {name: off[:, k] for k, name in enumerate(PARTS)}
     series["total - thermostat"] = off[:, 0] - off[:, 3]
     max_lag = max(2, round(args.gk_max_lag / interval))
-    results = {name: green_kubo(x, interval, scale, max_lag, args.segments) for name, x in series.items()}
+    results = {name: green_kubo(x, interval, scale, max_lag, args.segments, args.gk_fit_start, args.gk_fit_end)
+               for name, x in series.items()}
     for result in results.values():
         result.update(time=len(off) * interval, block=interval)
     return results
@@ -294,7 +354,7 @@ def green_kubo_from_csvs(out, scene):
     they do not): the values of gk.csv, and the lags, C and running integral of the series that
     gk_running.csv keeps (total, total - thermostat); not the segments' running integrals, which
     only the block series gives."""
-    results = {row["series"]: dict(row, lag=round(row["plateau_time"] / row["block"]))
+    results = {row["series"]: dict(row)
                for row in _read_csv(os.path.join(out, "gk.csv")) if row["scene"] == scene}
     running = [row for row in _read_csv(os.path.join(out, "gk_running.csv")) if row["scene"] == scene]
     for name, result in results.items():
@@ -308,8 +368,9 @@ def green_kubo_from_csvs(out, scene):
 
 def reanalyse(args):
     """Rewrites the outputs in args.out from what a run left there: nemd.csv, and for each scene
-    its saved Green–Kubo block series (a new plateau rule or --segments without rerunning) or,
-    where the series is not kept, the Green–Kubo values of gk.csv and gk_running.csv as they are."""
+    its saved Green–Kubo block series (a new Green–Kubo rule, fit ranges or --segments without
+    rerunning) or, where the series is not kept, the Green–Kubo values of gk.csv and
+    gk_running.csv as they are."""
     nemd = _read_csv(os.path.join(args.out, "nemd.csv"))
     gk, sources = {}, set()
     for name in args.scene:
@@ -318,7 +379,8 @@ def reanalyse(args):
             saved = np.load(path)
             volume = float(saved["volume"]) if "volume" in saved else args.particles / SCENES[name]["density"]
             kT = float(saved["kT"]) if "kT" in saved else 1.0
-            gk[name] = green_kubo_results(saved["tensors"].astype(float), float(saved["interval"]), volume / kT, args)
+            off = saved["off_diagonal"] if "off_diagonal" in saved else saved["tensors"][:, :, OFF_DIAGONAL]
+            gk[name] = green_kubo_results(off.astype(float), float(saved["interval"]), volume / kT, args)
             sources.add("the saved series")
         elif kept := green_kubo_from_csvs(args.out, name):
             gk[name] = kept
@@ -333,25 +395,25 @@ def _say(args, message):
         print(f"[{time.strftime('%H:%M:%S')}] {message}", flush=True)
 
 
-# How long a run with the defaults takes, for --help: 286 000 steps of N = 4000 with the pressure
-# tensor sampled per scene (a GW step at N = 32 000 runs at 113-120 steps/s on one thread, and
-# sampling the tensor makes it 2.2 times as long: docs/benchmarks.md).
+# How long a run with the defaults takes, for --help, scaled from the committed run
+# (docs/results/viscosity): 1500 time units of Green–Kubo and 3 rates of 200 per scene, with 10
+# of equilibration a run, took 12-13 minutes a scene (37 for its three) on one thread.
 DURATION = ("With the defaults (scene model-b, N 4000, dt 0.01, 5 rates of 400 time units and 800 for "
-            "Green–Kubo, one thread) a run takes about 10-15 minutes per scene on one core (an estimate "
-            "from the measured step rates, not a timed run); the time grows with --particles times the "
-            "total time (--nemd-time per rate, --gk-time, --equilibrate per run) over --dt, and with each "
-            "--scene. --quick takes seconds; --reanalyse, no runs, seconds.")
+            "Green–Kubo, one thread) a run takes about 15-20 minutes per scene on one core (scaled from "
+            "the committed run's 12-13 minutes a scene for 2140 time units); the time grows with "
+            "--particles times the total time (--nemd-time per rate, --gk-time, --equilibrate per run) "
+            "over --dt, and with each --scene. --quick takes seconds; --reanalyse, no runs, seconds.")
 
 # --quick (options.add_quick)
 QUICK = dict(particles=300, rates=[0.5], nemd_time=2.0, gk_time=4.0, equilibrate=0.5, frame_every=0.5,
-             gk_max_lag=0.5, segments=4)
+             gk_max_lag=0.5, segments=4, gk_fit_start=[0.1, 0.2], gk_fit_end=[0.4, 0.5])
 
 
 def _parser():
     parser = options.parser("viscosity", __doc__.split("\n\n")[0], DURATION)
     add = parser.add_argument
     add("--scene", nargs="+", default=["model-b"], choices=sorted(SCENES),
-        help="model-b: rho 4, a 25; gw-fluid: Groot–Warren's rho 3, a 25 (gamma 4.5 both)")
+        help="model-a: rho 4, a 0; model-b: rho 4, a 25; gw-fluid: Groot–Warren's rho 3, a 25 (gamma 4.5 all)")
     add("--integrator", default="GW", help="a name from openmmdpd.catalog (GW, S1, Lowe, PairOU, ...)")
     add("--dt", type=float, default=0.01, help="time step (ps = reduced time)")
     add("-N", "--particles", type=int, default=4000, help="N")
@@ -361,8 +423,13 @@ def _parser():
     add("--equilibrate", type=float, default=10.0, help="time each run equilibrates before sampling")
     add("--block", type=float, default=0.05, help="time of a block average of the tensor (the GK interval Delta)")
     add("--frame-every", type=float, default=1.0, help="time between frames (velocity profile, peculiar kT)")
-    add("--gk-max-lag", type=float, default=10.0, help="longest lag time of the correlation")
-    add("--segments", type=int, default=8, help="independent segments giving the Green–Kubo error")
+    add("--gk-max-lag", type=float, default=20.0, help="longest lag time of the correlation")
+    add("--gk-fit-start", type=float, nargs=2, default=[0.5, 1.5], metavar=("FROM", "TO"),
+        help="range of lag times where the exponential fit of the Green–Kubo tail starts (5 starts in it)")
+    add("--gk-fit-end", type=float, nargs=2, default=[5.0, 20.0], metavar=("FROM", "TO"),
+        help="range of lag times where it ends (3 ends, cut at --gk-max-lag); the value is the mean over the "
+             "15 fits, its systematic error half their spread")
+    add("--segments", type=int, default=8, help="independent segments giving the Green–Kubo jackknife error")
     options.add_quick(parser, QUICK)
     add("--platform", default="CPU", help="OpenMM platform")
     add("--threads", type=int, default=1, help="CPU platform threads")

@@ -4,7 +4,10 @@ import math
 
 from .catalog import FRICTION
 
-SCENES = {"model-b": dict(density=4.0, a=25.0), "gw-fluid": dict(density=3.0, a=25.0)}
+# model-a is Nikunen et al.'s model A (no conservative force: the soft scene at a = 0), where
+# Groot–Warren's estimate applies as made.
+SCENES = {"model-a": dict(density=4.0, a=0.0), "model-b": dict(density=4.0, a=25.0),
+          "gw-fluid": dict(density=3.0, a=25.0)}
 
 
 def groot_warren_estimate(density, gamma=FRICTION, kT=1.0, rc=1.0):

@@ -6,6 +6,7 @@ import time
 import matplotlib.pyplot as plt
 import numpy as np
 
+from .analysis import jackknife_error
 from .catalog import FRICTION
 from .charts import figure_handles, integrator_style, legend_outside, save
 from .options import not_a_command
@@ -47,7 +48,7 @@ def viscosity_chart(path, nemd, gk):
         if scene in gk:
             total = gk[scene]["total"]
             ax.axhspan(total["eta"] - total["eta_err"], total["eta"] + total["eta_err"], color="0.75", alpha=0.6,
-                       label="Green–Kubo ± 1 standard error")
+                       label="Green–Kubo ± 1 sigma (statistical and systematic)")
         ax.axhline(groot_warren_estimate(SCENES[scene]["density"]), color="k", ls="--", lw=1,
                    label="Groot–Warren estimate")
         ax.set_xlim(left=0)
@@ -61,16 +62,17 @@ def viscosity_chart(path, nemd, gk):
 
 def green_kubo_chart(path, gk):
     """The running Green–Kubo integral against the lag, with and without the thermostat part; the
-    plateau lag as a vertical line and the value read there with its error."""
+    tail fit's value with its error (stat and systematic) as a band, its starts' and ends' ranges shaded."""
     fig, axes = _panels(len(gk))
     for ax, (scene, results) in zip(axes, gk.items()):
         total = results["total"]
-        shown = min(len(total["lags"]), 8 * total["lag"] + 2)
+        ax.axvspan(total["fit_start_from"], total["fit_start_to"], color="0.85", label="tail fit starts")
+        ax.axvspan(total["fit_end_from"], total["fit_end_to"], color="0.93", label="tail fit ends")
         for k, name in enumerate(("total", "total - thermostat")):
             r = results[name]
-            ax.plot(r["lags"][:shown], r["running"][:shown], color=f"C{k}", label=f"{name}")
-            ax.errorbar([r["lags"][r["lag"]]], [r["eta"]], yerr=[r["eta_err"]], color=f"C{k}", marker="o", capsize=3)
-        ax.axvline(total["lags"][total["lag"]], color="0.5", ls=":", label="plateau 2k: |I(2k) - I(k)| < 1 sigma")
+            ax.plot(r["lags"], r["running"], color=f"C{k}", lw=1, label=f"{name}: running integral")
+            ax.axhspan(r["eta"] - r["eta_err"], r["eta"] + r["eta_err"], color=f"C{k}", alpha=0.25,
+                       label=f"{name}: tail fit ± 1 sigma")
         ax.set_xlabel("lag (ps)")
         ax.set_ylabel("V/kT Delta [C(0)/2 + sum C(k)]")
         ax.set_title(f"{scene}, Green–Kubo")
@@ -114,10 +116,13 @@ def _nemd_table(rows):
 
 
 def _gk_table(results):
-    lines = ["| series | sampled | Delta | plateau lag | eta (Green–Kubo) | at 2× lag | at 4× lag |", "|" + "---|" * 7]
+    lines = ["| series | sampled | Delta | fit starts; ends | eta (Green–Kubo) | statistical | systematic "
+             "| tail tau | tail | earlier shoulder rule |", "|" + "---|" * 10]
     for name, r in results.items():
-        lines.append(f"| {name} | {r['time']:g} | {r['block']:g} | {r['plateau_time']:g} | "
-                     f"{_pm(r['eta'], r['eta_err'])} | {r['eta_2lag']:.3f} | {r['eta_4lag']:.3f} |")
+        lines.append(f"| {name} | {r['time']:g} | {r['block']:g} | {r['fit_start_from']:g}–{r['fit_start_to']:g}; "
+                     f"{r['fit_end_from']:g}–{r['fit_end_to']:g} | "
+                     f"{_pm(r['eta'], r['eta_err'])} | {r['eta_stat']:.3f} | {r['eta_sys']:.3f} | {r['tau']:.2f} | "
+                     f"{r['tail']:.3f} | {r['eta_shoulder']:.3f} at {r['shoulder_time']:g} |")
     return lines
 
 
@@ -192,23 +197,20 @@ def _checks(rows, results):
 
 
 def _thermostat_check(total, without):
-    """The line of _checks on the thermostat part: Green–Kubo with and without it at the total's
-    plateau lag, the difference's error from the segments' paired differences where the segments
-    are known (a report re-read from the CSV files has only their running integrals)."""
-    lag = total["lag"]
-    diff = total["eta"] - without["running"][lag]
-    if "segment_running" in total:
-        paired = total["segment_running"][:, lag] - without["segment_running"][:, lag]
-        err = float(paired.std(ddof=1) / np.sqrt(len(paired)))
-        difference = (f"difference {diff:+.3f} ± {err:.3f} ({abs(diff) / err:.1f} sigma, error from the segments' "
-                      "paired differences)")
+    """The line of _checks on the thermostat part: Green–Kubo with and without it, the
+    difference's error from the jackknife of the paired differences where the segments are
+    known (a report re-read from the CSV files has only each series' own error)."""
+    diff = total["eta"] - without["eta"]
+    if "jackknife" in total and "jackknife" in without:
+        err = jackknife_error(np.asarray(total["jackknife"]) - np.asarray(without["jackknife"]))
+        difference = f"difference {diff:+.3f} ± {err:.3f} statistical ({abs(diff) / err:.1f} sigma, paired jackknife)"
     else:
-        difference = (f"difference {diff:+.3f} (its error, from the segments' paired differences, needs the block "
-                      "series, gk_series_SCENE.npz, which the CSV files do not hold)")
-    return (f"- The dissipative and random (thermostat) stress is present: at the total's plateau lag "
-            f"{total['plateau_time']:g}, Green–Kubo from the total {_pm(total['eta'], total['eta_err'])}, without the "
-            f"thermostat part {without['running'][lag]:.3f}, {difference}; without it, read at its own plateau "
-            f"({without['plateau_time']:g}): {_pm(without['eta'], without['eta_err'])}.")
+        difference = (f"difference {diff:+.3f} (its paired error needs the block series, gk_series_SCENE.npz, which "
+                      "the CSV files do not hold)")
+    return (f"- The dissipative and random (thermostat) stress is present: Green–Kubo from the total "
+            f"{_pm(total['eta'], total['eta_err'])}, without the thermostat part "
+            f"{_pm(without['eta'], without['eta_err'])}, "
+            f"{difference}.")
 
 
 def _scene_section(scene, rows, results):
@@ -225,15 +227,22 @@ def _scene_section(scene, rows, results):
     return lines + ["### Checks", ""] + _checks(rows, results) + [""]
 
 
-METHODS = """Methods (see `openmmdpd/viscosity.py`): the integrator's pressure tensor (docs/theory/pressure-tensor.md),
-read as block averages over Delta. NEMD errors: standard error of the block series of P_xy
-from its statistical inefficiency (pymbar). Green–Kubo: eta = V/kT Delta [C(0)/2 + sum_k C(k)],
-C averaged over xy, xz, yz; block averaging leaves this integral unchanged (the zero-frequency
-power of a series is that of its block means); the C(0)/2 term holds the random force's
-white-noise stress. Plateau: the first lag 2k such that |I(2k) - I(k)| is within 1 standard
-error of 0 (the integral has stopped changing over the second half of the lag); error: the spread of the same integral over
-independent consecutive segments. The values at 2× and 4× the plateau lag
-show how flat the plateau is."""
+METHODS = """Methods (see `openmmdpd/viscosity.py`): the integrator's pressure tensor
+(docs/theory/pressure-tensor.md), read as block averages over Delta. NEMD errors: standard
+error of the block series of P_xy from its statistical inefficiency (pymbar). Green–Kubo: eta =
+V/kT Delta [C(0)/2 + sum_k C(k)], C averaged over xy, xz, yz; block averaging leaves this
+integral unchanged (the zero-frequency power of a series is that of its block means); the
+C(0)/2 term holds the random force's white-noise stress. The stress correlation falls fast (a
+few tenths of a time unit) and then has a slow tail (about a tenth of eta, decay time 1 or
+more) that the noise of single lags hides, so the integral is not read where it first looks
+flat: for each window from a start t0 (5 in the fit-start range) to an end t1 (3 in the fit-end
+range), C is fitted by A exp(-(t - t0)/tau) (least squares; tau scanned up to a quarter of the
+window, a tau at that bound meaning the window limits the fit) and eta(t0, t1) = I(t0) + the
+fit's sum beyond t0. The value is the mean over the 15 windows; its error adds in quadrature
+the statistical error (jackknife over independent consecutive segments, the whole fit redone
+with each left out) and a systematic one (half the spread over the windows). The earlier
+shoulder rule (the first lag 2k with |I(2k) - I(k)| within 1 standard error) is listed for
+comparison: where it reads before the tail it comes out low."""
 
 
 def write_report(args, nemd, gk, seconds, source="the saved series"):
@@ -260,8 +269,10 @@ def write_report(args, nemd, gk, seconds, source="the saved series"):
                   f"Green–Kubo within {AGREEMENT_SIGMAS} combined standard errors).", ""]
     for scene in _scenes(nemd, gk):
         lines += _scene_section(scene, _rows(nemd, scene), gk.get(scene))
-    lines += ["Charts: `viscosity.png` (eta against rate), `green_kubo.png` (running integral and plateau), "
-              "`temperature.png` (peculiar kT against rate). Data: `nemd.csv`, `gk.csv`, `gk_running.csv`.", ""]
+    lines += ["Charts: `viscosity.png` (eta against rate), `green_kubo.png` (running integral and tail-fit value), "
+              "`temperature.png` (peculiar kT against rate). Data: `nemd.csv`, `gk.csv`, `gk_running.csv`, and "
+              "each scene's Green–Kubo block series `gk_series_SCENE.npz` (off-diagonal components of each part, "
+              "float32), from which `--reanalyse` redoes the Green–Kubo analysis.", ""]
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write("\n".join(lines))
 
