@@ -369,3 +369,14 @@ def test_a_force_field_model_with_shardlow(tmp_path):
     assert len(data.bonds) == 12 * 9 and script.bond_coeffs == {1: [2.0, 0.0]}  # K = k/2 = 4/2
     assert script.special_bonds == ["lj", "1.0", "1.0", "1.0"]  # bonded beads repel in this model
     assert script.fixes["momentum"][:3] == ["all", "momentum", "1"]
+
+
+def test_the_side_by_side_check_reads_a_lammps_thermo_log(tmp_path):
+    """openmmdpd.lammps_check's reader: the rows under `Step Temp Press`, up to `Loop`."""
+    from openmmdpd.lammps_check import thermo_rows
+    log = tmp_path / "log.lammps"
+    log.write_text("LAMMPS (7 Jan 2022)\nrun 40\nPer MPI rank memory\n   Step          Temp          Press    \n"
+                   "         0    1.02           23.9     \n        20    1.03           23.8     \n"
+                   "Loop time of 0.5 on 1 procs for 40 steps with 3000 atoms\n   Step Temp Press\n 99 9 9\n")
+    rows = thermo_rows(log)
+    assert rows.tolist() == [[0.0, 1.02, 23.9], [20.0, 1.03, 23.8]]
