@@ -4,6 +4,7 @@
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/LeesEdwardsBoundary.h"
 #include "openmmdpd/internal/ForceTerms.h"
 #include "openmm/CustomBondForce.h"
 #include <cmath>
@@ -143,13 +144,10 @@ void CommonDynamics::slide(double dt, bool jumpVelocity) {
         return;
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    const double Lx = box[0][0], Ly = box[1][1], U = rate * Ly;
-    // OpenMM's reduced form needs |offset| <= Lx/2; b and b - a give the same lattice.
-    const double offset = box[1][0] + U * dt;
-    box[1][0] = offset - Lx * std::round(offset / Lx);
+    const double Ly = box[1][1], U = LeesEdwardsBoundary::advanceOffset(box, rate, dt);
     cc.setPeriodicBoxVectors(box[0], box[1], box[2]);
     findSlotsKernel->execute(numAtoms());
-    const double size[4] = {Lx, Ly, box[2][2], box[1][0]};
+    const double size[4] = {box[0][0], Ly, box[2][2], box[1][0]};
     slideKernel->setArg(8, jumpVelocity ? 1 : 0);
     setMixed4Arg(cc, slideKernel, 9, size);
     setMixedArg(cc, slideKernel, 10, 1 / Ly);

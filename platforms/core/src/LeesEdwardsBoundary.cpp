@@ -12,16 +12,20 @@ LeesEdwardsBoundary::LeesEdwardsBoundary(const OpenMM::System& system) :
         moves[i] = (system.getParticleMass(i) != 0);
 }
 
+double LeesEdwardsBoundary::advanceOffset(Vec3* box, double rate, double dt) {
+    const double Lx = box[0][0], U = rate * box[1][1];
+    const double offset = box[1][0] + U * dt;
+    box[1][0] = offset - Lx * std::round(offset / Lx);
+    return U;
+}
+
 void LeesEdwardsBoundary::slide(OpenMM::ContextImpl& context, double rate, double dt, std::vector<Vec3>& positions,
                                 std::vector<Vec3>& velocities, std::vector<Vec3>* alsoJump) const {
     if (rate == 0)
         return;
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    const double Lx = box[0][0], Ly = box[1][1], U = rate * Ly;
-    // OpenMM's reduced form needs |offset| <= Lx/2; b and b - a give the same lattice.
-    const double offset = box[1][0] + U * dt;
-    box[1][0] = offset - Lx * std::round(offset / Lx);
+    const double Ly = box[1][1], U = advanceOffset(box, rate, dt);
     context.setPeriodicBoxVectors(box[0], box[1], box[2]);
     // A fluid of free particles (the usual DPD system): one pass over them.
     if (molecules.size() == positions.size()) {

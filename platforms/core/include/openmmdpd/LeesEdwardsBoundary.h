@@ -18,6 +18,12 @@ namespace DPDPlugin {
  */
 class LeesEdwardsBoundary {
 public:
+    /**
+     * The box after a drift of duration dt at shear rate `rate`: b's offset advanced by U dt
+     * (U = rate Ly, returned) and brought back to OpenMM's reduced form, |offset| <= Lx/2
+     * (b and b - a give the same lattice).  Every platform slides its box by it.
+     */
+    static double advanceOffset(OpenMM::Vec3* box, double rate, double dt);
     explicit LeesEdwardsBoundary(const OpenMM::System& system);
     /**
      * After a drift of duration dt at shear rate `rate` (nothing if 0): slide the box, wrap
