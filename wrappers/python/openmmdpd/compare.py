@@ -10,8 +10,10 @@ chain <kT>, Rg and the longest bond (polymer), each mean with its standard error
 statistical inefficiency (pymbar); g(r) (MDAnalysis InterRDF on frames held in memory) and
 its deviation from the same integrator at the smallest dt (and from 1 on `ideal`); the
 coordination number Nc to the first minimum r1 (both with errors from blocks of frames)
-and at the fixed radii 1.0 and 1.16; tracer diffusion D from the MSD (MDAnalysis
-EinsteinMSD); and the cost: the time of a step relative to a LangevinMiddleIntegrator step
+and at the fixed radii 1.0 and 1.16; the dynamics (openmmdpd.dynamics): tracer diffusion D
+from the MSD (MDAnalysis EinsteinMSD), the shear viscosity eta from a short sheared run, the
+Schmidt number and the transverse-current viscosity, each against the same model's dt -> 0
+limit, and the cheapest usable run; and the cost: the time of a step relative to a LangevinMiddleIntegrator step
 on the same System at the same dt, timed in alternating blocks and repeated (median and
 its spread), besides the raw seconds.  A run is stable only if it does not blow up, does
 not pass the instability threshold (40 kT by default: a transient blow-up that would
@@ -34,7 +36,7 @@ from scipy.spatial import cKDTree
 
 from .analysis import (frame_radial_distributions, grouped_squared_displacement, median_with_error, radius_of_gyration,
                        ratio_with_error, standard_error)
-from . import options
+from . import dynamics, options
 from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
 from .charts import use_file_backend
 from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_GROUPS,
@@ -47,8 +49,9 @@ G_R_MAX, G_BIN = 2.0, 0.025  # g(r) to 2 rc (or half the box) in bins of 0.025 r
 FIXED_RADII = (1.0, 1.16)  # Nc at these radii: r1 sits on a minimum too flat to integrate to
 COLUMNS = ["scene", "integrator", "dt", "status", "reason", "steps", "kT", "kT_err", "kT_error", "kT_conf",
            "kT_conf_err", "g_core", "g_dev_ref", "g_dev_ideal", "Nc", "Nc_err", "r1", "r1_err", "Nc_1.0",
-           "Nc_1.0_err", "Nc_1.16", "Nc_1.16_err", "D", "D_err", "D_ratio", "D_ratio_err", "chain_kT", "chain_kT_err", "Rg", "Rg_err",
-           "bond_max", "cost_ratio", "cost_ratio_err", "cost_per_time", "cost_per_time_err", "cpu_s_per_time",
+           "Nc_1.0_err", "Nc_1.16", "Nc_1.16_err", "D", "D_err", "eta", "eta_err", "Sc", "Sc_err", "eta_T", "eta_T_err",
+           "D_rel", "D_rel_err", "eta_rel", "eta_rel_err", "Sc_rel", "Sc_rel_err", "eta_T_rel", "eta_T_rel_err", "usable",
+           "chain_kT", "chain_kT_err", "Rg", "Rg_err", "bond_max", "cost_ratio", "cost_ratio_err", "cost_per_time", "cost_per_time_err", "cpu_s_per_time",
            "wall_s_per_time", "langevin_cpu_s_per_time", "note"]
 
 
@@ -219,13 +222,15 @@ class Sampler:
         self.scene = scene.name
         self.a = a
         self.chain = np.array(scene.chain_particles[0]) if scene.chain_particles else None
+        self.masses = np.array([scene.system.getParticleMass(i)._value for i in range(self.n)])
         self.kT, self.chain_kT, self.rg, self.bond_max, self.force2, self.laplacian = [], [], [], [], [], []
-        self.frames = []
+        self.frames, self.currents = [], []
 
     def sample(self, pos, vel):
         """Records one sample; returns its kinetic kT."""
         v2 = (vel * vel).sum(axis=1)  # unit masses
         self.kT.append(v2.sum() / (3 * self.n - 3))
+        self.currents.append(dynamics.transverse_currents(pos, vel, self.masses, self.length))
         if self.chain is not None:
             self.chain_kT.append(v2[self.chain].sum() / (3 * len(self.chain)))
             self.rg.append(radius_of_gyration(pos[self.chain]))
@@ -241,10 +246,15 @@ class Sampler:
             self.force2.append(f2)
             self.laplacian.append(lap)
 
-    def summarise(self, row, frame_time, gr_frames):
+    def mass_density(self):
+        return self.masses.sum() / self.length ** 3
+
+    def summarise(self, row, sample_time, frame_time, gr_frames):
         """Puts the observables and their standard errors in row; returns g(r) (None without frames)."""
         kT = np.array(self.kT)
         row.update(kT=kT.mean(), kT_err=standard_error(kT), kT_error=abs(kT.mean() - 1))
+        row["eta_T"], row["eta_T_err"] = dynamics.transverse_viscosity(self.currents, sample_time, self.mass_density(),
+                                                                       self.length)
         if self.force2:
             row["kT_conf"], row["kT_conf_err"] = ratio_with_error(self.force2, self.laplacian)
         if self.chain_kT:
@@ -378,13 +388,29 @@ def run_one(scene, start, name, factory, dt, args):
         return row, None
     simulated = samples * stride * dt
     row.update(steps=samples * stride, cpu_s_per_time=cpu / simulated, wall_s_per_time=wall / simulated)
-    g = sampler.summarise(row, frame_every * stride * dt, args.gr_frames)
+    g = sampler.summarise(row, stride * dt, frame_every * stride * dt, args.gr_frames)
     judge(row, scene.name)
+    if row["status"] == "ok" and args.nemd_time > 0 and dynamics.can_shear(integrator):
+        shear_viscosity(row, context, factory, dt, args)
+        row["Sc"], row["Sc_err"] = dynamics.schmidt_number(row["eta"], row["eta_err"], row["D"], row["D_err"],
+                                                           sampler.mass_density())
     return row, g
 
 
+def shear_viscosity(row, context, factory, dt, args):
+    """eta and its error in row from a run sheared at args.nemd_rate from the state the run ended in;
+    a sheared run that stops makes the run unstable (`shear`)."""
+    try:
+        integrator, sheared = dynamics.start_sheared(context, factory, dt, args.nemd_rate, args.seed, _platform(args),
+                                                     args.instability_threshold)
+        row["eta"], row["eta_err"] = dynamics.nemd_viscosity(sheared, integrator, args.nemd_rate, args.equilibrate,
+                                                             args.nemd_time, dt)
+    except openmm.OpenMMException as error:
+        mark_unstable(row, "shear", "sheared at rate {:g}: {}".format(args.nemd_rate, str(error).splitlines()[0][:140]))
+
+
 def _deviations(rows, names, g_of):
-    """g(r) and D of each stable run against its integrator's smallest-dt stable run."""
+    """g(r) of each stable run against its integrator's smallest-dt stable run."""
     for name in names:
         ok = [row for row in rows if row["integrator"] == name and row["status"] == "ok"
               and (name, row["dt"]) in g_of]
@@ -394,10 +420,16 @@ def _deviations(rows, names, g_of):
         for row in ok:
             g, g_ref = g_of[(name, row["dt"])], g_of[(name, ref["dt"])]
             row["g_dev_ref"] = float(np.sqrt(np.mean((g - g_ref) ** 2)))
-            row["D_ratio"] = row["D"] / ref["D"] if ref["D"] else float("nan")
-            # the reference's own ratio is 1 by definition; another's carries both errors
-            both = [] if row is ref else [row["D_err"] / row["D"], ref["D_err"] / ref["D"]]
-            row["D_ratio_err"] = abs(row["D_ratio"]) * float(np.sqrt(np.sum(np.square(both))))
+
+
+def judge_dynamics(rows):
+    """Each run's D, eta, Sc and eta_T against the dt -> 0 limits of the rows (dynamics.limits),
+    and whether it is usable; returns the limits."""
+    fitted = dynamics.limits(rows)
+    dynamics.relative_to_limits(rows, fitted)
+    for row in rows:
+        row["usable"] = int(dynamics.usable(row))
+    return fitted
 
 
 def _write_csvs(out, rows, r, g_of):
@@ -438,6 +470,7 @@ def compare(args):
     if scene.name == "soft":
         judge_overlaps(rows)
     _deviations(rows, names, g_of)
+    judge_dynamics(rows)
     r = g_r_centres(scene.system)
     _write_csvs(args.out, rows, r, g_of)
     write_report(args, rows, r, g_of, time.perf_counter() - began)
@@ -451,6 +484,9 @@ def redraw(args):
     checked against --time and --sample-every); the run's duration is kept from the report
     being replaced.  Returns the rows."""
     rows = read_rows(os.path.join(args.out, "results.csv"))
+    for row in rows:  # a run made before a column was measured
+        for column in COLUMNS:
+            row.setdefault(column, float("nan"))
     args.scene = rows[0]["scene"]
     args.dts = sorted({row["dt"] for row in rows})
     for row in rows:
@@ -482,7 +518,7 @@ DURATION = ("With the defaults (scene soft, N 2000, 100 time units per run, ever
 
 # --quick (options.add_quick)
 QUICK = dict(particles=500, time=3.0, equilibrate=0.5, prepare=1.0, frame_every=0.5, gr_frames=4, cost_block=0.01,
-             cost_repeats=3, dts=[0.02, 0.06, 0.15])
+             cost_repeats=3, dts=[0.02, 0.06, 0.15], nemd_time=2.0)
 
 
 def _parser():
@@ -501,6 +537,14 @@ def _parser():
     add("--sample-every", type=float, default=0.1, help="time between samples of kT (at least one step)")
     add("--frame-every", type=float, default=2.0, help="time between frames (positions, configurational kT)")
     add("--gr-frames", type=int, default=8, help="frames, spread over the run, whose g(r) is measured")
+    add("--nemd-rate", type=float, default=0.5, help="shear rate of the NEMD run that gives eta (1/ps)")
+    add("--nemd-time", type=float, default=100.0,
+        help="time the NEMD run samples after --equilibrate (0: no eta); stable runs of integrators with shear only")
+    add("--reference-diffusion", default=os.path.join("docs", "results", "dynamics-limit", "diffusion", "results.csv"),
+        help="results.csv of a long run at a small dt whose D the dt -> 0 limit is checked against (if it exists)")
+    add("--reference-viscosity", default=os.path.join("docs", "results", "dynamics-limit", "viscosity", "nemd.csv"),
+        help="nemd.csv of the viscosity tool's long NEMD run whose eta at --nemd-rate the limit is checked against "
+             "(if it exists)")
     add("--cost-block", type=float, default=0.1, help="CPU seconds per timed block of the cost ratio to Langevin")
     add("--cost-repeats", type=int, default=7, help="alternating timed blocks (integrator, Langevin)")
     options.add_quick(parser, QUICK)

@@ -6,6 +6,7 @@ import os
 import matplotlib.pyplot as plt
 import numpy as np
 
+from . import dynamics, report_dynamics
 from .charts import figure_handles, integrator_style, legend_outside, log_axis, save, use_file_backend
 from .options import parser
 from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_GROUPS,
@@ -157,23 +158,6 @@ def _gr_chart(rows, r, g_of, path, scene):
     save(fig, path)
 
 
-def _diffusion_chart(rows, path, scene):
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for name in _names(rows):
-        ok = [row for row in _ok(rows, name) if math.isfinite(row["D_ratio"])]
-        if ok:
-            ax.errorbar([r["dt"] for r in ok], [r["D_ratio"] for r in ok], yerr=[r["D_ratio_err"] for r in ok],
-                        ms=5, capsize=2, label=name, **integrator_style(name))
-    if ax.lines:  # a log axis with nothing on it fails to draw
-        log_axis(ax, ticks=[row["dt"] for row in rows if row["status"] == "ok"])
-    ax.axhline(1, color="k", lw=0.8)
-    ax.set_xlabel("dt")
-    ax.set_ylabel("D(dt) / D(smallest dt)")
-    ax.set_title(f"Tracer diffusion against time step, scene {scene}")
-    legend_outside(ax)
-    save(fig, path)
-
-
 def _polymer_chart(rows, path, scene):
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for name in _names(rows):
@@ -212,12 +196,25 @@ def _stability_chart(rows, path, scene):
             ax.annotate(first[1], (first[0], k), xytext=(4, -3), textcoords="offset points", fontsize=7,
                         color="tab:red")
             labelled = True
+    _mark_usable(ax, rows, names)
     ax.set_yticks(range(len(names)))
     ax.set_yticklabels(names)
     ax.set_xlabel("dt (of those tried)")
     ax.set_title(f"Stability map, scene {scene}")
     legend_outside(ax, fontsize=8)
     save(fig, path)
+
+
+def _mark_usable(ax, rows, names):
+    """The usable region on the stability map: a diamond at every usable run, the recommended one ringed."""
+    usable = [(row["dt"], names.index(row["integrator"])) for row in rows if dynamics.usable(row)]
+    label = (f"usable: |<kT>-1| < {dynamics.USABLE_KT:.0%}, D and eta within {dynamics.USABLE_DYNAMICS:.0%} "
+             "of their dt -> 0 limits")
+    ax.plot([p[0] for p in usable], [p[1] for p in usable], ls="none", marker="D", ms=6, color="k", label=label)
+    best = dynamics.recommend(rows)
+    if best:
+        ax.plot(best["dt"], names.index(best["integrator"]), ls="none", marker="o", ms=13, mfc="none", mew=1.5,
+                color="tab:red", label="recommended: the cheapest usable run")
 
 
 def _fmt(x, digits=4):
@@ -250,7 +247,8 @@ def _conventions():
     return ("Errors (±) are one standard error: of the mean of a time series from its statistical inefficiency "
             "(pymbar; the configurational kT as the ratio <sum |F|^2> / <sum lap U>, linearised), of r1 and "
             f"Nc(r1) from the spread over {R1_BLOCKS} blocks of frames, of D from the spread of the D of "
-            f"{DIFFUSION_GROUPS} interleaved sets of particles (D/D0 with the smallest dt's error too). On the Pareto chart a point whose "
+            f"{DIFFUSION_GROUPS} interleaved sets of particles (D/D0 with the error of the dt -> 0 limit D0 too). On the "
+            "Pareto chart a point whose "
             f"|<kT> - 1| is below {NOISE_FLOOR_SIGMAS} standard errors (its noise floor, a tick) is drawn hollow: "
             "it is not resolved from exact. Nc is given to the first minimum r1 and at the fixed radii 1.0 and 1.16: "
             "the minimum of a soft fluid's g(r) is so flat that r1 is poorly defined, and Nc grows there by "
@@ -266,7 +264,7 @@ def _runs_table(rows):
         lines.append("| " + " | ".join([row["integrator"], _fmt(row["dt"]), status, _pm(row, "kT"), _pm(row, "kT_conf"),
                                         _fmt(row["g_dev_ref"], 2), _fmt(row["g_dev_ideal"], 2), _pm(row, "r1", 3),
                                         _pm(row, "Nc"), _pm(row, "Nc_1.0"), _pm(row, "Nc_1.16"),
-                                        _pm(row, "D_ratio", 3), _pm(row, "chain_kT"), _pm(row, "Rg"),
+                                        _pm(row, "D_rel", 3), _pm(row, "chain_kT"), _pm(row, "Rg"),
                                         _fmt(row["bond_max"], 3), _pm(row, "cost_ratio", 3),
                                         _fmt(row["cpu_s_per_time"], 3)]) + " |")
     return lines
@@ -318,8 +316,7 @@ def _precision(rows):
 
 # What a chart cannot show by itself, said under it in the report.
 CAPTIONS = {"error_vs_cost.png": "The number beside each stable point is its dt.",
-            "diffusion.png": f"Error bars: one standard error of D/D0, from the spread of D over {DIFFUSION_GROUPS} "
-                             "interleaved sets of particles."}
+            "stability.png": "Diamonds: the usable runs (see Dynamics); the ringed one is recommended."}
 
 
 def write_report(args, rows, r, g_of, seconds=None):
@@ -327,14 +324,14 @@ def write_report(args, rows, r, g_of, seconds=None):
     second = {"soft": " and configurational", "polymer": " and chain"}.get(scene, "")
     charts = [("kT_vs_dt.png", f"Kinetic{second} temperature against time step", _kT_chart),
               ("error_vs_cost.png", "Accuracy against cost (the Pareto chart)", _pareto_chart),
-              ("diffusion.png", "Tracer diffusion relative to the smallest dt", _diffusion_chart),
               ("stability.png", "Stability map", _stability_chart)]
     if scene == "polymer":
         charts.insert(1, ("polymer.png", "The chain: Rg and the longest bond", _polymer_chart))
     for filename, _, draw in charts:
         draw(rows, os.path.join(out, filename), scene)
     _gr_chart(rows, r, g_of, os.path.join(out, "gr.png"), scene)
-    charts.insert(-2, ("gr.png", "Radial distribution functions", None))
+    report_dynamics.draw(rows, out, scene)
+    charts.insert(-1, ("gr.png", "Radial distribution functions", None))
     lines = [f"# Integrator comparison on scene `{scene}`", "", _setup(args, seconds), "", _precision(rows), "",
              _cost_means(args, rows), "", _unstable_means(args.instability_threshold), "", _conventions(), ""]
     lines += ["## Stability", "", "| integrator | largest stable dt | largest stable dt with \\|<kT>-1\\| < 1 % | "
@@ -347,6 +344,7 @@ def write_report(args, rows, r, g_of, seconds=None):
     for filename, title, _ in charts:
         lines += [f"## {title}", "", f"![{title}]({filename})", ""] + ([CAPTIONS[filename], ""] if filename in CAPTIONS
                                                                        else [])
+    lines += report_dynamics.section(rows, args)
     lines += ["## All runs", ""] + _runs_table(rows)
     notes = [row for row in rows if row["note"]]
     if notes:
@@ -384,16 +382,22 @@ def read_gr(path):
 
 def stability_map(tables, path):
     """One stability map for several scenes: per integrator, a bar per scene to its largest
-    stable dt, and a cross at its smallest unstable dt labelled with the reason.
+    stable dt, a cross at its smallest unstable dt labelled with the reason, and a
+    diamond at each usable run (dynamics.usable).
     tables: {scene: rows}."""
     names = list(dict.fromkeys(name for rows in tables.values() for name in _names(rows)))
     height = 0.8 / len(tables)
     fig, ax = plt.subplots(figsize=(8, 0.6 * len(names) * len(tables) / 2 + 1.5))
+    any_usable = False
     for s, (scene, rows) in enumerate(tables.items()):
         offset = 0.4 - height * (s + 0.5)
         for k, name in enumerate(names):
             stable = stability(rows, name)[0]
             ax.barh(k + offset, stable or 0, height=height * 0.9, color=f"C{s}", label=scene if k == 0 else None)
+            usable = [row["dt"] for row in rows if row["integrator"] == name and row.get("usable") == 1]
+            ax.plot(usable, [k + offset] * len(usable), ls="none", marker="D", ms=4, color="k",
+                    label="usable (kT 1 %, D and eta 5 %)" if usable and not any_usable else None)
+            any_usable = any_usable or bool(usable)
             first = first_unstable(rows, name)
             if first:
                 ax.plot(first[0], k + offset, marker="x", color=f"C{s}", ls="none")
@@ -403,7 +407,8 @@ def stability_map(tables, path):
     ax.set_yticklabels(names)
     ax.invert_yaxis()
     log_axis(ax, ticks=[row["dt"] for rows in tables.values() for row in rows])
-    ax.set_xlabel("dt: bar to the largest stable dt; x at the smallest unstable dt, with the reason")
+    ax.set_xlabel("dt: bar to the largest stable dt; x at the smallest unstable dt, with the reason; "
+                  "diamond: a usable run")
     ax.set_title("Stability map: " + ", ".join(tables))
     legend_outside(ax, fontsize=8)
     save(fig, path)

@@ -36,13 +36,19 @@ def test_compare_smoke_run(tmp_path):
         for column in ("kT_err", "kT_conf_err", "r1_err", "Nc_err", "Nc_1.0_err", "Nc_1.16_err"):
             assert float(row[column]) > 0, column
         assert float(row["Nc_1.0"]) < float(row["Nc_1.16"])
-    for filename in ("report.md", "kT_vs_dt.png", "error_vs_cost.png", "gr.png", "diffusion.png", "stability.png"):
+        # the dynamics: eta from a sheared run, Sc, eta_T from the transverse currents, all with errors
+        for column in ("D", "eta", "Sc", "eta_T"):
+            assert float(row[column]) > 0 and float(row[column + "_err"]) > 0, column
+    assert float(rows[("Lowe", 0.02)]["D"]) < 0.5 * float(rows[("GW", 0.02)]["D"])  # Lowe-Andersen at Gamma 4.5
+    for filename in ("report.md", "kT_vs_dt.png", "error_vs_cost.png", "gr.png", "dynamics_vs_dt.png",
+                     "dynamics_vs_cost.png", "stability.png"):
         assert os.path.getsize(os.path.join(out, filename)) > 0
     report = open(os.path.join(out, "report.md")).read()
     assert "| GW | 0.02 | 0.02 |" in report or "| GW | 0.02 |" in report
     assert "above 40 kT" in report  # the instability sentinel is on by default
     assert "| Lowe | 0.1 | unstable (kT_conf) |" in report
     assert "LangevinMiddleIntegrator steps per unit of simulated time" in report
+    assert "## Dynamics" in report and "### dt -> 0 limits" in report
     # --redraw, with the run's options, writes the same report from the CSV files
     os.remove(os.path.join(out, "gr.png"))
     compare.main(["--quick", "--threads", "1", "--out", out, "--redraw"])
