@@ -39,8 +39,8 @@ from .analysis import (frame_radial_distributions, grouped_squared_displacement,
 from . import dynamics, options
 from .catalog import CUTOFF, FRICTION, INSTABILITY_THRESHOLD, integrators
 from .charts import use_file_backend
-from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_GROUPS,
-                       OVERLAP_EXCESS, R1_BLOCKS, schedule)
+from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_FIT,
+                       DIFFUSION_GROUPS, OVERLAP_EXCESS, R1_BLOCKS, schedule)
 from .report import read_gr, read_rows, write_report
 from .scenes import SCENES, build_scene
 from .units import KT_TEMPERATURE
@@ -49,10 +49,11 @@ G_R_MAX, G_BIN = 2.0, 0.025  # g(r) to 2 rc (or half the box) in bins of 0.025 r
 FIXED_RADII = (1.0, 1.16)  # Nc at these radii: r1 sits on a minimum too flat to integrate to
 COLUMNS = ["scene", "integrator", "dt", "status", "reason", "steps", "kT", "kT_err", "kT_error", "kT_conf",
            "kT_conf_err", "g_core", "g_dev_ref", "g_dev_ideal", "Nc", "Nc_err", "r1", "r1_err", "Nc_1.0",
-           "Nc_1.0_err", "Nc_1.16", "Nc_1.16_err", "D", "D_err", "eta", "eta_err", "Sc", "Sc_err", "eta_T", "eta_T_err",
-           "D_rel", "D_rel_err", "eta_rel", "eta_rel_err", "Sc_rel", "Sc_rel_err", "eta_T_rel", "eta_T_rel_err", "usable",
-           "chain_kT", "chain_kT_err", "Rg", "Rg_err", "bond_max", "cost_ratio", "cost_ratio_err", "cost_per_time", "cost_per_time_err", "cpu_s_per_time",
-           "wall_s_per_time", "langevin_cpu_s_per_time", "note"]
+           "Nc_1.0_err", "Nc_1.16", "Nc_1.16_err", "D", "D_err", "eta", "eta_err", "Sc", "Sc_err", "eta_T",
+           "eta_T_err", "D_rel", "D_rel_err", "eta_rel", "eta_rel_err", "Sc_rel", "Sc_rel_err", "eta_T_rel",
+           "eta_T_rel_err", "usable", "chain_kT", "chain_kT_err", "Rg", "Rg_err", "bond_max", "cost_ratio",
+           "cost_ratio_err", "cost_per_time", "cost_per_time_err", "cpu_s_per_time", "wall_s_per_time",
+           "langevin_cpu_s_per_time", "note"]
 
 
 # --- observables ------------------------------------------------------------------------------
@@ -153,13 +154,16 @@ def soft_repulsion_laplacian(positions, length, a=25.0, rc=CUTOFF):
 
 
 def diffusion(times, msd):
-    """D = slope / 6 of an MSD averaged over time origins, fitted over the lags from a quarter
-    to half of the run (the first half has the most origins; its short lags may be ballistic)."""
-    lags = np.arange(len(times))
-    fit = (lags >= len(times) // 4) & (lags <= len(times) // 2)
+    """D = slope / 6 of an MSD averaged over time origins, fitted over the lags of DIFFUSION_FIT
+    (time units), or a quarter to half of a run too short for them: a window fixed in time, so
+    that a longer run has more origins per lag and a better D (long lags have few origins,
+    short ones may be ballistic)."""
+    times = np.asarray(times, dtype=float)
+    start, end = min(DIFFUSION_FIT[0], times[-1] / 4), min(DIFFUSION_FIT[1], times[-1] / 2)
+    fit = (times >= start - 1e-9) & (times <= end + 1e-9)
     if fit.sum() < 2:
         return float("nan")
-    return float(np.polyfit(np.asarray(times)[fit], np.asarray(msd)[fit], 1)[0] / 6)
+    return float(np.polyfit(times[fit], np.asarray(msd)[fit], 1)[0] / 6)
 
 
 def diffusion_with_error(times, msd, group_msd):
@@ -263,7 +267,8 @@ class Sampler:
         if len(self.frames) < 2:
             return None
         frames = np.array(self.frames)
-        row["D"], row["D_err"] = diffusion_with_error(*grouped_squared_displacement(frames, frame_time, DIFFUSION_GROUPS))
+        msd = grouped_squared_displacement(frames, frame_time, DIFFUSION_GROUPS)
+        row["D"], row["D_err"] = diffusion_with_error(*msd)
         # g(r) of gr_frames frames spread evenly over the run: InterRDF costs ~10 pair searches of cKDTree's
         chosen = np.unique(np.linspace(0, len(frames) - 1, gr_frames).round().astype(int))
         r, frame_g = frame_radial_distributions(frames[chosen], self.length, *g_r_range(self.length))
@@ -377,6 +382,8 @@ def run_one(scene, start, name, factory, dt, args):
     stride, samples, frame_every = schedule(dt, args)
     try:
         cpu, wall = _sample(integrator, context, sampler, dt, args)
+        # the sheared run starts here, not after the timed blocks, whose length follows the machine's speed
+        final = context.getState(getPositions=True, getVelocities=True, enforcePeriodicBox=True)
         # blocks of ~args.cost_block seconds: many of the scheduler's time slices, so a block
         # is not made slow by one slice given to another process
         block = max(1, round(args.cost_block * samples * stride / max(cpu, 1e-9)))
@@ -390,23 +397,28 @@ def run_one(scene, start, name, factory, dt, args):
     row.update(steps=samples * stride, cpu_s_per_time=cpu / simulated, wall_s_per_time=wall / simulated)
     g = sampler.summarise(row, stride * dt, frame_every * stride * dt, args.gr_frames)
     judge(row, scene.name)
-    if row["status"] == "ok" and args.nemd_time > 0 and dynamics.can_shear(integrator):
-        shear_viscosity(row, context, factory, dt, args)
+    if row["status"] == "ok" and args.nemd_time > 0:
+        shear_viscosity(row, scene.system, final, factory, dt, args)
         row["Sc"], row["Sc_err"] = dynamics.schmidt_number(row["eta"], row["eta_err"], row["D"], row["D_err"],
                                                            sampler.mass_density())
     return row, g
 
 
-def shear_viscosity(row, context, factory, dt, args):
-    """eta and its error in row from a run sheared at args.nemd_rate from the state the run ended in;
-    a sheared run that stops makes the run unstable (`shear`)."""
+def shear_viscosity(row, system, state, factory, dt, args):
+    """eta and its error in row from a run sheared at args.nemd_rate from `state`, where the sampled
+    run ended.  An integrator without shear or a pressure tensor gets none; a sheared run that stops
+    makes the run unstable (`shear`)."""
     try:
-        integrator, sheared = dynamics.start_sheared(context, factory, dt, args.nemd_rate, args.seed, _platform(args),
-                                                     args.instability_threshold)
+        integrator = dynamics.sheared_integrator(factory, dt, args.nemd_rate, args.seed, args.instability_threshold)
+    except (AttributeError, openmm.OpenMMException):
+        return
+    try:
+        sheared = dynamics.sheared_context(system, state, integrator, args.nemd_rate, _platform(args))
         row["eta"], row["eta_err"] = dynamics.nemd_viscosity(sheared, integrator, args.nemd_rate, args.equilibrate,
                                                              args.nemd_time, dt)
     except openmm.OpenMMException as error:
-        mark_unstable(row, "shear", "sheared at rate {:g}: {}".format(args.nemd_rate, str(error).splitlines()[0][:140]))
+        message = str(error).splitlines()[0][:140]
+        mark_unstable(row, "shear", f"sheared at rate {args.nemd_rate:g}: {message}")
 
 
 def _deviations(rows, names, g_of):
@@ -509,11 +521,11 @@ def _duration(path):
     return float(found.group(1)) if found else None
 
 
-# How long a run with the defaults takes, for --help (docs/results/README.md: 452 s for scene soft
-# on a quiet 2-core machine, 257 s for ideal).
-DURATION = ("With the defaults (scene soft, N 2000, 100 time units per run, every integrator at 6 time steps: "
-            "72 runs) a run takes about 8 minutes on 2 cores (scene ideal about 4); each integrator's "
-            "time grows as --particles times --time times the sum of 1/dt over --dts. "
+# How long a run with the defaults takes, for --help (docs/results/README.md: about 10 minutes for
+# scene soft on a 2-core machine, the sheared runs that give eta included).
+DURATION = ("With the defaults (scene soft, N 2000, 100 time units per run and 100 more sheared for eta, every "
+            "integrator at 6 time steps: 72 runs) a run takes about 10 minutes on 2 cores; each integrator's "
+            "time grows as --particles times --time (and --nemd-time) times the sum of 1/dt over --dts. "
             "--quick takes seconds.")
 
 # --quick (options.add_quick)

@@ -102,11 +102,6 @@ def transverse_viscosity(series, interval, mass_density, length, max_time=20.0):
 
 # --- NEMD ----------------------------------------------------------------------------------------
 
-def can_shear(integrator):
-    """Whether the integrator has Lees-Edwards shear and the pressure tensor (ours do)."""
-    return hasattr(integrator, "setShearRate") and hasattr(integrator, "setPressureTensorEnabled")
-
-
 def nemd_viscosity(context, integrator, rate, equilibrate, sample, dt):
     """(eta, its standard error): the integrator, already sheared at `rate` with its pressure tensor
     on, equilibrates, then samples `sample` time in blocks of NEMD_BLOCK; the error is that of the
@@ -197,19 +192,23 @@ def recommend(rows):
     return min(candidates, key=lambda row: row["cost_per_time"], default=None)
 
 
-def start_sheared(context, integrator_factory, dt, rate, seed, platform, threshold=0.0):
-    """(integrator, Context) of a new run sheared at `rate` from the state of `context`, its pressure
-    tensor on: positions and velocities as they were plus the imposed flow rate (y - Ly/2)."""
-    from .shear import streaming_velocity
+def sheared_integrator(integrator_factory, dt, rate, seed, threshold=0.0):
+    """A new integrator sheared at `rate` with its pressure tensor on; an integrator without them
+    refuses here (OpenMMException), before any Context."""
     integrator = integrator_factory(dt)
     integrator.setRandomNumberSeed(seed)
     if threshold:
         integrator.setInstabilityThreshold(threshold)
     integrator.setShearRate(rate)
     integrator.setPressureTensorEnabled(True)
-    # molecules wrapped whole into the box: the flow is imposed by height within it
-    state = context.getState(getPositions=True, getVelocities=True, enforcePeriodicBox=True)
-    sheared = openmm.Context(context.getSystem(), integrator, *platform)
+    return integrator
+
+
+def sheared_context(system, state, integrator, rate, platform):
+    """A Context of the sheared integrator at `state` (taken with enforcePeriodicBox, molecules
+    whole in the box): its positions, and its velocities plus the imposed flow rate (y - Ly/2)."""
+    from .shear import streaming_velocity
+    sheared = openmm.Context(system, integrator, *platform)
     positions = state.getPositions(asNumpy=True)._value
     velocities = state.getVelocities(asNumpy=True)._value.copy()
     height = state.getPeriodicBoxVectors()[1][1]._value
@@ -217,4 +216,4 @@ def start_sheared(context, integrator_factory, dt, rate, seed, platform, thresho
     sheared.setPeriodicBoxVectors(*state.getPeriodicBoxVectors())
     sheared.setPositions(positions)
     sheared.setVelocities(velocities)
-    return integrator, sheared
+    return sheared

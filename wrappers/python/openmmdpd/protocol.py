@@ -3,6 +3,7 @@ the sampling schedule, the blocks behind the errors of r1 and D, and the thresho
 
 R1_BLOCKS = 5              # blocks of g(r) frames whose spread gives the errors of r1 and Nc(r1)
 DIFFUSION_GROUPS = 8       # interleaved sets of particles whose spread in D gives its error
+DIFFUSION_FIT = (10.0, 30.0)  # the lags (time units) D is fitted over: diffusive, with many origins
 CONF_KT_TOLERANCE = 0.1    # a stable run's configurational kT is within 10 % of 1 (soft scene)
 CHAIN_KT_TOLERANCE = 0.1   # and its chain <kT> within 10 % of 1 (polymer scene)
 # The longest bond a stable polymer run may have: a harmonic bond (k = 7 kT/rc^2, rest length 0)

@@ -9,8 +9,8 @@ import numpy as np
 from . import dynamics, report_dynamics
 from .charts import figure_handles, integrator_style, legend_outside, log_axis, save, use_file_backend
 from .options import parser
-from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_GROUPS,
-                       OVERLAP_EXCESS, R1_BLOCKS, schedule)
+from .protocol import (BOND_LIMIT, CHAIN_KT_TOLERANCE, CONF_KT_TOLERANCE, CORE_RADIUS, DIFFUSION_FIT,
+                       DIFFUSION_GROUPS, OVERLAP_EXCESS, R1_BLOCKS, schedule)
 
 
 def _ok(rows, name):
@@ -182,7 +182,7 @@ def _polymer_chart(rows, path, scene):
 
 def _stability_chart(rows, path, scene):
     names = _names(rows)
-    fig, ax = plt.subplots(figsize=(7, 0.45 * len(names) + 1.5))
+    fig, ax = plt.subplots(figsize=(10, 0.45 * len(names) + 1.5))
     labelled = False
     for k, name in enumerate(names):
         stable, accurate = stability(rows, name)
@@ -199,6 +199,7 @@ def _stability_chart(rows, path, scene):
     _mark_usable(ax, rows, names)
     ax.set_yticks(range(len(names)))
     ax.set_yticklabels(names)
+    log_axis(ax, ticks=[row["dt"] for row in rows])
     ax.set_xlabel("dt (of those tried)")
     ax.set_title(f"Stability map, scene {scene}")
     legend_outside(ax, fontsize=8)
@@ -246,9 +247,10 @@ def _unstable_means(threshold):
 def _conventions():
     return ("Errors (±) are one standard error: of the mean of a time series from its statistical inefficiency "
             "(pymbar; the configurational kT as the ratio <sum |F|^2> / <sum lap U>, linearised), of r1 and "
-            f"Nc(r1) from the spread over {R1_BLOCKS} blocks of frames, of D from the spread of the D of "
-            f"{DIFFUSION_GROUPS} interleaved sets of particles (D/D0 with the error of the dt -> 0 limit D0 too). On the "
-            "Pareto chart a point whose "
+            f"Nc(r1) from the spread over {R1_BLOCKS} blocks of frames, of D (the MSD's slope / 6 over the lags "
+            f"{DIFFUSION_FIT[0]:g}–{DIFFUSION_FIT[1]:g}, or a quarter to half of a shorter run) from the spread of "
+            f"the D of {DIFFUSION_GROUPS} interleaved sets of particles (D/D0 with the error of the dt -> 0 limit D0 "
+            "too). On the Pareto chart a point whose "
             f"|<kT> - 1| is below {NOISE_FLOOR_SIGMAS} standard errors (its noise floor, a tick) is drawn hollow: "
             "it is not resolved from exact. Nc is given to the first minimum r1 and at the fixed radii 1.0 and 1.16: "
             "the minimum of a soft fluid's g(r) is so flat that r1 is poorly defined, and Nc grows there by "

@@ -5,7 +5,6 @@ import math
 import os
 
 import matplotlib.pyplot as plt
-import numpy as np
 
 from . import dynamics
 from .charts import figure_handles, integrator_style, legend_outside, log_axis, save
@@ -41,7 +40,7 @@ def _own_error(row, key):
 def _limit_band(ax, rows, key):
     """1 ± the relative error of the DPD limit of key (dark), where a run has it."""
     for row in rows:
-        if dynamics.limit_of(row["integrator"]) == dynamics.DPD_LIMIT and math.isfinite(row.get(key + "_rel", math.nan)):
+        if dynamics.limit_of(row["integrator"]) == dynamics.DPD_LIMIT and math.isfinite(row[key + "_rel"]):
             own = _own_error(row, key) / row[key + "_rel"]
             limit = math.sqrt(max(0.0, (row[key + "_rel_err"] / row[key + "_rel"]) ** 2 - own ** 2))
             ax.axhspan(1 - limit, 1 + limit, color="0.75", zorder=0, label="DPD's limit ± 1 standard error")
@@ -72,7 +71,8 @@ def _vs_dt_chart(rows, path, scene):
                       label="beyond the axis (Langevin): at the edge, with its value")
     legend_outside(fig, *figure_handles(fig))
     fig.suptitle(f"Dynamics against time step, scene {scene}, ± each run's standard error: each over the dt -> 0 "
-                 "limit of its model\n(Lowe and Lowe-mid: Lowe–Andersen's; the other integrators and Langevin: DPD's)")
+                 "limit of its model\n(Lowe and Lowe-mid: Lowe–Andersen's; the other integrators and Langevin: "
+                 "DPD's)")
     save(fig, path)
 
 
@@ -89,7 +89,7 @@ def _pareto_chart(rows, path, scene):
             low = [min(r[key + "_rel_err"], yk - floor) for r, yk in zip(ok, y)]
             x = [r["cost_per_time"] for r in ok]
             ax.errorbar(x, y, xerr=[r["cost_per_time_err"] for r in ok], yerr=[low, [r[key + "_rel_err"] for r in ok]],
-                        ms=5, capsize=2, label=name, **style)
+                        ms=5, capsize=2, lw=0.8, elinewidth=0.8, label=name, **style)
             for xk, yk, r in zip(x, y, ok):
                 ax.annotate(f"{r['dt']:g}", (xk, yk), xytext=(3, 2), textcoords="offset points", fontsize=6,
                             color=style["color"])
@@ -132,8 +132,7 @@ def method(args):
             f"and dt from the state the first ended in, sheared (Lees–Edwards) at rate {args.nemd_rate:g} with the "
             f"imposed flow, equilibrated {args.equilibrate:g} and sampled {args.nemd_time:g} units of time, eta = "
             f"-<P_xy> / rate from the integrator's own pressure tensor in blocks of {dynamics.NEMD_BLOCK:g} (error "
-            "from their statistical inefficiency; LangevinMiddleIntegrator and OpenMM's DPDIntegrator have no "
-            "shear, so no eta or Sc); Sc = eta / (rho D); and eta_T from the equilibrium run itself: the transverse "
+            "from their statistical inefficiency); Sc = eta / (rho D); and eta_T from the equilibrium run itself: the transverse "
             "momentum current at the box's smallest wavevector k = 2 pi / L (k along x, y, z; both transverse "
             "components; real and imaginary parts: 12 series, sampled with <kT>) decays as exp(-nu k^2 t), nu = "
             "eta / rho, so eta_T = rho lambda / k^2 with lambda fitted to ln C(t) over its first e-fold (error: "
@@ -166,8 +165,9 @@ def _independent(args):
         rows = [row for row in read_rows(path) if abs(row["rate"] - args.nemd_rate) < 1e-9]
         if rows:
             row = rows[0]
-            found["eta"] = (row["eta"], row["eta_err"], f"viscosity tool, {row['integrator']} at dt {row['dt']:g}, "
-                                                        f"{row['time']:g} time units at rate {row['rate']:g} (`{path}`)")
+            found["eta"] = (row["eta"], row["eta_err"],
+                            f"viscosity tool, {row['integrator']} at dt {row['dt']:g}, {row['time']:g} time units at "
+                            f"rate {row['rate']:g} (`{path}`)")
     return found
 
 
@@ -209,11 +209,13 @@ def recommendation(rows, scene):
     if best is None:
         return (f"No run on scene {scene} is usable (<kT> within {dynamics.USABLE_KT:.0%}, D and eta within "
                 f"{dynamics.USABLE_DYNAMICS:.0%} of their limits).")
-    others = sorted((row for row in rows if row.get("usable") and row is not best), key=lambda row: row["cost_per_time"])
+    others = sorted((row for row in rows if dynamics.usable(row) and row is not best),
+                    key=lambda row: row["cost_per_time"])
     runner = (f" Next: {others[0]['integrator']} at dt {others[0]['dt']:g} ({others[0]['cost_per_time']:.3g})."
               if others else "")
     return (f"Recommended on scene {scene}: **{best['integrator']} at dt {best['dt']:g}**, the cheapest usable run: "
-            f"{best['cost_per_time']:.3g} ± {best['cost_per_time_err']:.2g} Langevin steps per unit of simulated time, "
+            f"{best['cost_per_time']:.3g} ± {best['cost_per_time_err']:.2g} Langevin steps per unit of simulated "
+            "time, "
             f"<kT> {_pm(best['kT'], best['kT_err'])}, D/D0 {_pm(best['D_rel'], best['D_rel_err'], 3)}, eta/eta0 "
             f"{_pm(best['eta_rel'], best['eta_rel_err'], 3)}. Usable runs: "
             f"{sum(1 for row in rows if dynamics.usable(row))} of {sum(row['status'] == 'ok' for row in rows)} "
@@ -234,9 +236,18 @@ def runs_table(rows):
     return lines
 
 
+def without_eta(rows):
+    """The integrators with stable runs and no eta: no shear or no pressure tensor."""
+    return [name for name in _names(rows) if any(row["integrator"] == name and row["status"] == "ok" for row in rows)
+            and not _stable(rows, name, "eta")]
+
+
 def section(rows, args):
     """The report's dynamics section (Markdown lines), charts included."""
-    lines = ["## Dynamics", "", method(args), "", recommendation(rows, args.scene), "",
+    missing = without_eta(rows)
+    lacking = (f"Without eta (no shear or no pressure tensor), so never usable: {', '.join(missing)}." if missing
+               else "")
+    lines = ["## Dynamics", "", method(args), "", lacking, "", recommendation(rows, args.scene), "",
              "### dt -> 0 limits", ""] + limits_table(rows, args) + [""]
     check = transverse_check(rows)
     if check:
