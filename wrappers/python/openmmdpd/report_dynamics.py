@@ -148,13 +148,21 @@ def method(args):
             "(point values; a run without eta is not shown usable).")
 
 
+# The model the independent runs are of: model B (scene soft at a = 25; the viscosity tool's model-b).
+REFERENCE_MODEL = dict(scene="soft", a=25.0, viscosity_scene="model-b")
+
+
 def _independent(args):
-    """{key: (value, error, source)} of the independent runs args names, where their files exist."""
+    """{key: (value, error, source)} of the independent runs args names, where their files exist
+    and the run is of their model."""
     found = {}
+    if args.scene != REFERENCE_MODEL["scene"] or getattr(args, "a", None) != REFERENCE_MODEL["a"]:
+        return found
     path = getattr(args, "reference_diffusion", None)
     if path and os.path.exists(path):
         from .report import read_rows
-        rows = [row for row in read_rows(path) if row["status"] == "ok" and math.isfinite(row["D"])]
+        rows = [row for row in read_rows(path) if row["status"] == "ok" and math.isfinite(row["D"])
+                and row["scene"] == REFERENCE_MODEL["scene"]]
         if rows:
             best = min(rows, key=lambda row: row["D_err"])
             found["D"] = (best["D"], best["D_err"], f"{best['integrator']} at dt {best['dt']:g}, "
@@ -162,7 +170,8 @@ def _independent(args):
     path = getattr(args, "reference_viscosity", None)
     if path and os.path.exists(path):
         from .report import read_rows
-        rows = [row for row in read_rows(path) if abs(row["rate"] - args.nemd_rate) < 1e-9]
+        rows = [row for row in read_rows(path) if abs(row["rate"] - args.nemd_rate) < 1e-9
+                and row["scene"] == REFERENCE_MODEL["viscosity_scene"]]
         if rows:
             row = rows[0]
             found["eta"] = (row["eta"], row["eta_err"],
@@ -249,6 +258,9 @@ def section(rows, args):
                else "")
     lines = ["## Dynamics", "", method(args), "", lacking, "", recommendation(rows, args.scene), "",
              "### dt -> 0 limits", ""] + limits_table(rows, args) + [""]
+    if not _independent(args):
+        lines += ["No independent values of this model's limits are given (`--reference-diffusion`, "
+                  "`--reference-viscosity`: runs of model B, scene soft at a = 25).", ""]
     check = transverse_check(rows)
     if check:
         lines += ["The transverse-current eta against NEMD's at each integrator's smallest stable dt:", ""]

@@ -1,6 +1,7 @@
 """The main job's dynamics (openmmdpd.dynamics): the transverse-current viscosity against exact
 currents and an exactly known decay, the dt -> 0 limit against exact lines, and the usable
 region's recommendation following the numbers it is given."""
+import argparse
 import math
 
 import numpy as np
@@ -115,3 +116,16 @@ def test_schmidt_number_and_its_error():
     assert sc == pytest.approx(1.0)
     assert error == pytest.approx(math.sqrt(2) * 0.01)
     assert math.isnan(dynamics.schmidt_number(math.nan, 0.0, 0.3, 0.003, 4.0)[0])
+
+
+def test_independent_values_are_used_only_for_their_own_model(tmp_path):
+    diffusion, viscosity = tmp_path / "results.csv", tmp_path / "nemd.csv"
+    diffusion.write_text("scene,integrator,dt,status,steps,D,D_err\nsoft,S1,0.005,ok,200000,0.2713,0.0012\n")
+    viscosity.write_text("scene,integrator,dt,rate,time,eta,eta_err\nmodel-b,S1,0.005,0.5,1000,1.0985,0.0042\n")
+    args = argparse.Namespace(scene="soft", a=25.0, nemd_rate=0.5, reference_diffusion=str(diffusion),
+                              reference_viscosity=str(viscosity))
+    found = report_dynamics._independent(args)
+    assert found["D"][:2] == (0.2713, 0.0012) and found["eta"][:2] == (1.0985, 0.0042)
+    assert "eta" not in report_dynamics._independent(argparse.Namespace(**{**vars(args), "nemd_rate": 0.2}))
+    for other in (dict(scene="ideal"), dict(scene="polymer"), dict(a=18.75)):
+        assert report_dynamics._independent(argparse.Namespace(**{**vars(args), **other})) == {}
