@@ -19,7 +19,8 @@ What maps (anything else is refused, naming it, before a file is written):
   conservative and dissipative forces of such a pair by the factor);
 - `DPDVVIntegrator` GrootWarren with lambda 1/2 -> `fix nve` with `pair dpd`;
   `ShardlowIntegrator` order 1 -> `fix shardlow` + `fix nve` with `pair_style dpd/fdt`;
-- the shear rate -> a triclinic box and `fix deform 1 xy erate rate remap v`.
+- the shear rate -> a triclinic box and `fix deform 1 xy erate rate remap v`, and a
+  thermo temperature (`compute temp/deform`) of the velocities less the imposed flow.
 """
 import math
 import os
@@ -549,7 +550,10 @@ def _input_script(integrator, model, plan, data_name, steps):
         lines.append(f"fix shear all deform 1 xy erate {_number(shear)} remap v flip yes")
     if model.momentum:
         lines.append(f"fix momentum all momentum {model.momentum} linear 1 1 1")
-    lines += ["", "thermo_style custom step temp press pe ke", "thermo 100", f"run {steps}"]
+    lines += ["", "thermo_style custom step temp press pe ke", "thermo 100"]
+    if shear:  # temperature and pressure of the peculiar velocities, as openmm-dpd's pressure tensor
+        lines += ["compute peculiar all temp/deform", "thermo_modify temp peculiar"]
+    lines.append(f"run {steps}")
     return "\n".join(lines) + "\n"
 
 

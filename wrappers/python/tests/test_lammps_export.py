@@ -256,6 +256,10 @@ def test_shear_from_a_context_writes_a_tilted_box_and_fix_deform(tmp_path):
     assert from_context.velocities == pytest.approx(data.velocities)
     assert script.fixes["shear"] == ["all", "deform", "1", "xy", "erate", "0.2", "remap", "v", "flip", "yes"]
     assert script.fixes["integrate"] == ["all", "nve"]
+    # LAMMPS reports the temperature and pressure of the velocities less the flow, as the pressure tensor here
+    commands = dict(script.commands)
+    assert commands["compute"] == ["peculiar", "all", "temp/deform"]
+    assert commands["thermo_modify"] == ["temp", "peculiar"]
 
 
 def test_a_fluid_without_conservative_force(tmp_path):
@@ -369,6 +373,23 @@ def test_a_force_field_model_with_shardlow(tmp_path):
     assert len(data.bonds) == 12 * 9 and script.bond_coeffs == {1: [2.0, 0.0]}  # K = k/2 = 4/2
     assert script.special_bonds == ["lj", "1.0", "1.0", "1.0"]  # bonded beads repel in this model
     assert script.fixes["momentum"][:3] == ["all", "momentum", "1"]
+
+
+def test_the_side_by_side_check_reads_a_lammps_dump_by_atom_id(tmp_path):
+    from openmmdpd.lammps_check import dump_frames
+    header = ("ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n0 2\n0 2\n0 2\n"
+              "ITEM: ATOMS id x y z\n")
+    dump = tmp_path / "frames.dump"
+    dump.write_text(header.format(0) + "2 1.0 1.1 1.2\n1 0.0 0.1 0.2\n"
+                    + header.format(250) + "1 0.5 0.6 0.7\n2 1.5 1.6 1.7\n")
+    frames = dump_frames(dump)
+    assert frames.tolist() == [[[0.0, 0.1, 0.2], [1.0, 1.1, 1.2]], [[0.5, 0.6, 0.7], [1.5, 1.6, 1.7]]]
+
+
+def test_the_side_by_side_check_records_its_command_without_the_machines_lammps():
+    from openmmdpd.lammps_check import _command
+    assert _command(["--lmp", "/somewhere/lmp", "--steps", "10"]) == "bash scripts/lammps-check.sh --steps 10"
+    assert _command(["--lmp=/x/lmp", "--out", "t.md"]) == "bash scripts/lammps-check.sh --out t.md"
 
 
 def test_the_side_by_side_check_reads_a_lammps_thermo_log(tmp_path):
