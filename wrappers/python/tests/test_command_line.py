@@ -60,7 +60,7 @@ def test_compare_help_from_the_command_line():
     result = run_module("compare", "--help")
     assert result.returncode == 0, result.stderr
     text = " ".join(result.stdout.split())
-    assert "about 8 minutes on 2 cores" in text and "(default: 0.02 0.03 0.04 0.06 0.1 0.15)" in text
+    assert "about 10 minutes on 2 cores" in text and "(default: 0.02 0.03 0.04 0.06 0.1 0.15)" in text
     assert "--quick a run of seconds for CI: --particles 500" in text
 
 
