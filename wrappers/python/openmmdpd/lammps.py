@@ -19,6 +19,8 @@ What maps (anything else is refused, naming it, before a file is written):
   conservative and dissipative forces of such a pair by the factor);
 - `DPDVVIntegrator` GrootWarren with lambda 1/2 -> `fix nve` with `pair dpd`;
   `ShardlowIntegrator` order 1 -> `fix shardlow` + `fix nve` with `pair_style dpd/fdt`;
+- bonded terms that may stretch past the pair cutoff + skin -> `comm_modify cutoff`, ghost
+  atoms out to the longest bonded distance expected at kT (_ghost_cutoff);
 - the shear rate -> a triclinic box and `fix deform 1 xy erate rate remap v`, and a
   thermo temperature (`compute temp/deform`) of the velocities less the imposed flow.
 """
@@ -40,6 +42,13 @@ __all__ = ["export_lammps", "read_lammps_data", "read_lammps_input", "LammpsFile
 
 #: The largest seed LAMMPS's Marsaglia generator takes (pair dpd adds the rank of the process).
 MAX_SEED = 900000000
+
+#: LAMMPS's neighbour-list skin (lj units), written into the script.
+SKIN = 0.3
+
+#: How many standard deviations of its length a harmonic bond is allowed to stretch, at kT, before
+#: its partner may be missing from the ghost atoms: exceeded with a probability of about 1e-13.
+BOND_STRETCH = 8.0
 
 LammpsFiles = namedtuple("LammpsFiles", "data input")
 LammpsFiles.__doc__ = "The paths export_lammps wrote: the data file and the input script."
@@ -510,6 +519,24 @@ def _pair_lines(scheme, rows, kT, seed):
                     for i, j, a, gamma, s, rc in rows]
 
 
+def _bond_reach(bond_types, angle_types, kT):
+    """The longest distance between atoms of one bonded term: a harmonic bond (K = k/2 here) stretches
+    by BOND_STRETCH standard deviations sqrt(kT/k) of each component beyond r0; an angle's ends
+    are two bonds apart. Bonds with K = 0 exert no force and are not counted."""
+    bond = max((r0 + BOND_STRETCH * math.sqrt(kT / (2 * K)) for K, r0 in bond_types if K > 0), default=0.0)
+    return 2 * bond if angle_types else bond
+
+
+def _ghost_cutoff(rows, bond_types, angle_types, kT):
+    """The ghost-atom cutoff `comm_modify cutoff` must set, or None where LAMMPS's default (the pair
+    cutoff + skin) already holds every bonded partner. LAMMPS finds a bond's partner among its
+    ghost atoms: a bond that stretches past the ghost cutoff across the box's edge would act on a
+    far image of its partner. DPD's rest-length-0 springs (k 4, kT 1) stretch past r_c + skin on a
+    few percent of the bonds at any time."""
+    reach = math.ceil(round(100 * (_bond_reach(bond_types, angle_types, kT) + SKIN), 6)) / 100
+    return reach if reach > max(row[5] for row in rows) + SKIN else None
+
+
 def _header(integrator, scheme, warning, kT, factors):
     lines = ["# A DPD model exported by openmmdpd.lammps.export_lammps from an OpenMM System.",
              "# Units: LAMMPS lj with sigma = 1 nm, m = 1 amu (g/mol), epsilon = 1 kJ/mol, so tau = 1 ps;",
@@ -529,8 +556,15 @@ def _header(integrator, scheme, warning, kT, factors):
 def _input_script(integrator, model, plan, data_name, steps):
     scheme, warning, kT, seed, rows, factors, bond_types, angle_types, triclinic, shear, has_velocities = plan
     lines = _header(integrator, scheme, warning, kT, factors)
+    ghost_cutoff = _ghost_cutoff(rows, bond_types, angle_types, kT)
+    communicate = "comm_modify vel yes"
+    if ghost_cutoff is not None:
+        lines += [f"# Ghost atoms out to {_number(ghost_cutoff)}: the longest bonded distance expected at this kT "
+                  f"(harmonic bonds to r0 + {_number(BOND_STRETCH)} sqrt(kT/k)) plus the skin, so that a stretched "
+                  f"bond across the box's edge finds its partner's nearest image."]
+        communicate += f" cutoff {_number(ghost_cutoff)}"
     lines += ["", "units lj", f"atom_style {'molecular' if model.angles else 'bond'}", "boundary p p p",
-              "newton on", "comm_modify vel yes", f"read_data {data_name}", ""]
+              "newton on", communicate, f"read_data {data_name}", ""]
     lines += _pair_lines(scheme, rows, kT, seed)
     if bond_types:
         lines += ["", "bond_style harmonic"]
@@ -539,7 +573,7 @@ def _input_script(integrator, model, plan, data_name, steps):
         lines += ["", "angle_style harmonic"]
         lines += [f"angle_coeff {t} {_number(k)} {_number(theta)}" for t, (k, theta) in enumerate(angle_types, 1)]
     lines += ["", f"special_bonds lj {' '.join(map(_number, factors))}",
-              "neighbor 0.3 bin", "neigh_modify every 1 delay 0 check yes", "",
+              f"neighbor {_number(SKIN)} bin", "neigh_modify every 1 delay 0 check yes", "",
               f"timestep {_number(_value(integrator.getStepSize(), unit.picosecond))}"]
     if not has_velocities:
         lines.append(f"velocity all create {_number(kT)} {seed} dist gaussian mom yes")

@@ -98,6 +98,26 @@ def check_terms(system, data, script):
     assert all(written[b] == pytest.approx(angles[b], rel=1e-14) for b in angles)
 
 
+def check_ghost_cutoff(system, kT, written, pair_cutoff, skin=0.3):
+    """Ghost atoms reach every bonded partner: a harmonic bond of constant k has components of
+    standard deviation sqrt(kT/k), so 8 of them beyond r0 (twice that across an angle) plus the
+    neighbour skin, where that exceeds LAMMPS's default of the pair cutoff plus the skin."""
+    longest, angles = 0.0, False
+    for force in system.getForces():
+        if isinstance(force, openmm.HarmonicBondForce):
+            for b in range(force.getNumBonds()):
+                _, _, r0, k = force.getBondParameters(b)
+                k = value(k, unit.kilojoule_per_mole / unit.nanometer**2)
+                if k > 0:
+                    longest = max(longest, value(r0, unit.nanometer) + 8 * math.sqrt(kT / k))
+        angles |= isinstance(force, openmm.HarmonicAngleForce) and force.getNumAngles() > 0
+    reach = (2 * longest if angles else longest) + skin
+    if reach <= pair_cutoff + skin:
+        assert written == []
+    else:
+        assert written[0] == "cutoff" and reach <= float(written[1]) < reach + 0.01
+
+
 def fixes_of(script):
     return {fix: arguments[1] for fix, arguments in script.fixes.items()}
 
@@ -128,7 +148,8 @@ def check_export(system, integrator, positions, tmp_path, box, velocities=None, 
         [kT, max(row[-1] for row in script.pair_coeffs.values())], rel=1e-14)
     assert int(script.pair_style[3]) == options.get("seed", integrator.getRandomNumberSeed())
     commands = dict(script.commands)
-    assert commands["units"] == ["lj"] and commands["comm_modify"] == ["vel", "yes"]
+    assert commands["units"] == ["lj"] and commands["comm_modify"][:2] == ["vel", "yes"]
+    check_ghost_cutoff(system, kT, commands["comm_modify"][2:], max(row[-1] for row in script.pair_coeffs.values()))
     assert float(commands["timestep"][0]) == value(integrator.getStepSize(), unit.picosecond)
     return data, script
 
