@@ -22,9 +22,7 @@ from scipy.spatial import cKDTree
 import openmmdpd
 from openmmdpd import forcefield, packer
 
-# Beads h1-h3, then two tails t1-t4 and t5-t8 both bonded to h3, as the force field's LIPID.
-LIPID = packer.Molecule.single("LIPID", ["h1", "h2", "h3"] + [f"t{i}" for i in range(1, 9)],
-                               [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 6), (2, 7), (7, 8), (8, 9), (9, 10)])
+LIPID = forcefield.LIPID_H3T4
 WATER = packer.Molecule.single("w", ["w"])
 
 

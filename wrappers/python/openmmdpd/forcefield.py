@@ -29,13 +29,19 @@ from openmm.app import forcefield as _openmm_forcefield
 from openmm.app.internal import compiled
 
 from .dpdplugin import DPDSoftRepulsionForce, DPDThermostatIntegrator
+from .packer import Molecule
 
-__all__ = ["data_path", "apply_thermostat_parameters", "bead_types", "match_bead_residue",
+__all__ = ["data_path", "apply_thermostat_parameters", "bead_types", "match_bead_residue", "LIPID_H3T4",
            "SoftRepulsionGenerator", "ThermostatGenerator", "FENEBondGenerator", "WormLikeChainBondGenerator",
            "CosineAngleGenerator"]
 
 # The folder of the force fields shipped with the package.
 DATA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
+
+#: The residue LIPID of lipid-h3t4.xml for the packer: beads h1-h3, then two tails t1-t4 and
+#: t5-t8 both bonded to h3.
+LIPID_H3T4 = Molecule.single("LIPID", ["h1", "h2", "h3"] + [f"t{i}" for i in range(1, 9)],
+                             [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 6), (2, 7), (7, 8), (8, 9), (9, 10)])
 
 
 def data_path(name):

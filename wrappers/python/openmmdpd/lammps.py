@@ -12,8 +12,12 @@ What maps (anything else is refused, naming it, before a file is written):
   (`dpd/ext` where a weight exponent s is not 2: ws = s/2), one `pair_coeff I J a gamma rc`
   per pair of LAMMPS atom types, an atom type per distinct (soft-repulsion type, thermostat
   type, mass); gamma_IJ = 2 mu_IJ friction;
-- `HarmonicBondForce` -> `bond_style harmonic` (K = k/2, r0), `HarmonicAngleForce` ->
-  `angle_style harmonic` (K = k/2, theta0 in degrees), `CMMotionRemover` -> `fix momentum`;
+- `HarmonicBondForce` -> `bond_style harmonic` (K = k/2, r0); `CustomBondForce` (FENE, worm-like
+  chains, any energy of r) -> `bond_style table`, its energy and force evaluated by OpenMM on a
+  grid of lengths for each distinct set of per-bond parameters (openmmdpd.lammps_tables), both
+  styles together through `bond_style hybrid`; `HarmonicAngleForce` -> `angle_style harmonic`
+  (K = k/2, theta0 in degrees), `CustomAngleForce` (cosine angles, any energy of theta) ->
+  `angle_style table` likewise; `CMMotionRemover` -> `fix momentum`;
 - the soft force's exclusions and the thermostat exceptions -> `special_bonds lj f12 f13 f14`,
   where they are one factor per class of pairs 1, 2 or 3 bonds apart (LAMMPS scales the
   conservative and dissipative forces of such a pair by the factor);
@@ -35,6 +39,7 @@ from openmm import unit
 from .dpdplugin import (DenOtterClarkeIntegrator, DPDSoftRepulsionForce, DPDThermostatIntegrator,
                         DPDVVIntegrator, EDPDIntegrator, LoweAndersenIntegrator, ShardlowIntegrator,
                         StaggeredDPDIntegrator)
+from .lammps_tables import ANGLE_POINTS, BOND_ENERGY_LIMIT, TABLE_POINTS, table_text, tabulate_angle, tabulate_bond
 from .units import kT_from_temperature
 
 __all__ = ["export_lammps", "read_lammps_data", "read_lammps_input", "LammpsFiles", "LammpsData",
@@ -46,12 +51,9 @@ MAX_SEED = 900000000
 #: LAMMPS's neighbour-list skin (lj units), written into the script.
 SKIN = 0.3
 
-#: How many standard deviations of its length a harmonic bond is allowed to stretch, at kT, before
-#: its partner may be missing from the ghost atoms: exceeded with a probability of about 1e-13.
-BOND_STRETCH = 8.0
-
-LammpsFiles = namedtuple("LammpsFiles", "data input")
-LammpsFiles.__doc__ = "The paths export_lammps wrote: the data file and the input script."
+LammpsFiles = namedtuple("LammpsFiles", "data input table")
+LammpsFiles.__doc__ = """The paths export_lammps wrote: the data file, the input script and the table
+file of bonds and angles (None where none is tabulated)."""
 
 LammpsData = namedtuple("LammpsData", "masses types molecules positions images velocities bonds angles box")
 LammpsData.__doc__ = """A LAMMPS data file read back (read_lammps_data), atoms in the order of their ids.
@@ -66,14 +68,15 @@ LammpsInput = namedtuple("LammpsInput", "header commands pair_style pair_coeffs 
 LammpsInput.__doc__ = """A LAMMPS input script read back (read_lammps_input).
 
 header: the leading comment lines; commands: [(command, [arguments])] in order; pair_style:
-its arguments; pair_coeffs: {(I, J): [floats]}; bond_coeffs, angle_coeffs: {type: [floats]};
+its arguments; pair_coeffs: {(I, J): [floats]}; bond_coeffs, angle_coeffs: {type: [arguments]},
+numbers as floats and words (a hybrid style's name, a table file and keyword) as strings;
 special_bonds: its arguments; fixes: {fix id: [group, style, arguments...]}."""
 
 # The integrators with a DPD friction (not Lowe's collision rate) that LAMMPS has no scheme of:
 # an explicit approximate=True writes velocity Verlet with pair dpd for them, and says so.
 _VERLET_LIKE = (DPDVVIntegrator, EDPDIntegrator, DenOtterClarkeIntegrator)
 
-_Model = namedtuple("_Model", "masses soft thermostat bonds angles exclusions exceptions momentum")
+_Model = namedtuple("_Model", "masses soft thermostat bonds angles exclusions exceptions momentum custom")
 
 
 # --- Reading the System --------------------------------------------------------------------
@@ -121,20 +124,40 @@ def _describe(force):
 
 
 def _harmonic_bonds(force):
+    """[(i, j, "harmonic", K = k/2, r0)]."""
     bonds = []
     for index in range(force.getNumBonds()):
         i, j, length, k = force.getBondParameters(index)
-        bonds.append((i, j, _value(k, unit.kilojoule_per_mole / unit.nanometer**2) / 2,
+        bonds.append((i, j, "harmonic", _value(k, unit.kilojoule_per_mole / unit.nanometer**2) / 2,
                       _value(length, unit.nanometer)))
     return bonds
 
 
+def _custom_bonds(force, force_index):
+    """[(i, j, "table", the force's index in the System, its per-bond parameters)]."""
+    bonds = []
+    for index in range(force.getNumBonds()):
+        i, j, parameters = force.getBondParameters(index)
+        bonds.append((i, j, "table", force_index, tuple(float(p) for p in parameters)))
+    return bonds
+
+
 def _harmonic_angles(force):
+    """[(i, j, k, "harmonic", K = k/2, theta0 in degrees)]."""
     angles = []
     for index in range(force.getNumAngles()):
         i, j, k, theta0, stiffness = force.getAngleParameters(index)
-        angles.append((i, j, k, _value(stiffness, unit.kilojoule_per_mole / unit.radian**2) / 2,
+        angles.append((i, j, k, "harmonic", _value(stiffness, unit.kilojoule_per_mole / unit.radian**2) / 2,
                        math.degrees(_value(theta0, unit.radian))))
+    return angles
+
+
+def _custom_angles(force, force_index):
+    """[(i, j, k, "table", the force's index in the System, its per-angle parameters)]."""
+    angles = []
+    for index in range(force.getNumAngles()):
+        i, j, k, parameters = force.getAngleParameters(index)
+        angles.append((i, j, k, "table", force_index, tuple(float(p) for p in parameters)))
     return angles
 
 
@@ -159,9 +182,9 @@ def _is_empty(force):
 
 def _read_forces(system, integrator):
     n = system.getNumParticles()
-    found = {"soft": None, "bonds": [], "angles": [], "momentum": None}
+    found = {"soft": None, "bonds": [], "angles": [], "momentum": None, "custom": {}}
     groups = integrator.getIntegrationForceGroups()
-    for force in system.getForces():
+    for force_index, force in enumerate(system.getForces()):
         if not groups & (1 << force.getForceGroup()):
             raise ValueError(f"export_lammps: {_describe(force)} is in force group {force.getForceGroup()}, which "
                              f"the integrator does not integrate; LAMMPS would apply it")
@@ -169,13 +192,20 @@ def _read_forces(system, integrator):
             _soft_force(force, n, found)
         elif type(force) is openmm.HarmonicBondForce:
             found["bonds"] += _harmonic_bonds(force)
+        elif type(force) is openmm.CustomBondForce and force.getNumBonds():
+            found["bonds"] += _custom_bonds(force, force_index)
+            found["custom"][force_index] = force
         elif type(force) is openmm.HarmonicAngleForce:
             found["angles"] += _harmonic_angles(force)
+        elif type(force) is openmm.CustomAngleForce and force.getNumAngles():
+            found["angles"] += _custom_angles(force, force_index)
+            found["custom"][force_index] = force
         elif type(force) is openmm.CMMotionRemover:
             found["momentum"] = force.getFrequency()
         elif not _is_empty(force):
             raise ValueError(f"export_lammps: {_describe(force)} has no LAMMPS equivalent here; exported are "
-                             f"DPDSoftRepulsionForce, HarmonicBondForce, HarmonicAngleForce and CMMotionRemover")
+                             f"DPDSoftRepulsionForce, HarmonicBondForce, CustomBondForce, HarmonicAngleForce, "
+                             f"CustomAngleForce and CMMotionRemover")
     return found
 
 
@@ -204,7 +234,7 @@ def _read_model(system, integrator):
         exceptions[(min(i, j), max(i, j))] = float(factor)
     masses = np.array([_value(system.getParticleMass(i), unit.dalton) for i in range(n)])
     return _Model(masses, soft, _thermostat_table(integrator, n), found["bonds"], found["angles"], exclusions,
-                 exceptions, found["momentum"])
+                  exceptions, found["momentum"], found["custom"])
 
 
 # --- The integrator ------------------------------------------------------------------------
@@ -519,21 +549,44 @@ def _pair_lines(scheme, rows, kT, seed):
                     for i, j, a, gamma, s, rc in rows]
 
 
-def _bond_reach(bond_types, angle_types, kT):
-    """The longest distance between atoms of one bonded term: a harmonic bond (K = k/2 here) stretches
-    by BOND_STRETCH standard deviations sqrt(kT/k) of each component beyond r0; an angle's ends
-    are two bonds apart. Bonds with K = 0 exert no force and are not counted."""
-    bond = max((r0 + BOND_STRETCH * math.sqrt(kT / (2 * K)) for K, r0 in bond_types if K > 0), default=0.0)
+def _half_width(box):
+    """Half the shortest distance between opposite faces of the box: the longest nearest-image distance
+    along the narrowest direction."""
+    volume = abs(np.linalg.det(box))
+    return min(volume / np.linalg.norm(np.cross(box[(k + 1) % 3], box[(k + 2) % 3])) for k in range(3)) / 2
+
+
+def _tables(model, term_types, tabulate):
+    """{type number: Table} for the tabulated types among term_types (bonds or angles);
+    tabulate(force, parameters, where) makes one."""
+    tables = {}
+    for number, (style, *parameters) in enumerate(term_types, 1):
+        if style == "table":
+            force_index, values = parameters
+            force = model.custom[force_index]
+            tables[number] = tabulate(force, values, f"{_describe(force)} (force {force_index}) with parameters "
+                                                     f"{list(values)}")
+    return tables
+
+
+def _bond_reach(bond_types, tables, angle_types, kT):
+    """The longest distance between atoms of one bonded term: a harmonic bond (K = k/2 here) stays
+    within BOND_ENERGY_LIMIT kT of its minimum, r0 + sqrt(BOND_ENERGY_LIMIT kT / K); a tabulated
+    one within its table; an angle's ends are two bonds apart. Bonds with K = 0 exert no force and
+    are not counted."""
+    harmonic = [r0 + math.sqrt(BOND_ENERGY_LIMIT * kT / K) for style, *p in bond_types if style == "harmonic"
+                for K, r0 in [p] if K > 0]
+    bond = max(harmonic + [table.reach for table in tables.values()], default=0.0)
     return 2 * bond if angle_types else bond
 
 
-def _ghost_cutoff(rows, bond_types, angle_types, kT):
+def _ghost_cutoff(rows, bond_types, tables, angle_types, kT):
     """The ghost-atom cutoff `comm_modify cutoff` must set, or None where LAMMPS's default (the pair
     cutoff + skin) already holds every bonded partner. LAMMPS finds a bond's partner among its
     ghost atoms: a bond that stretches past the ghost cutoff across the box's edge would act on a
     far image of its partner. DPD's rest-length-0 springs (k 4, kT 1) stretch past r_c + skin on a
     few percent of the bonds at any time."""
-    reach = math.ceil(round(100 * (_bond_reach(bond_types, angle_types, kT) + SKIN), 6)) / 100
+    reach = math.ceil(round(100 * (_bond_reach(bond_types, tables, angle_types, kT) + SKIN), 6)) / 100
     return reach if reach > max(row[5] for row in rows) + SKIN else None
 
 
@@ -553,42 +606,72 @@ def _header(integrator, scheme, warning, kT, factors):
     return lines
 
 
-def _input_script(integrator, model, plan, data_name, steps):
-    scheme, warning, kT, seed, rows, factors, bond_types, angle_types, triclinic, shear, has_velocities = plan
-    lines = _header(integrator, scheme, warning, kT, factors)
-    ghost_cutoff = _ghost_cutoff(rows, bond_types, angle_types, kT)
-    communicate = "comm_modify vel yes"
-    if ghost_cutoff is not None:
-        lines += [f"# Ghost atoms out to {_number(ghost_cutoff)}: the longest bonded distance expected at this kT "
-                  f"(harmonic bonds to r0 + {_number(BOND_STRETCH)} sqrt(kT/k)) plus the skin, so that a stretched "
-                  f"bond across the box's edge finds its partner's nearest image."]
-        communicate += f" cutoff {_number(ghost_cutoff)}"
+def _communication_lines(plan):
+    """comm_modify: ghost velocities (pair dpd needs them) and, where bonds reach past the pair
+    cutoff + skin, a ghost cutoff that holds every bonded partner."""
+    ghost_cutoff = _ghost_cutoff(plan.rows, plan.bond_types, plan.bond_tables, plan.angle_types, plan.kT)
+    if ghost_cutoff is None:
+        return [], "comm_modify vel yes"
+    note = (f"# Ghost atoms out to {_number(ghost_cutoff)}: the longest bonded distance expected at this kT "
+            f"(a bond's energy {_number(BOND_ENERGY_LIMIT)} kT above its minimum) plus the skin, so that a "
+            f"stretched bond across the box's edge finds its partner's nearest image.")
+    return [note], f"comm_modify vel yes cutoff {_number(ghost_cutoff)}"
+
+
+def _term_lines(kind, term_types, table_name, points):
+    """{kind}_style and {kind}_coeff (kind bond or angle): harmonic, table, or both (hybrid)."""
+    styles = {style for style, *_ in term_types}
+    table_style = f"table linear {points}"
+    named = len(styles) > 1
+    lines = ["", f"{kind}_style " + ("hybrid harmonic " + table_style if named else
+                                     "harmonic" if styles == {"harmonic"} else table_style)]
+    for number, (style, *parameters) in enumerate(term_types, 1):
+        label = f"{style} " if named else ""
+        if style == "harmonic":
+            lines.append(f"{kind}_coeff {number} {label}{' '.join(map(_number, parameters))}")
+        else:
+            lines.append(f"{kind}_coeff {number} {label}{table_name} {_table_keyword(kind, number)}")
+    return lines
+
+
+def _table_keyword(kind, number):
+    return f"{kind.upper()}_{number}"
+
+
+def _input_script(integrator, model, plan, names, steps):
+    lines = _header(integrator, plan.scheme, plan.warning, plan.kT, plan.factors)
+    notes, communicate = _communication_lines(plan)
+    lines += notes
     lines += ["", "units lj", f"atom_style {'molecular' if model.angles else 'bond'}", "boundary p p p",
-              "newton on", communicate, f"read_data {data_name}", ""]
-    lines += _pair_lines(scheme, rows, kT, seed)
-    if bond_types:
-        lines += ["", "bond_style harmonic"]
-        lines += [f"bond_coeff {t} {_number(k)} {_number(r0)}" for t, (k, r0) in enumerate(bond_types, 1)]
-    if angle_types:
-        lines += ["", "angle_style harmonic"]
-        lines += [f"angle_coeff {t} {_number(k)} {_number(theta)}" for t, (k, theta) in enumerate(angle_types, 1)]
-    lines += ["", f"special_bonds lj {' '.join(map(_number, factors))}",
+              "newton on", communicate, f"read_data {names.data}", ""]
+    lines += _pair_lines(plan.scheme, plan.rows, plan.kT, plan.seed)
+    if plan.bond_types:
+        lines += _term_lines("bond", plan.bond_types, names.table, TABLE_POINTS)
+    if plan.angle_types:
+        lines += _term_lines("angle", plan.angle_types, names.table, ANGLE_POINTS)
+    lines += ["", f"special_bonds lj {' '.join(map(_number, plan.factors))}",
               f"neighbor {_number(SKIN)} bin", "neigh_modify every 1 delay 0 check yes", "",
               f"timestep {_number(_value(integrator.getStepSize(), unit.picosecond))}"]
-    if not has_velocities:
-        lines.append(f"velocity all create {_number(kT)} {seed} dist gaussian mom yes")
-    if scheme == "shardlow":
-        lines.append("fix shardlow all shardlow")
-    lines.append("fix integrate all nve")
-    if shear:
-        lines.append(f"fix shear all deform 1 xy erate {_number(shear)} remap v flip yes")
-    if model.momentum:
-        lines.append(f"fix momentum all momentum {model.momentum} linear 1 1 1")
+    lines += _fix_lines(plan, model)
     lines += ["", "thermo_style custom step temp press pe ke", "thermo 100"]
-    if shear:  # temperature and pressure of the peculiar velocities, as openmm-dpd's pressure tensor
+    if plan.shear:  # temperature and pressure of the peculiar velocities, as openmm-dpd's pressure tensor
         lines += ["compute peculiar all temp/deform", "thermo_modify temp peculiar"]
     lines.append(f"run {steps}")
     return "\n".join(lines) + "\n"
+
+
+def _fix_lines(plan, model):
+    lines = []
+    if not plan.has_velocities:
+        lines.append(f"velocity all create {_number(plan.kT)} {plan.seed} dist gaussian mom yes")
+    if plan.scheme == "shardlow":
+        lines.append("fix shardlow all shardlow")
+    lines.append("fix integrate all nve")
+    if plan.shear:
+        lines.append(f"fix shear all deform 1 xy erate {_number(plan.shear)} remap v flip yes")
+    if model.momentum:
+        lines.append(f"fix momentum all momentum {model.momentum} linear 1 1 1")
+    return lines
 
 
 def _seed(integrator, seed):
@@ -600,8 +683,13 @@ def _seed(integrator, seed):
     return int(seed)
 
 
+_Plan = namedtuple("_Plan", "scheme warning kT seed distinct types rows factors triclinic shear "
+                           "bond_types angle_types bond_tables has_velocities")
+
+
 def _plan(integrator, model, box, seed, approximate):
-    """Everything the two files say, checked: the refusals all happen here, before any file."""
+    """What the atom types, pair coefficients and fixes say, checked: the refusals about the
+    integrator, the box and the pairs happen here, before any file."""
     scheme, warning = _scheme(integrator, approximate)
     shear = _value(integrator.getShearRate(), unit.picosecond**-1)
     triclinic = _check_box(box, shear, scheme)
@@ -616,15 +704,18 @@ def _plan(integrator, model, box, seed, approximate):
             raise ValueError(f"export_lammps: LAMMPS's fix shardlow ignores special_bonds factors between 0 and 1; "
                              f"the factors here are {factors}")
     kT = kT_from_temperature(integrator.getTemperature())
-    return scheme, warning, kT, _seed(integrator, seed), distinct, types, rows, factors, triclinic, shear
+    return _Plan(scheme, warning, kT, _seed(integrator, seed), distinct, types, rows, factors, triclinic, shear,
+                 None, None, None, None)
 
 
 def export_lammps(system, integrator, positions, path, velocities=None, box_vectors=None, topology=None,
                   steps=0, seed=None, approximate=False):
-    """Write a LAMMPS data file (path + ".data") and input script (path + ".in") that run this model.
+    """Write a LAMMPS data file (path + ".data") and input script (path + ".in") that run this model,
+    and a table file (path + ".table") where bonds are tabulated.
 
-    :param system: the OpenMM System: a DPDSoftRepulsionForce, HarmonicBondForce,
-        HarmonicAngleForce and CMMotionRemover are exported; any other Force is refused.
+    :param system: the OpenMM System: a DPDSoftRepulsionForce, HarmonicBondForce, CustomBondForce
+        (tabulated: FENE, worm-like chains, any bond energy of r), HarmonicAngleForce,
+        CustomAngleForce (tabulated) and CMMotionRemover are exported; any other Force is refused.
     :param integrator: DPDVVIntegrator (GrootWarren, lambda 0.5) or ShardlowIntegrator (order 1);
         others are refused unless approximate=True (then the closest scheme, with a warning in
         the script's header; Lowe-Andersen collisions are refused always).
@@ -640,7 +731,8 @@ def export_lammps(system, integrator, positions, path, velocities=None, box_vect
     :param steps: the number of steps the script runs, >= 0.
     :param seed: the random seed, 1 to MAX_SEED; default: the integrator's (which must not be 0).
     :param approximate: write the closest scheme for an integrator LAMMPS has no equivalent of.
-    :returns: LammpsFiles(data, input). Nothing is written when anything is refused.
+    :returns: LammpsFiles(data, input, table); table is None where no bond is tabulated. Nothing is
+        written when anything is refused.
     """
     if topology is not None and topology.getNumAtoms() != system.getNumParticles():
         raise ValueError(f"export_lammps: the topology has {topology.getNumAtoms()} atoms, the System "
@@ -649,31 +741,39 @@ def export_lammps(system, integrator, positions, path, velocities=None, box_vect
         raise ValueError(f"export_lammps: steps must be an integer >= 0, got {steps!r}")
     model = _read_model(system, integrator)
     positions, velocities, box = _source(positions, velocities, box_vectors, system)
-    scheme, warning, kT, seed, distinct, types, rows, factors, triclinic, shear = \
-        _plan(integrator, model, box, seed, approximate)
-    data, bond_types, angle_types = _data_file(model, distinct, types, _type_names(topology, types), box,
-                                               triclinic, positions, velocities)
-    files = LammpsFiles(os.fspath(path) + ".data", os.fspath(path) + ".in")
-    plan = (scheme, warning, kT, seed, rows, factors, bond_types, angle_types, triclinic, shear,
-            velocities is not None)
-    script = _input_script(integrator, model, plan, os.path.basename(files.data), int(steps))
-    _write_both(files, data, script)
+    plan = _plan(integrator, model, box, seed, approximate)
+    data, bond_types, angle_types = _data_file(model, plan.distinct, plan.types, _type_names(topology, plan.types),
+                                               box, plan.triclinic, positions, velocities)
+    bond_tables = _tables(model, bond_types, lambda force, values, where:
+                          tabulate_bond(force, values, plan.kT, _half_width(box), where))
+    angle_tables = _tables(model, angle_types, tabulate_angle)
+    plan = plan._replace(bond_types=bond_types, angle_types=angle_types, bond_tables=bond_tables,
+                         has_velocities=velocities is not None)
+    tables = {_table_keyword(kind, number): table for kind, found in (("bond", bond_tables), ("angle", angle_tables))
+              for number, table in found.items()}
+    files = LammpsFiles(os.fspath(path) + ".data", os.fspath(path) + ".in",
+                        os.fspath(path) + ".table" if tables else None)
+    names = LammpsFiles(*(None if name is None else os.path.basename(name) for name in files))
+    texts = {files.data: data, files.input: _input_script(integrator, model, plan, names, int(steps))}
+    if tables:
+        texts[files.table] = table_text(tables)
+    _write_all(texts)
     return files
 
 
-def _write_both(files, data, script):
-    """Both files or neither: each is written beside its target, then moved into place."""
-    temporary = [name + ".partial" for name in files]
+def _write_all(texts):
+    """Every file or none: {path: text}, each written beside its target, then moved into place."""
+    temporary = {name: name + ".partial" for name in texts}
     try:
-        for name, text in zip(temporary, (data, script)):
-            with open(name, "w") as f:
+        for name, text in texts.items():
+            with open(temporary[name], "w") as f:
                 f.write(text)
-        for source, target in zip(temporary, files):
-            os.replace(source, target)
+        for name, partial in temporary.items():
+            os.replace(partial, name)
     finally:
-        for name in temporary:
-            if os.path.exists(name):
-                os.remove(name)
+        for partial in temporary.values():
+            if os.path.exists(partial):
+                os.remove(partial)
 
 
 # --- Reading back --------------------------------------------------------------------------
@@ -722,6 +822,13 @@ def read_lammps_data(path):
                       angles=np.column_stack([angles[:, 1], angles[:, 2:] - 1]).astype(int), box=box)
 
 
+def _number_or_word(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
 def read_lammps_input(path):
     """Read an input script export_lammps wrote into a LammpsInput (commands and coefficients)."""
     with open(path) as f:
@@ -737,7 +844,7 @@ def read_lammps_input(path):
         if command == "pair_coeff":
             coefficients[command][(int(arguments[0]), int(arguments[1]))] = [float(x) for x in arguments[2:]]
         elif command in ("bond_coeff", "angle_coeff"):
-            coefficients[command][int(arguments[0])] = [float(x) for x in arguments[1:]]
+            coefficients[command][int(arguments[0])] = [_number_or_word(x) for x in arguments[1:]]
         elif command == "pair_style":
             pair_style = arguments
         elif command == "special_bonds":

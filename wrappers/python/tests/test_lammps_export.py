@@ -90,19 +90,24 @@ def check_terms(system, data, script):
                 i, j, l, theta, stiffness = force.getAngleParameters(k)
                 angles[(i, j, l)] = (value(stiffness, unit.kilojoule_per_mole / unit.radian**2) / 2,
                                      math.degrees(value(theta, unit.radian)))
-    written = {(i, j): tuple(script.bond_coeffs[t]) for t, i, j in data.bonds}
+    hybrid = dict(script.commands)["bond_style"][0] == "hybrid" if data.bonds.size else False
+    written = {(i, j): tuple(script.bond_coeffs[t][1:] if hybrid else script.bond_coeffs[t]) for t, i, j in data.bonds
+               if script.bond_coeffs[t][0] != "table"}
     assert written.keys() == bonds.keys()
     assert all(written[b] == pytest.approx(bonds[b], rel=1e-14) for b in bonds)
-    written = {(i, j, l): tuple(script.angle_coeffs[t]) for t, i, j, l in data.angles}
+    hybrid = dict(script.commands)["angle_style"][0] == "hybrid" if data.angles.size else False
+    written = {(i, j, l): tuple(script.angle_coeffs[t][1:] if hybrid else script.angle_coeffs[t])
+               for t, i, j, l in data.angles if script.angle_coeffs[t][0] != "table"}
     assert written.keys() == angles.keys()
     assert all(written[b] == pytest.approx(angles[b], rel=1e-14) for b in angles)
 
 
-def check_ghost_cutoff(system, kT, written, pair_cutoff, skin=0.3):
+def check_ghost_cutoff(system, kT, written, pair_cutoff, skin=0.3, longest=0.0):
     """Ghost atoms reach every bonded partner: a harmonic bond of constant k has components of
     standard deviation sqrt(kT/k), so 8 of them beyond r0 (twice that across an angle) plus the
-    neighbour skin, where that exceeds LAMMPS's default of the pair cutoff plus the skin."""
-    longest, angles = 0.0, False
+    neighbour skin, where that exceeds LAMMPS's default of the pair cutoff plus the skin;
+    `longest` is the longest other bond."""
+    angles = False
     for force in system.getForces():
         if isinstance(force, openmm.HarmonicBondForce):
             for b in range(force.getNumBonds()):
@@ -124,12 +129,14 @@ def fixes_of(script):
 
 def export(system, integrator, source, tmp_path, **options):
     files = lammps.export_lammps(system, integrator, source, os.fspath(tmp_path / "model"), **options)
-    assert files == (os.fspath(tmp_path / "model.data"), os.fspath(tmp_path / "model.in"))
+    table = os.fspath(tmp_path / "model.table") if os.path.exists(tmp_path / "model.table") else None
+    assert files == (os.fspath(tmp_path / "model.data"), os.fspath(tmp_path / "model.in"), table)
     return lammps.read_lammps_data(files.data), lammps.read_lammps_input(files.input)
 
 
-def check_export(system, integrator, positions, tmp_path, box, velocities=None, **options):
-    """Export, read back and check everything but the special_bonds and the integrator's fixes."""
+def check_export(system, integrator, positions, tmp_path, box, velocities=None, longest_bond=0.0, **options):
+    """Export, read back and check everything but the special_bonds and the integrator's fixes (and
+    the tables of tabulated bonds, whose longest length is `longest_bond`)."""
     data, script = export(system, integrator, positions, tmp_path, velocities=velocities, **options)
     kT = openmmdpd.kT_from_temperature(integrator.getTemperature())
     n = system.getNumParticles()
@@ -149,7 +156,8 @@ def check_export(system, integrator, positions, tmp_path, box, velocities=None, 
     assert int(script.pair_style[3]) == options.get("seed", integrator.getRandomNumberSeed())
     commands = dict(script.commands)
     assert commands["units"] == ["lj"] and commands["comm_modify"][:2] == ["vel", "yes"]
-    check_ghost_cutoff(system, kT, commands["comm_modify"][2:], max(row[-1] for row in script.pair_coeffs.values()))
+    check_ghost_cutoff(system, kT, commands["comm_modify"][2:], max(row[-1] for row in script.pair_coeffs.values()),
+                       longest=longest_bond)
     assert float(commands["timestep"][0]) == value(integrator.getStepSize(), unit.picosecond)
     return data, script
 
@@ -232,6 +240,122 @@ def test_chains_with_bonds_angles_and_special_bonds(tmp_path):
     assert len({data.molecules[chain[0]] for chain in chains}) == len(chains) and not any(data.molecules[20:])
     # No velocities given: the script draws them at kT with the seed.
     assert dict(script.commands)["velocity"] == ["all", "create", "1.0", str(SEED), "dist", "gaussian", "mom", "yes"]
+
+
+FENE_K, FENE_RMAX, WLC_LP, WLC_L = 7.0, 3.0, 0.5, 2.0
+
+
+def fene(r):
+    """(energy, -dE/dr) of scenes.fene_bond_force's springs, written out here."""
+    x = (r / FENE_RMAX) ** 2
+    return -FENE_K / 2 * FENE_RMAX**2 * np.log(1 - x), -FENE_K * r / (1 - x)
+
+
+def wlc(r, kT=1.0):
+    """(energy, -dE/dr) of Marko and Siggia's springs as scenes.wlc_bond_force writes them."""
+    R = r / WLC_L
+    return (kT / WLC_LP * WLC_L * (0.25 / (1 - R) - 0.25 - 0.25 * R + 0.5 * R**2),
+            -kT / WLC_LP * (0.25 / (1 - R)**2 - 0.25 + R))
+
+
+def spring(kb, r0):
+    return lambda r: (kb / 2 * (r - r0) ** 2, -kb * (r - r0))
+
+
+def tabulated_bonds_system():
+    """The rho 3 fluid (box 5.1) with chains joined by FENE, worm-like and harmonic springs, and
+    a CustomBondForce with per-bond parameters: {bond (i, j): its (energy, force) function}."""
+    scene = scenes.soft_scene(num_particles=400, density=DENSITY, a=25.0)
+    system = scene.system
+    expected = {}
+    fene_bonds, wlc_bonds = [(0, 1), (1, 2)], [(3, 4), (4, 5)]
+    system.addForce(scenes.fene_bond_force(fene_bonds, k=FENE_K, rmax=FENE_RMAX))
+    system.addForce(scenes.wlc_bond_force(wlc_bonds, WLC_LP, WLC_L))
+    expected.update({b: fene for b in fene_bonds})
+    expected.update({b: wlc for b in wlc_bonds})
+    custom = openmm.CustomBondForce("0.5*kb*(r-r0)^2")
+    custom.addPerBondParameter("kb")
+    custom.addPerBondParameter("r0")
+    for (i, j), (kb, r0) in zip([(6, 7), (7, 8), (9, 10)], [(50.0, 0.5), (50.0, 0.5), (20.0, 0.0)]):
+        custom.addBond(i, j, [kb, r0])
+        expected[(i, j)] = spring(kb, r0)
+    custom.setUsesPeriodicBoundaryConditions(True)
+    system.addForce(custom)
+    springs = openmm.HarmonicBondForce()
+    springs.addBond(11, 12, 0.0, 4.0)
+    springs.setUsesPeriodicBoundaryConditions(True)
+    system.addForce(springs)
+    integrator = openmmdpd.DPDVVIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    return scene, integrator, expected
+
+
+def test_custom_bonds_are_tabulated_as_openmm_computes_them(tmp_path):
+    """FENE, worm-like and per-bond-parameter springs become bond_style table sections (hybrid with
+    the harmonic bond), one per distinct bond, whose energies and forces are the springs' own,
+    from r = 0 to where the energy first passes its minimum by 32 kT."""
+    from openmmdpd import lammps_tables
+    scene, integrator, expected = tabulated_bonds_system()
+    kT = openmmdpd.kT_from_temperature(integrator.getTemperature())
+    ends = {}
+    for function in set(expected.values()):
+        r = np.arange(0, 2.55, 1e-4)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            energy = function(r)[0]
+        past = ~np.isfinite(energy) | (energy - np.fmin.accumulate(energy) > 32 * kT)  # above the lowest so far
+        ends[function] = r[np.argmax(past)]
+    data, script = check_export(scene.system, integrator, scene.positions, tmp_path, box_of(scene.system),
+                                longest_bond=max(ends.values()))
+    assert dict(script.commands)["bond_style"] == ["hybrid", "harmonic", "table", "linear", "2000"]
+    tables = lammps_tables.read_tables(tmp_path / "model.table")
+    types = {(i, j): t for t, i, j in data.bonds}
+    assert len(tables) == 4  # FENE, the worm-like chain and two distinct springs
+    for bond, function in expected.items():
+        style, name, keyword = script.bond_coeffs[types[bond]]
+        assert (style, name) == ("table", "model.table")
+        table = tables[keyword]
+        assert table.points[0] == 0 and len(table.points) == 2000
+        assert ends[function] - 2e-3 < table.points[-1] <= ends[function]
+        energy, force = function(table.points[1:])
+        assert table.energies[1:] == pytest.approx(energy, rel=1e-9, abs=1e-9)
+        assert table.forces[1:] == pytest.approx(force, rel=1e-6, abs=1e-9)
+        assert table.forces[0] == pytest.approx(function(np.array([0.0]))[1][0], abs=1e-4)
+
+
+def test_custom_angles_are_tabulated_from_0_to_180_degrees(tmp_path):
+    """Cosine angles k (1 - cos(theta - theta0)) with per-angle parameters, beside a harmonic angle:
+    angle_style hybrid, and each table's energies and -dE/dtheta per degree those of the formula."""
+    from openmmdpd import lammps_tables
+    scene, integrator, chains = chains_system()
+    cosine = openmm.CustomAngleForce("k*(1 - cos(theta - theta0))")
+    cosine.addPerAngleParameter("k")
+    cosine.addPerAngleParameter("theta0")
+    parameters = {(0, 1, 2): (6.0, math.pi), (5, 6, 7): (6.0, math.pi), (10, 11, 12): (3.0, 2.0)}
+    for atoms, values in parameters.items():
+        cosine.addAngle(*atoms, list(values))
+    cosine.setUsesPeriodicBoundaryConditions(True)
+    scene.system.addForce(cosine)
+    data, script = check_export(scene.system, integrator, scene.positions, tmp_path, box_of(scene.system))
+    assert dict(script.commands)["angle_style"] == ["hybrid", "harmonic", "table", "linear", "1801"]
+    tables = lammps_tables.read_tables(tmp_path / "model.table")
+    tabulated = {(i, j, l): script.angle_coeffs[t] for t, i, j, l in data.angles if script.angle_coeffs[t][0] == "table"}
+    assert tabulated.keys() == parameters.keys() and len({c[2] for c in tabulated.values()}) == 2
+    for atoms, (k, theta0) in parameters.items():
+        table = tables[tabulated[atoms][2]]
+        assert table.points == pytest.approx(np.linspace(0, 180, 1801), abs=1e-12)
+        theta = np.radians(table.points[1:-1])
+        assert table.energies[1:-1] == pytest.approx(k * (1 - np.cos(theta - theta0)), rel=1e-9, abs=1e-9)
+        assert table.forces[1:-1] == pytest.approx(-k * np.sin(theta - theta0) * np.pi / 180, rel=1e-6, abs=1e-9)
+
+
+def test_a_bond_that_never_stiffens_within_half_the_box_is_refused(tmp_path):
+    scene, integrator = two_type_fluid()
+    flat = openmm.CustomBondForce("0.01*r")
+    flat.addBond(0, 1, [])
+    scene.system.addForce(flat)
+    with pytest.raises(ValueError, match="stays within 32 kT of its minimum out to"):
+        lammps.export_lammps(scene.system, integrator, scene.positions, os.fspath(tmp_path / "model"))
+    assert os.listdir(tmp_path) == []
 
 
 def test_weight_exponents_write_dpd_ext(tmp_path):
