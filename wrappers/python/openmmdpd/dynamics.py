@@ -207,13 +207,10 @@ def sheared_integrator(integrator_factory, dt, rate, seed, threshold=0.0):
 def sheared_context(system, state, integrator, rate, platform):
     """A Context of the sheared integrator at `state` (taken with enforcePeriodicBox, molecules
     whole in the box): its positions, and its velocities plus the imposed flow rate (y - Ly/2)."""
-    from .shear import streaming_velocity
+    from .shear import impose_flow
     sheared = openmm.Context(system, integrator, *platform)
-    positions = state.getPositions(asNumpy=True)._value
-    velocities = state.getVelocities(asNumpy=True)._value.copy()
-    height = state.getPeriodicBoxVectors()[1][1]._value
-    velocities[:, 0] += streaming_velocity(positions[:, 1], rate, height)
     sheared.setPeriodicBoxVectors(*state.getPeriodicBoxVectors())
-    sheared.setPositions(positions)
-    sheared.setVelocities(velocities)
+    sheared.setPositions(state.getPositions())
+    sheared.setVelocities(state.getVelocities())
+    impose_flow(sheared, rate)
     return sheared

@@ -15,12 +15,22 @@ from openmm import unit
 
 from .analysis import _array
 
-__all__ = ["streaming_velocity", "peculiar_velocities", "peculiar_temperature", "velocity_profile", "profile_slope"]
+__all__ = ["streaming_velocity", "impose_flow", "peculiar_velocities", "peculiar_temperature", "velocity_profile", "profile_slope"]
 
 
 def streaming_velocity(y, rate, box_height):
     """The imposed flow's x velocity at height y: rate (y - Ly/2)."""
     return _rate(rate) * (np.asarray(y, dtype=float) - 0.5 * box_height)
+
+
+def impose_flow(context, rate):
+    """Add the imposed flow rate (y - Ly/2) along x to a Context's velocities, y as the Context
+    stores it (the integrators wrap a molecule with the velocity jump that goes with it)."""
+    state = context.getState(getPositions=True, getVelocities=True)
+    y = state.getPositions(asNumpy=True).value_in_unit(unit.nanometer)[:, 1]
+    velocities = state.getVelocities(asNumpy=True).value_in_unit(unit.nanometer / unit.picosecond)
+    velocities[:, 0] += streaming_velocity(y, rate, state.getPeriodicBoxVectors()[1][1].value_in_unit(unit.nanometer))
+    context.setVelocities(velocities)
 
 
 def _rate(rate):

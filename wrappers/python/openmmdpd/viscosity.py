@@ -196,9 +196,8 @@ def start_run(scene, args, rate):
     context.setPositions(positions)
     context.setVelocitiesToTemperature(KT_TEMPERATURE, args.seed)
     v = context.getState(getVelocities=True).getVelocities(asNumpy=True).value_in_unit(unit.nanometer / unit.picosecond)
-    v -= v.mean(axis=0)
-    v[:, 0] += shear.streaming_velocity(positions[:, 1], rate, height)
-    context.setVelocities(v)
+    context.setVelocities(v - v.mean(axis=0))
+    shear.impose_flow(context, rate)
     return integrator, context, height
 
 
