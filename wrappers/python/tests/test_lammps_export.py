@@ -399,6 +399,8 @@ def test_shear_from_a_context_writes_a_tilted_box_and_fix_deform(tmp_path):
     from_context, _ = export(scene.system, integrator, context, tmp_path)
     assert from_context.box == pytest.approx(data.box) and from_context.positions == pytest.approx(data.positions)
     assert from_context.velocities == pytest.approx(data.velocities)
+    check_round_trip(scene.system, integrator, state.getPositions(), tmp_path, box, velocities=state.getVelocities(),
+                     box_vectors=state.getPeriodicBoxVectors())
     assert script.fixes["shear"] == ["all", "deform", "1", "xy", "erate", "0.2", "remap", "v", "flip", "yes"]
     assert script.fixes["integrate"] == ["all", "nve"]
     # LAMMPS reports the temperature and pressure of the velocities less the flow, as the pressure tensor here
@@ -546,3 +548,84 @@ def test_the_side_by_side_check_reads_a_lammps_thermo_log(tmp_path):
                    "Loop time of 0.5 on 1 procs for 40 steps with 3000 atoms\n   Step Temp Press\n 99 9 9\n")
     rows = thermo_rows(log)
     assert rows.tolist() == [[0.0, 1.02, 23.9], [20.0, 1.03, 23.8]]
+
+
+# --- Reading an export back (openmmdpd.lammps_import) -------------------------------------------
+
+def forces_and_energy(system, positions, box):
+    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
+    context.setPeriodicBoxVectors(*box)
+    context.setPositions(positions)
+    state = context.getState(getForces=True, getEnergy=True)
+    return (state.getForces(asNumpy=True).value_in_unit(unit.kilojoule_per_mole / unit.nanometer),
+            state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole))
+
+
+def exception_factors(integrator):
+    factors = {}
+    for k in range(integrator.getNumThermostatExceptions()):
+        i, j, factor = integrator.getThermostatExceptionParameters(k)
+        if factor != 1:
+            factors[(min(i, j), max(i, j))] = factor
+    return factors
+
+
+def check_round_trip(system, integrator, positions, tmp_path, box=None, **options):
+    """Export, read back with read_lammps_model, and compare: the forces and energy at the same
+    positions, every pair's thermostat parameters and factor, the integrator's settings."""
+    from openmmdpd.lammps_import import read_lammps_model
+    lammps.export_lammps(system, integrator, positions, os.fspath(tmp_path / "model"), steps=7, **options)
+    back = read_lammps_model(tmp_path / "model")
+    box = box or box_of(system)
+    positions = np.asarray(value(positions, unit.nanometer))
+    if "velocities" in options:
+        assert back.velocities == pytest.approx(np.asarray(value(options["velocities"], unit.nanometer / unit.picosecond)),
+                                                abs=1e-12)
+    assert back.positions == pytest.approx(positions, abs=1e-12) and back.steps == 7
+    assert np.array([list(v) for v in back.box]) == pytest.approx(np.array(box), abs=1e-14)
+    forces, energy = forces_and_energy(system, positions, box)
+    forces_back, energy_back = forces_and_energy(back.system, back.positions, back.box)
+    assert forces_back == pytest.approx(forces, rel=1e-12, abs=1e-10) and energy_back == pytest.approx(energy, rel=1e-12)
+    n = system.getNumParticles()
+    assert [value(back.system.getParticleMass(i), unit.dalton) for i in range(n)] == \
+        [value(system.getParticleMass(i), unit.dalton) for i in range(n)]
+    for i in range(n):
+        for j in range(i + 1, n):
+            assert thermostat_parameters(back.integrator, back.system, i, j) == \
+                pytest.approx(thermostat_parameters(integrator, system, i, j), rel=1e-12)
+    assert exception_factors(back.integrator) == exception_factors(integrator)
+    assert type(back.integrator) is type(integrator)
+    for getter, target in (("getTemperature", unit.kelvin), ("getStepSize", unit.picosecond),
+                           ("getShearRate", unit.picosecond**-1)):
+        assert value(getattr(back.integrator, getter)(), target) == pytest.approx(value(getattr(integrator, getter)(), target),
+                                                                                rel=1e-14)
+    assert back.integrator.getRandomNumberSeed() == options.get("seed", integrator.getRandomNumberSeed())
+    removers = [[f.getFrequency() for f in s.getForces() if isinstance(f, openmm.CMMotionRemover)]
+                for s in (system, back.system)]
+    assert removers[0] == removers[1]
+    return back
+
+
+def test_a_chain_model_comes_back_from_lammps_as_it_went(tmp_path):
+    scene, integrator, _ = chains_system()
+    back = check_round_trip(scene.system, integrator, scene.positions, tmp_path)
+    assert back.velocities is None
+
+
+def test_weight_exponents_and_shardlow_come_back(tmp_path):
+    scene, _ = two_type_fluid()
+    integrator = openmmdpd.ShardlowIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    check_round_trip(scene.system, integrator, scene.positions, tmp_path)
+    integrator = openmmdpd.DPDVVIntegrator(2 * openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    integrator.setDefaultWeightExponent(0.5)
+    check_round_trip(scene.system, integrator, scene.positions, tmp_path, seed=77)
+
+
+def test_a_tabulated_bond_is_not_read_back(tmp_path):
+    from openmmdpd.lammps_import import read_lammps_model
+    scene, integrator, _ = tabulated_bonds_system()
+    lammps.export_lammps(scene.system, integrator, scene.positions, os.fspath(tmp_path / "model"))
+    with pytest.raises(ValueError, match="read_lammps_model: bond_style hybrid harmonic table"):
+        read_lammps_model(tmp_path / "model")
