@@ -640,6 +640,10 @@ def _table_keyword(kind, number):
 
 def _input_script(integrator, model, plan, names, steps):
     lines = _header(integrator, plan.scheme, plan.warning, plan.kT, plan.factors)
+    if plan.shear and abs(plan.drift) > 1e-12:
+        lines.append(f"# WARNING: the centre of mass moves at {plan.drift!r} along y. Under shear that moves it along "
+                     f"x at -rate times that per unit time, which compute temp/deform counts as heat and as P_xy "
+                     f"(it removes only the imposed flow); start a NEMD run without it (velocity all zero linear).")
     notes, communicate = _communication_lines(plan)
     lines += notes
     lines += ["", "units lj", f"atom_style {'molecular' if model.angles else 'bond'}", "boundary p p p",
@@ -684,7 +688,7 @@ def _seed(integrator, seed):
 
 
 _Plan = namedtuple("_Plan", "scheme warning kT seed distinct types rows factors triclinic shear "
-                           "bond_types angle_types bond_tables has_velocities")
+                           "bond_types angle_types bond_tables has_velocities drift")
 
 
 def _plan(integrator, model, box, seed, approximate):
@@ -705,7 +709,7 @@ def _plan(integrator, model, box, seed, approximate):
                              f"the factors here are {factors}")
     kT = kT_from_temperature(integrator.getTemperature())
     return _Plan(scheme, warning, kT, _seed(integrator, seed), distinct, types, rows, factors, triclinic, shear,
-                 None, None, None, None)
+                 None, None, None, None, 0.0)
 
 
 def export_lammps(system, integrator, positions, path, velocities=None, box_vectors=None, topology=None,
@@ -747,8 +751,9 @@ def export_lammps(system, integrator, positions, path, velocities=None, box_vect
     bond_tables = _tables(model, bond_types, lambda force, values, where:
                           tabulate_bond(force, values, plan.kT, _half_width(box), where))
     angle_tables = _tables(model, angle_types, tabulate_angle)
+    drift = 0.0 if velocities is None else float(model.masses @ velocities[:, 1] / model.masses.sum())
     plan = plan._replace(bond_types=bond_types, angle_types=angle_types, bond_tables=bond_tables,
-                         has_velocities=velocities is not None)
+                         has_velocities=velocities is not None, drift=drift)
     tables = {_table_keyword(kind, number): table for kind, found in (("bond", bond_tables), ("angle", angle_tables))
               for number, table in found.items()}
     files = LammpsFiles(os.fspath(path) + ".data", os.fspath(path) + ".in",

@@ -15,7 +15,7 @@ from openmm import unit
 
 from .analysis import _array
 
-__all__ = ["streaming_velocity", "impose_flow", "peculiar_velocities", "peculiar_temperature", "velocity_profile", "profile_slope"]
+__all__ = ["streaming_velocity", "impose_flow", "remove_net_momentum", "peculiar_velocities", "peculiar_temperature", "velocity_profile", "profile_slope"]
 
 
 def streaming_velocity(y, rate, box_height):
@@ -31,6 +31,17 @@ def impose_flow(context, rate):
     velocities = state.getVelocities(asNumpy=True).value_in_unit(unit.nanometer / unit.picosecond)
     velocities[:, 0] += streaming_velocity(y, rate, state.getPeriodicBoxVectors()[1][1].value_in_unit(unit.nanometer))
     context.setVelocities(velocities)
+
+
+def remove_net_momentum(context):
+    """Subtract the centre-of-mass velocity from a Context's velocities. Under shear a net momentum
+    along y moves the centre of mass along x at -rate v_y per unit time (each boundary crossing
+    changes v_x by rate Ly), so a sheared run should start without one."""
+    system = context.getSystem()
+    masses = np.array([system.getParticleMass(i).value_in_unit(unit.dalton) for i in range(system.getNumParticles())])
+    velocities = context.getState(getVelocities=True).getVelocities(asNumpy=True).value_in_unit(
+        unit.nanometer / unit.picosecond)
+    context.setVelocities(velocities - masses @ velocities / masses.sum())
 
 
 def _rate(rate):

@@ -195,8 +195,7 @@ def start_run(scene, args, rate):
     height = scene.system.getDefaultPeriodicBoxVectors()[1][1].value_in_unit(unit.nanometer)
     context.setPositions(positions)
     context.setVelocitiesToTemperature(KT_TEMPERATURE, args.seed)
-    v = context.getState(getVelocities=True).getVelocities(asNumpy=True).value_in_unit(unit.nanometer / unit.picosecond)
-    context.setVelocities(v - v.mean(axis=0))
+    shear.remove_net_momentum(context)
     shear.impose_flow(context, rate)
     return integrator, context, height
 
