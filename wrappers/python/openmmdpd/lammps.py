@@ -26,7 +26,9 @@ What maps (anything else is refused, naming it, before a file is written):
 - bonded terms that may stretch past the pair cutoff + skin -> `comm_modify cutoff`, ghost
   atoms out to the longest bonded distance expected at kT (_ghost_cutoff);
 - the shear rate -> a triclinic box and `fix deform 1 xy erate rate remap v`, and a
-  thermo temperature (`compute temp/deform`) of the velocities less the imposed flow.
+  thermo temperature (`compute temp/deform`) of the velocities less the imposed flow; the
+  velocities are written in that flow's frame, rate (y - ylo), shifted by rate Ly/2 along x
+  from openmm-dpd's rate (y - Ly/2).
 """
 import math
 import os
@@ -509,6 +511,16 @@ def _data_header(model, distinct, names, bond_types, angle_types, box, triclinic
     return lines
 
 
+def _lammps_flow_frame(velocities, rate, box):
+    """Velocities in the frame of LAMMPS's imposed flow, rate (y - ylo) along x with ylo = 0, from
+    openmm-dpd's, rate (y - Ly/2): shifted by rate Ly/2 along x. The shift changes no relative
+    velocity, so no force; it makes compute temp/deform, which removes rate (y - ylo), see the
+    peculiar velocities."""
+    shifted = np.array(velocities, dtype=float)
+    shifted[:, 0] += rate * box[1, 1] / 2
+    return shifted
+
+
 def _data_file(model, distinct, types, names, box, triclinic, positions, velocities):
     bond_numbers, bond_types = _term_types([b[2:] for b in model.bonds])
     angle_numbers, angle_types = _term_types([a[3:] for a in model.angles])
@@ -640,6 +652,9 @@ def _table_keyword(kind, number):
 
 def _input_script(integrator, model, plan, names, steps):
     lines = _header(integrator, plan.scheme, plan.warning, plan.kT, plan.factors)
+    if plan.shear and plan.has_velocities:
+        lines.append(f"# Velocities are in the frame of fix deform's flow, rate (y - ylo) along x: openmm-dpd's, "
+                     f"rate (y - Ly/2), plus rate Ly/2 = {_number(plan.shear * plan.box_height / 2)}.")
     if plan.shear and abs(plan.drift) > 1e-12:
         lines.append(f"# WARNING: the centre of mass moves at {plan.drift!r} along y. Under shear that moves it along "
                      f"x at -rate times that per unit time, which compute temp/deform counts as heat and as P_xy "
@@ -688,7 +703,7 @@ def _seed(integrator, seed):
 
 
 _Plan = namedtuple("_Plan", "scheme warning kT seed distinct types rows factors triclinic shear "
-                           "bond_types angle_types bond_tables has_velocities drift")
+                           "bond_types angle_types bond_tables has_velocities drift box_height")
 
 
 def _plan(integrator, model, box, seed, approximate):
@@ -709,7 +724,7 @@ def _plan(integrator, model, box, seed, approximate):
                              f"the factors here are {factors}")
     kT = kT_from_temperature(integrator.getTemperature())
     return _Plan(scheme, warning, kT, _seed(integrator, seed), distinct, types, rows, factors, triclinic, shear,
-                 None, None, None, None, 0.0)
+                 None, None, None, None, 0.0, float(box[1, 1]))
 
 
 def export_lammps(system, integrator, positions, path, velocities=None, box_vectors=None, topology=None,
@@ -746,12 +761,14 @@ def export_lammps(system, integrator, positions, path, velocities=None, box_vect
     model = _read_model(system, integrator)
     positions, velocities, box = _source(positions, velocities, box_vectors, system)
     plan = _plan(integrator, model, box, seed, approximate)
+    drift = 0.0 if velocities is None else float(model.masses @ velocities[:, 1] / model.masses.sum())
+    if velocities is not None and plan.shear:
+        velocities = _lammps_flow_frame(velocities, plan.shear, box)
     data, bond_types, angle_types = _data_file(model, plan.distinct, plan.types, _type_names(topology, plan.types),
                                                box, plan.triclinic, positions, velocities)
     bond_tables = _tables(model, bond_types, lambda force, values, where:
                           tabulate_bond(force, values, plan.kT, _half_width(box), where))
     angle_tables = _tables(model, angle_types, tabulate_angle)
-    drift = 0.0 if velocities is None else float(model.masses @ velocities[:, 1] / model.masses.sum())
     plan = plan._replace(bond_types=bond_types, angle_types=angle_types, bond_tables=bond_tables,
                          has_velocities=velocities is not None, drift=drift)
     tables = {_table_keyword(kind, number): table for kind, found in (("bond", bond_tables), ("angle", angle_tables))

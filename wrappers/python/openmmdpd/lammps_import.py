@@ -7,7 +7,8 @@ What comes back is what the script says: one particle type per LAMMPS atom type 
 number, less one, for the soft force and the thermostat), a `DPDSoftRepulsionForce` unless every
 a is 0, the friction rate gamma_IJ / (2 mu_IJ) per pair of types, harmonic bonds and angles,
 `special_bonds` factors as soft-force exclusions (factor 0) and thermostat exceptions (factor
-not 1), `fix momentum` as a CMMotionRemover, `fix deform` as the shear rate. Tabulated bonds
+not 1), `fix momentum` as a CMMotionRemover, `fix deform` as the shear rate (the velocities
+taken back from its flow's frame to openmm-dpd's). Tabulated bonds
 and angles do not come back: their tables approximate the Forces they came from.
 """
 import math
@@ -153,4 +154,8 @@ def read_lammps_model(path):
     if momentum is not None:
         system.addForce(openmm.CMMotionRemover(int(momentum[2])))
     positions = data.positions + data.images @ data.box
-    return LammpsModel(system, integrator, positions, data.velocities, box, int(commands["run"][0]))
+    velocities = data.velocities
+    rate = integrator.getShearRate().value_in_unit(unit.picosecond**-1)
+    if velocities is not None and rate:
+        velocities = velocities - [rate * data.box[1, 1] / 2, 0, 0]  # from fix deform's frame to openmm-dpd's
+    return LammpsModel(system, integrator, positions, velocities, box, int(commands["run"][0]))

@@ -149,8 +149,10 @@ def check_export(system, integrator, positions, tmp_path, box, velocities=None, 
     assert unwrapped == pytest.approx(np.asarray(value(positions, unit.nanometer)), abs=1e-12)
     fractions = np.linalg.solve(data.box.T, data.positions.T).T
     assert np.all((fractions >= 0) & (fractions < 1))
-    if velocities is not None:
-        assert data.velocities == pytest.approx(np.asarray(value(velocities, unit.nanometer / unit.picosecond)))
+    if velocities is not None:  # in the frame of LAMMPS's flow, rate (y - ylo), not rate (y - Ly/2)
+        expected = np.array(value(velocities, unit.nanometer / unit.picosecond))
+        expected[:, 0] += value(integrator.getShearRate(), unit.picosecond**-1) * np.asarray(box)[1, 1] / 2
+        assert data.velocities == pytest.approx(expected)
     assert [float(x) for x in script.pair_style[1:3]] == pytest.approx(
         [kT, max(row[-1] for row in script.pair_coeffs.values())], rel=1e-14)
     assert int(script.pair_style[3]) == options.get("seed", integrator.getRandomNumberSeed())
