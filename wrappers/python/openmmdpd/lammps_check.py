@@ -4,12 +4,17 @@ and g(r) of three scenes with GW (fix nve) and S1 (fix shardlow), the NEMD visco
 
 Scenes (a 25, gamma 4.5, rc 1, N --particles): `fluid`, the standard DPD fluid at rho 3;
 `model-b`, rho 4; `polymer`, the rho 3 fluid with a tenth of its beads in chains of 10 joined
-by harmonic springs (k 4, rest length 0, as Groot and Warren's). Each model is equilibrated on
+by harmonic springs (k 4, rest length 0, as Groot and Warren's); `polymer-fene`, the same chains
+joined by FENE springs (k 7, r_max 3, scenes.fene_bond_force), which LAMMPS reads as a table;
+`lipids`, a fifth of the beads in lipids h3(t4)2 of the force field lipid-h3t4.xml in its water
+(packed, relaxed and run LIPID_EQUILIBRATION steps, for the lipids to aggregate, before the
+export; its cosine angles go to LAMMPS as a table too). Each model is equilibrated on
 the CPU platform, exported with its positions and velocities, then run on in LAMMPS (`lmp
 -in`) and in openmm-dpd for the same number of steps. LAMMPS's thermo `temp` (3N - 3 degrees of
-freedom, peculiar velocities under shear) and `press` (kinetic plus the virial of every pair
-force) are sampled every --every steps; openmm-dpd's kinetic kT over 3N - 3 and its pressure
-tensor averaged over the same blocks. g(r) of frames every --frame-every steps of each program;
+freedom, peculiar velocities under shear) is sampled every --every steps, its pressure and P_xy
+(kinetic plus the virial of every force) averaged over every step of the same blocks (`fix
+ave/time`); openmm-dpd's kinetic kT over 3N - 3 likewise, and its pressure tensor averaged over
+the same blocks. g(r) of frames every --frame-every steps of each program;
 its difference is judged against the frames' scatter. NEMD: the model sheared at --rate
 (LAMMPS `fix deform ... remap v`), eta = -<P_xy> / rate. Threads: the fluid with GW again
 in LAMMPS with `-sf omp -pk omp THREADS` (the OPENMP package), whose averages must equal one
@@ -24,32 +29,53 @@ import tempfile
 
 import numpy as np
 import openmm
-from openmm import unit
+from openmm import app, unit
 
-from . import options
+from . import forcefield, options, packer
 from .analysis import frame_radial_distributions, standard_error
 from .dpdplugin import DPDVVIntegrator, ShardlowIntegrator
 from .lammps import export_lammps
-from .pressure import pressure_tensor
-from .scenes import harmonic_bond_force, random_walk, soft_scene
-from .shear import streaming_velocity
+from .pressure import PARTS, pressure_tensor
+from .scenes import fene_bond_force, harmonic_bond_force, random_walk, soft_scene
+from .shear import impose_flow, remove_net_momentum
 from .units import KT_TEMPERATURE
 
 SCHEMES = {"GW": DPDVVIntegrator, "S1": ShardlowIntegrator}
-DENSITY = {"fluid": 3.0, "model-b": 4.0, "polymer": 3.0}
+# Whether LAMMPS's pressure holds the thermostat's virial: pair dpd computes the dissipative and
+# random forces with the conservative ones; fix shardlow updates velocities and adds no virial
+# (pair dpd/fdt computes only the conservative force), so S1 is compared without that part.
+LAMMPS_COUNTS_THERMOSTAT = {"GW": True, "S1": False}
+DENSITY = {"fluid": 3.0, "model-b": 4.0, "polymer": 3.0, "polymer-fene": 3.0, "lipids": 3.0}
+DEFAULT_SCENES = ["fluid", "model-b", "polymer"]
 CHAIN_LENGTH, CHAIN_FRACTION, BOND_K = 10, 0.1, 4.0
+LIPID_FRACTION = 0.2
+LIPID_EQUILIBRATION = 20000  # steps: the lipids aggregate from the packed start; sampling a drift would not do
+THERMOSTAT_PART = PARTS.index("thermostat")
 G_R_MAX, G_R_BINS = 2.0, 80
 DURATION = ("With the defaults (N 3000, dt 0.04, 20 000 steps, three scenes with GW and S1, NEMD and the threads "
-            "check) a run takes about 20 minutes on 2 cores.")
+            "check) a run takes about 27 minutes on 2 cores; polymer-fene and lipids together add about 15.")
 
 
 # --- the models --------------------------------------------------------------------------------
 
+def lipid_model(args):
+    """(System, positions in nm) of lipids in water from lipid-h3t4.xml, packed (not yet relaxed).
+    Its thermostat table is friction 4.5 and cutoff 1 for every pair, make_integrator's."""
+    field = app.ForceField(forcefield.data_path("lipid-h3t4.xml"))
+    lipids = int(args.particles * LIPID_FRACTION) // forcefield.LIPID_H3T4.num_beads
+    water = args.particles - lipids * forcefield.LIPID_H3T4.num_beads
+    topology, positions = packer.pack([(forcefield.LIPID_H3T4, lipids), (packer.Molecule.single("w", ["w"]), water)],
+                                      density=DENSITY["lipids"], bond_length=0.7, seed=args.seed)
+    return field.createSystem(topology, removeCMMotion=False), np.array(positions.value_in_unit(unit.nanometer))
+
+
 def build_model(scene, args):
-    """(System, positions in nm) of a scene: the soft fluid, with chains on `polymer`."""
+    """(System, positions in nm) of a scene: the soft fluid, with chains on `polymer` and `polymer-fene`."""
+    if scene == "lipids":
+        return lipid_model(args)
     built = soft_scene(num_particles=args.particles, density=DENSITY[scene], a=25.0, seed=args.seed)
     positions = built.positions.value_in_unit(unit.nanometer)
-    if scene == "polymer":
+    if scene.startswith("polymer"):
         rng = np.random.default_rng(args.seed)
         length = built.system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(unit.nanometer)
         chains = int(args.particles * CHAIN_FRACTION) // CHAIN_LENGTH
@@ -59,7 +85,8 @@ def build_model(scene, args):
                                                                                min_distance=0.0)
         bonds = [(c * CHAIN_LENGTH + k, c * CHAIN_LENGTH + k + 1) for c in range(chains)
                  for k in range(CHAIN_LENGTH - 1)]
-        built.system.addForce(harmonic_bond_force(bonds, k=BOND_K))
+        springs = fene_bond_force(bonds) if scene == "polymer-fene" else harmonic_bond_force(bonds, k=BOND_K)
+        built.system.addForce(springs)
     return built.system, positions
 
 
@@ -78,25 +105,24 @@ def equilibrated(scene, scheme, args, rate=0.0):
     integrator.setPressureTensorEnabled(True)
     context = openmm.Context(system, integrator, openmm.Platform.getPlatformByName("CPU"), {"Threads": "1"})
     context.setPositions(positions)
+    if scene == "lipids":
+        packer.relax(context)  # a packed start overlaps beads that repel at a = 75
     context.setVelocitiesToTemperature(KT_TEMPERATURE, args.seed)
-    velocities = context.getState(getVelocities=True).getVelocities(asNumpy=True).value_in_unit(
-        unit.nanometer / unit.picosecond)
-    height = system.getDefaultPeriodicBoxVectors()[1][1].value_in_unit(unit.nanometer)
-    velocities[:, 0] += streaming_velocity(positions[:, 1], rate, height)
-    context.setVelocities(velocities)
-    integrator.step(args.equilibrate)
+    remove_net_momentum(context)  # under shear LAMMPS counts its drift as heat (compute temp/deform)
+    impose_flow(context, rate)
+    integrator.step(max(args.equilibrate, LIPID_EQUILIBRATION) if scene == "lipids" else args.equilibrate)
     return system, integrator, context
 
 
 # --- LAMMPS ------------------------------------------------------------------------------------
 
 def thermo_rows(log_path):
-    """The rows of numbers under the first `Step Temp Press` header of a LAMMPS log, as an array."""
+    """The rows of numbers under the first `Step Temp ...` header of a LAMMPS log, as an array."""
     rows, reading = [], False
     with open(log_path) as log:
         for line in log:
             words = line.split()
-            if words[:3] == ["Step", "Temp", "Press"]:
+            if words[:2] == ["Step", "Temp"]:
                 reading = True
             elif reading and words and words[0] == "Loop":
                 break
@@ -123,10 +149,13 @@ def dump_frames(path):
 
 
 def _edit_script(folder, every, frame_every, threads):
-    """The exported script sampling temp, press and pxy every `every` steps, and dumping frames."""
+    """The exported script sampling temp every `every` steps with press and pxy averaged over those
+    steps, and dumping frames."""
     script = os.path.join(folder, "model.in")
     with open(script) as f:
-        text = f.read().replace("thermo_style custom step temp press pe ke", "thermo_style custom step temp press pxy")
+        text = f.read().replace("thermo_style custom step temp press pe ke",
+                                f"fix averages all ave/time 1 {every} {every} c_thermo_press c_thermo_press[4]\n"
+                                "thermo_style custom step temp f_averages[1] f_averages[2]")
     text = text.replace("thermo 100", f"thermo {every}")
     if frame_every:
         text = text.replace("\nrun ", f"\ndump frames all custom {frame_every} frames.dump id x y z\nrun ")
@@ -157,15 +186,16 @@ def run_lammps_export(system, scheme, rate, context, args, frame_every=0, thread
 
 # --- openmm-dpd --------------------------------------------------------------------------------
 
-def run_openmm(context, integrator, args, frame_every=0):
-    """openmm-dpd on from the exported state: ((kT, pressure, P_xy) per block of `every` steps, frames)."""
+def run_openmm(context, integrator, args, frame_every=0, thermostat=True):
+    """openmm-dpd on from the exported state: ((kT, pressure, P_xy) per block of `every` steps, frames);
+    thermostat=False leaves the thermostat's part out of the pressure, as LAMMPS's fix shardlow does."""
     n = context.getSystem().getNumParticles()
     series, frames = [], []
     for block in range(args.steps // args.every):
         integrator.resetPressureTensor()
         integrator.step(args.every)
         kinetic = context.getState(getEnergy=True).getKineticEnergy().value_in_unit(unit.kilojoule_per_mole)
-        tensor = pressure_tensor(integrator)
+        tensor = pressure_tensor(integrator) - (0 if thermostat else pressure_tensor(integrator, THERMOSTAT_PART))
         series.append((2 * kinetic / (3 * n - 3), np.mean(tensor[:3]), tensor[3]))
         if frame_every and ((block + 1) * args.every) % frame_every == 0:
             frames.append(context.getState(getPositions=True).getPositions(asNumpy=True).value_in_unit(unit.nanometer))
@@ -198,7 +228,8 @@ def compare_scene(scene, scheme, args):
     system, integrator, context = equilibrated(scene, scheme, args)
     box = system.getDefaultPeriodicBoxVectors()[0][0].value_in_unit(unit.nanometer)
     (kT, p, _), lammps_frames = run_lammps_export(system, scheme, 0.0, context, args, args.frame_every)
-    (kT2, p2, _), openmm_frames = run_openmm(context, integrator, args, args.frame_every)
+    (kT2, p2, _), openmm_frames = run_openmm(context, integrator, args, args.frame_every,
+                                             LAMMPS_COUNTS_THERMOSTAT[scheme])
     results = {"LAMMPS": dict(kT=_mean(kT), P=_mean(p)), "openmm-dpd": dict(kT=_mean(kT2), P=_mean(p2))}
     return results, g_difference(lammps_frames, openmm_frames, box)
 
@@ -241,9 +272,12 @@ def _scene_lines(scene, scheme, results, g):
 
 
 def report(args):
+    lipids = f" ({max(args.equilibrate, LIPID_EQUILIBRATION)} for the lipids)" if "lipids" in args.scenes else ""
     lines = [f"N {args.particles}, a 25, gamma 4.5, rc 1, dt {args.dt:g}, {args.steps} steps per program after "
-             f"{args.equilibrate} in openmm-dpd; samples every {args.every} steps, g(r) frames every "
+             f"{args.equilibrate}{lipids} in openmm-dpd; samples every {args.every} steps, g(r) frames every "
              f"{args.frame_every}; seed {args.seed}.", "",
+             "The pressures are those LAMMPS counts: with the thermostat's virial for GW (pair dpd), without it for "
+             "S1 (fix shardlow adds none), openmm-dpd's likewise.", "",
              "| scene | scheme | <kT> LAMMPS | <kT> openmm-dpd | sigmas | P LAMMPS | P openmm-dpd | sigmas | "
              "max abs(g diff) | chi^2/bin of g diff |", "|---" * 10 + "|"]
     for scene in args.scenes:
@@ -270,7 +304,7 @@ def _parser():
     add = parser.add_argument
     add("--lmp", required=True, help="the LAMMPS executable, built with DPD-BASIC, DPD-REACT, MOLECULE (and OPENMP "
                                      "for --threads)")
-    add("--scenes", nargs="+", default=list(DENSITY), choices=list(DENSITY), help="the models compared")
+    add("--scenes", nargs="+", default=DEFAULT_SCENES, choices=list(DENSITY), help="the models compared")
     add("--schemes", nargs="+", default=list(SCHEMES), choices=list(SCHEMES), help="GW (fix nve) and S1 (fix shardlow)")
     add("-N", "--particles", type=int, default=3000, help="N")
     add("--dt", type=float, default=0.04, help="time step")
