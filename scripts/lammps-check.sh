@@ -2,7 +2,7 @@
 # openmm-dpd and LAMMPS side by side on exported models (python3 -m openmmdpd.lammps_check):
 # builds LAMMPS once, with DPD-BASIC, DPD-REACT, MOLECULE and OPENMP (no MPI), from Debian's
 # source package (about 6 minutes on 2 cores; kept in $LAMMPS_BUILD_DIR, by default
-# ~/.cache/openmmdpd-lammps), then runs the comparison (about 27 minutes). Not part of CI.
+# ~/.cache/openmmdpd-lammps), then runs the comparison (about 25 minutes). Not part of CI.
 #
 #     bash scripts/lammps-check.sh [options of openmmdpd.lammps_check]
 set -euo pipefail

@@ -53,7 +53,7 @@ LIPID_EQUILIBRATION = 20000  # steps: the lipids aggregate from the packed start
 THERMOSTAT_PART = PARTS.index("thermostat")
 G_R_MAX, G_R_BINS = 2.0, 80
 DURATION = ("With the defaults (N 3000, dt 0.04, 20 000 steps, three scenes with GW and S1, NEMD and the threads "
-            "check) a run takes about 27 minutes on 2 cores; polymer-fene and lipids together add about 15.")
+            "check) a run takes about 25 minutes on 2 cores; polymer-fene and lipids together add about 15.")
 
 
 # --- the models --------------------------------------------------------------------------------
