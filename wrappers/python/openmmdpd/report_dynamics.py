@@ -213,6 +213,15 @@ def transverse_check(rows):
     return lines
 
 
+def _runner_up(best, runner):
+    """The next cheapest usable run, and whether the timings' errors tell the two apart (2 sigma)."""
+    gap = (runner["cost_per_time"] - best["cost_per_time"]) / math.hypot(runner["cost_per_time_err"],
+                                                                           best["cost_per_time_err"])
+    tie = f", as cheap within the timings' errors ({gap:.1f} sigma apart): either will do" if gap < 2 else ""
+    return (f" Next: {runner['integrator']} at dt {runner['dt']:g} ({runner['cost_per_time']:.3g} ± "
+            f"{runner['cost_per_time_err']:.2g}){tie}.")
+
+
 def recommendation(rows, scene):
     best = dynamics.recommend(rows)
     if best is None:
@@ -220,8 +229,7 @@ def recommendation(rows, scene):
                 f"{dynamics.USABLE_DYNAMICS:.0%} of their limits).")
     others = sorted((row for row in rows if dynamics.usable(row) and row is not best),
                     key=lambda row: row["cost_per_time"])
-    runner = (f" Next: {others[0]['integrator']} at dt {others[0]['dt']:g} ({others[0]['cost_per_time']:.3g})."
-              if others else "")
+    runner = _runner_up(best, others[0]) if others else ""
     return (f"Recommended on scene {scene}: **{best['integrator']} at dt {best['dt']:g}**, the cheapest usable run: "
             f"{best['cost_per_time']:.3g} ± {best['cost_per_time_err']:.2g} Langevin steps per unit of simulated "
             "time, "

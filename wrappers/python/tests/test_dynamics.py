@@ -110,6 +110,10 @@ def table(changes=None):
 def test_the_recommendation_is_the_cheapest_usable_run_and_follows_the_numbers():
     assert (dynamics.recommend(table())["integrator"], dynamics.recommend(table())["dt"]) == ("GW", 0.04)
     assert "**GW at dt 0.04**" in report_dynamics.recommendation(table(), "soft")
+    # the next, S1 at 0.04 (30 +- 1 against 25 +- 1), is told apart; at 26 +- 1 it is not, and the report says so
+    assert "Next: S1 at dt 0.04 (30 ± 1)." in report_dynamics.recommendation(table(), "soft")
+    close = report_dynamics.recommendation(table({("S1", 0.04): dict(cost_per_time=26)}), "soft")
+    assert "Next: S1 at dt 0.04 (26 ± 1), as cheap within the timings' errors (0.7 sigma apart)" in close
     # GW's largest dt now diffuses 6 % too fast: S1 at 0.04 (30) is cheaper than GW at 0.03 (33)
     moved = dynamics.recommend(table({("GW", 0.04): dict(D_rel=1.06)}))
     assert (moved["integrator"], moved["dt"]) == ("S1", 0.04)
