@@ -730,7 +730,7 @@ def _plan(integrator, model, box, seed, approximate):
 def export_lammps(system, integrator, positions, path, velocities=None, box_vectors=None, topology=None,
                   steps=0, seed=None, approximate=False):
     """Write a LAMMPS data file (path + ".data") and input script (path + ".in") that run this model,
-    and a table file (path + ".table") where bonds are tabulated.
+    and a table file (path + ".table") where bonds or angles are tabulated.
 
     :param system: the OpenMM System: a DPDSoftRepulsionForce, HarmonicBondForce, CustomBondForce
         (tabulated: FENE, worm-like chains, any bond energy of r), HarmonicAngleForce,
@@ -750,7 +750,7 @@ def export_lammps(system, integrator, positions, path, velocities=None, box_vect
     :param steps: the number of steps the script runs, >= 0.
     :param seed: the random seed, 1 to MAX_SEED; default: the integrator's (which must not be 0).
     :param approximate: write the closest scheme for an integrator LAMMPS has no equivalent of.
-    :returns: LammpsFiles(data, input, table); table is None where no bond is tabulated. Nothing is
+    :returns: LammpsFiles(data, input, table); table is None where nothing is tabulated. Nothing is
         written when anything is refused.
     """
     if topology is not None and topology.getNumAtoms() != system.getNumParticles():
