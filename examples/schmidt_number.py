@@ -1,5 +1,6 @@
 """The Schmidt number of the standard DPD fluid (rho 3, a 25, gamma 4.5, kT 1, rc 1) against
-the thermostat's weight exponent s (wD = (1 - r/rc)^s): the shear viscosity eta from a
+the thermostat's weight exponent s (wD = (1 - r/rc)^s) and with transverse friction
+(gamma_perp = gamma, its weight standard): the shear viscosity eta from a
 Lees-Edwards NEMD run at one shear rate, the self-diffusion coefficient D from the mean
 squared displacement at equilibrium, and Sc = eta / (rho D), each with its standard error,
 beside the kinetic-theory estimates for the same weight.  CPU platform, ShardlowIntegrator S1;
@@ -12,9 +13,12 @@ eta = -<P_xy> / rate, the tensor averaged over blocks of BLOCK time whose means 
 its error the spread of D over 8 interleaved sets of particles (openmmdpd.analysis).
 
 Kinetic theory (Groot and Warren 1997 for s = 2, the same integrals for any s): a particle's
-friction zeta = (gamma rho / 3) int wD 4 pi r^2 dr = 8 pi gamma rho / (3 (s+1)(s+2)(s+3)), so
-D = kT / zeta; eta = rho D / 2 + (gamma rho^2 / 30) int wD 4 pi r^4 dr
-                   = rho D / 2 + 16 pi gamma rho^2 / (5 (s+1)(s+2)(s+3)(s+4)(s+5)).
+friction zeta = (rho / 3) int (gamma wD + 2 gamma_perp wD_perp) 4 pi r^2 dr (the trace of a
+pair's friction matrix over 3), with int (1 - r)^s 4 pi r^2 dr = 8 pi / ((s+1)(s+2)(s+3)), so
+D = kT / zeta; eta = rho D / 2 + (rho^2 / 30) int (gamma wD + 4 gamma_perp wD_perp) 4 pi r^4 dr,
+int (1 - r)^s 4 pi r^4 dr = 96 pi / ((s+1)(s+2)(s+3)(s+4)(s+5)): in planar shear a pair's
+relative velocity rate y_ij along x gives the friction along e the stress r_y F_x ~ e_x^2 e_y^2,
+1/15 on average over directions, and the friction across e ~ e_y^2 (1 - e_x^2), 4/15.
 It leaves out the conservative force and correlated collisions, so at a = 25 it is a guide to
 the trend, not a target.
 """
@@ -36,23 +40,34 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "..", "docs", "results", "schmidt-number")
 DENSITY, A, GAMMA, KT = 3.0, 25.0, 4.5, 1.0
 BLOCK = 1.0  # ps of one pressure-tensor block
+# (s, gamma_perp): the weight exponent along e, and the transverse friction (its exponent 2)
 FULL = dict(particles=3000, dt=0.02, rate=0.2, equilibrate=10.0, diffusion_time=100.0, nemd_time=400.0,
-            exponents=[2.0, 1.0, 0.5])
-QUICK = dict(particles=500, dt=0.02, rate=0.5, equilibrate=1.0, diffusion_time=4.0, nemd_time=6.0, exponents=[2.0, 0.5])
+            cases=[(2.0, 0.0), (1.0, 0.0), (0.5, 0.0), (2.0, GAMMA)])
+QUICK = dict(particles=500, dt=0.02, rate=0.5, equilibrate=1.0, diffusion_time=4.0, nemd_time=6.0,
+             cases=[(2.0, 0.0), (0.5, 0.0), (2.0, GAMMA)])
 
 
-def kinetic_theory(s):
-    """(D, eta, Sc) of kinetic theory for wD = (1 - r)^s at DENSITY, GAMMA, KT, rc = 1."""
-    zeta = 8 * math.pi * GAMMA * DENSITY / (3 * (s + 1) * (s + 2) * (s + 3))
+def kinetic_theory(s, gamma_perp=0.0):
+    """(D, eta, Sc) of kinetic theory for wD = (1 - r)^s and transverse friction gamma_perp with
+    wD_perp = (1 - r)^2 at DENSITY, GAMMA, KT, rc = 1."""
+    def second(p):
+        return 8 * math.pi / ((p + 1) * (p + 2) * (p + 3))
+
+    def fourth(p):
+        return 96 * math.pi / math.prod(p + k for k in range(1, 6))
+
+    zeta = DENSITY * (GAMMA * second(s) + 2 * gamma_perp * second(2.0)) / 3
     d = KT / zeta
-    eta = DENSITY * d / 2 + 16 * math.pi * GAMMA * DENSITY ** 2 / (5 * math.prod(s + k for k in range(1, 6)))
+    eta = DENSITY * d / 2 + DENSITY ** 2 * (GAMMA * fourth(s) + 4 * gamma_perp * fourth(2.0)) / 30
     return d, eta, eta / (DENSITY * d)
 
 
-def start(args, s, rate, seed):
+def start(args, case, rate, seed):
+    s, gamma_perp = case
     scene = scenes.soft_scene(num_particles=args.particles, density=DENSITY, a=A, seed=seed)
     integrator = openmmdpd.ShardlowIntegrator(openmmdpd.KT_TEMPERATURE, GAMMA, 1.0, args.dt)
     integrator.setDefaultWeightExponent(s)
+    integrator.setDefaultTransverseFriction(gamma_perp)
     integrator.setRandomNumberSeed(seed)
     integrator.setShearRate(rate)
     integrator.setPressureTensorEnabled(rate != 0)
@@ -64,8 +79,8 @@ def start(args, s, rate, seed):
     return context, integrator
 
 
-def diffusion(args, s, seed):
-    context, integrator = start(args, s, 0.0, seed)
+def diffusion(args, case, seed):
+    context, integrator = start(args, case, 0.0, seed)
     every = 0.5
     frames = []
     for _ in range(round(args.diffusion_time / every) + 1):
@@ -75,8 +90,8 @@ def diffusion(args, s, seed):
     return diffusion_with_error(times, msd, by_group)
 
 
-def viscosity(args, s, seed):
-    context, integrator = start(args, s, args.rate, seed)
+def viscosity(args, case, seed):
+    context, integrator = start(args, case, args.rate, seed)
     blocks = []
     for _ in range(round(args.nemd_time / BLOCK)):
         integrator.resetPressureTensor()
@@ -88,16 +103,17 @@ def viscosity(args, s, seed):
 
 def measure(args):
     rows = []
-    for k, s in enumerate(args.exponents):
+    for k, (s, gamma_perp) in enumerate(args.cases):
         t0 = time.perf_counter()
-        d, d_err = diffusion(args, s, seed=11 + k)
-        eta, eta_err = viscosity(args, s, seed=31 + k)
+        d, d_err = diffusion(args, (s, gamma_perp), seed=11 + k)
+        eta, eta_err = viscosity(args, (s, gamma_perp), seed=31 + k)
         sc = eta / (DENSITY * d)
         sc_err = sc * math.hypot(eta_err / eta, d_err / d)
-        d_kin, eta_kin, sc_kin = kinetic_theory(s)
-        rows.append(dict(s=s, D=d, D_err=d_err, eta=eta, eta_err=eta_err, Sc=sc, Sc_err=sc_err,
+        d_kin, eta_kin, sc_kin = kinetic_theory(s, gamma_perp)
+        rows.append(dict(s=s, gamma_perp=gamma_perp, D=d, D_err=d_err, eta=eta, eta_err=eta_err, Sc=sc, Sc_err=sc_err,
                          D_kinetic=d_kin, eta_kinetic=eta_kin, Sc_kinetic=sc_kin, seconds=time.perf_counter() - t0))
-        print(f"s = {s:g}: D = {d:.4f} +- {d_err:.4f}, eta = {eta:.3f} +- {eta_err:.3f}, Sc = {sc:.2f} +- {sc_err:.2f} "
+        print(f"s = {s:g}, gamma_perp = {gamma_perp:g}: D = {d:.4f} +- {d_err:.4f}, eta = {eta:.3f} +- {eta_err:.3f}, "
+              f"Sc = {sc:.2f} +- {sc_err:.2f} "
               f"(kinetic theory {d_kin:.4f}, {eta_kin:.3f}, {sc_kin:.2f}) in {rows[-1]['seconds']:.0f} s", flush=True)
     return rows
 
@@ -109,7 +125,7 @@ def write(rows, args):
         writer.writeheader()
         writer.writerows({k: f"{v:.6g}" for k, v in row.items()} for row in rows)
     lines = [
-        "# Schmidt number against the weight exponent s",
+        "# Schmidt number against the weight exponent s and with transverse friction",
         "",
         f"Standard DPD fluid: rho {DENSITY:g}, a {A:g}, gamma {GAMMA:g}, kT {KT:g}, rc 1, N = {args.particles}, "
         f"ShardlowIntegrator S1 at dt {args.dt:g}; D from {args.diffusion_time:g} ps at equilibrium, eta from "
@@ -117,11 +133,11 @@ def write(rows, args):
         "Errors are one standard error. Made by `examples/schmidt_number.py"
         + (" --quick" if args.quick else "") + "`.",
         "",
-        "| s | D | eta | Sc = eta/(rho D) | D, kinetic theory | eta, kinetic theory | Sc, kinetic theory |",
-        "|---|---|---|---|---|---|---|",
+        "| s | gamma_perp | D | eta | Sc = eta/(rho D) | D, kinetic theory | eta, kinetic theory | Sc, kinetic theory |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
-        lines.append(f"| {r['s']:g} | {r['D']:.4f} ± {r['D_err']:.4f} | {r['eta']:.3f} ± {r['eta_err']:.3f} | "
+        lines.append(f"| {r['s']:g} | {r['gamma_perp']:g} | {r['D']:.4f} ± {r['D_err']:.4f} | {r['eta']:.3f} ± {r['eta_err']:.3f} | "
                      f"{r['Sc']:.2f} ± {r['Sc_err']:.2f} | {r['D_kinetic']:.4f} | {r['eta_kinetic']:.3f} | {r['Sc_kinetic']:.2f} |")
     with open(os.path.join(args.out, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -457,6 +457,22 @@ TEST(GpuPlatform, WeightExponentsFollowReference) {
                            900, "pair OU, s = 1 and 1.5", mixed);
 }
 
+namespace {
+
+/** An integrator of `make` with transverse friction 3 (exponent 1) by default and 6 (exponent 0.5) for its first type pair. */
+MakeIntegrator withTransverseFriction(const MakeIntegrator& make) {
+    return [make](int numParticles) {
+        std::unique_ptr<DPDThermostatIntegrator> integrator = make(numParticles);
+        integrator->setDefaultTransverseFriction(3.0);
+        integrator->setDefaultTransverseWeightExponent(1.0);
+        if (integrator->getNumTypePairs() > 0)
+            integrator->setTypePairTransverseFriction(0, 6.0, 0.5);
+        return integrator;
+    };
+}
+
+} // namespace
+
 // Cell lists of 26^3 cells (the pair forces, the soft force) and 27^3 (the sweep grid), 138
 // and 154 blocks of the scan (more than one work group's worth), nearly all empty: the 1000
 // particles sit in 40 clumps of 25, 0 to ~10 to a cell.  A wrong cell start loses or repeats
@@ -646,6 +662,26 @@ TEST(GpuPlatform, ShearedSweepsFollowReference) {
                            sheared(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle), 0.5),
                            "pair OU, Middle, sheared");
     expectPressureFollowsReference(600, "S1 sheared", sheared(shardlow(1), 0.5));
+}
+
+// Transverse friction in mixed precision (single precision's pow, as for the weight exponents),
+// sheared too, and the pressure tensor's parts, whose thermostat part is then not symmetric.
+TEST(GpuPlatform, TransverseFrictionFollowsReference) {
+    REQUIRE_DEVICE();
+    const std::map<std::string, std::string> mixed = {{"Precision", "mixed"}};
+    expectFollowsReference(withTransverseFriction(dpdvv(DPDVVIntegrator::GrootWarren)), 600, "GW, transverse", mixed);
+    expectFollowsReference(withTransverseFriction(dpdvv(DPDVVIntegrator::SelfConsistent)), 600, "SC-VV, transverse", mixed);
+    expectFollowsReference(withTransverseFriction(shardlow(2)), 900, "S2, transverse", mixed);
+    const MakeIntegrator pairOU = loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle);
+    expectFollowsReference(withTransverseFriction(pairOU), 900, "pair OU, transverse", mixed);
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeBondedSoftSystem(600, positions));
+    expectFollowsReference(*system, positions, sheared(withTransverseFriction(dpdvv(DPDVVIntegrator::DPDVV)), 0.5),
+                           "DPD-VV sheared, transverse", mixed);
+    expectFollowsReference(*system, positions, sheared(withTransverseFriction(shardlow(1)), 0.5), "S1 sheared, transverse", mixed);
+    expectPressureFollowsReference(600, "GW, transverse", withTransverseFriction(dpdvv(DPDVVIntegrator::GrootWarren)));
+    expectPressureFollowsReference(600, "S1, transverse", withTransverseFriction(shardlow(1)));
+    expectPressureFollowsReference(100, "pair OU, transverse", withTransverseFriction(pairOU));
 }
 
 // OpenMM's own device kernels take the box as the Context was made (rectangular): a periodic

@@ -189,6 +189,37 @@ TEST_P(PlatformsAgree, ThermostatExceptionsFollowTheReference) {
     expectCpuFollowsReference(*uniform, scheme, positions, velocities, addExceptions, false);
 }
 
+/** Whether the scheme has transverse friction: the velocity-Verlet family, Shardlow, and the pair OU method. */
+bool hasTransverse(const DPDThermostatIntegrator& integrator) {
+    const LoweAndersenIntegrator* lowe = dynamic_cast<const LoweAndersenIntegrator*>(&integrator);
+    return dynamic_cast<const DPDVVIntegrator*>(&integrator) != nullptr || dynamic_cast<const ShardlowIntegrator*>(&integrator) != nullptr ||
+           (lowe != nullptr && lowe->getMethod() == LoweAndersenIntegrator::PairOrnsteinUhlenbeck);
+}
+
+TEST_P(PlatformsAgree, TransverseFrictionFollowsTheReference) {
+    // gamma_perp 3 with s_perp 1 by default and 6 with 0.5 for type pair (1, 1), with the
+    // exceptions of addExceptions (which scale it too); and a fluid of one type and one mass
+    // with gamma_perp = gamma, which the CPU must not take for the standard fluid its vector
+    // paths serve.
+    const Scheme& scheme = std::get<0>(GetParam());
+    std::unique_ptr<DPDThermostatIntegrator> probe(scheme.make());
+    if (!hasTransverse(*probe))
+        return;
+    std::vector<Vec3> positions, velocities;
+    std::unique_ptr<System> system(makeSystem(std::get<1>(GetParam()), positions, velocities, scheme.uniformMasses));
+    expectCpuFollowsReference(*system, scheme, positions, velocities, [](DPDThermostatIntegrator& i) {
+        i.setDefaultTransverseFriction(3.0);
+        i.setDefaultTransverseWeightExponent(1.0);
+        i.setTypePairTransverseFriction(1, 6.0, 0.5);
+        addExceptions(i);
+    });
+    positions.clear();
+    velocities.clear();
+    std::unique_ptr<System> uniform(makeSystem(false, positions, velocities, true));
+    expectCpuFollowsReference(*uniform, scheme, positions, velocities,
+                              [](DPDThermostatIntegrator& i) { i.setDefaultTransverseFriction(4.5); }, false);
+}
+
 TEST(PlatformsAgree, EDPDForgetsAndRecallsPairsAlike) {
     // alpha dt = 1: a pair variable is forgotten after 27 steps and the archive is cleaned
     // every 6, so in 60 steps pairs leave, come back, are caught up, redrawn and dropped.
@@ -248,6 +279,10 @@ const std::vector<LiveSetter> LIVE_SETTERS = {
     setterOf<DPDThermostatIntegrator>("setRandomNumberSeed", [](auto& i) { i.setRandomNumberSeed(99); }),
     setterOf<DPDThermostatIntegrator>("setDefaultWeightExponent", [](auto& i) { i.setDefaultWeightExponent(1.0); }, hasWeights),
     setterOf<DPDThermostatIntegrator>("setTypePairWeightExponent", [](auto& i) { i.setTypePairWeightExponent(0, 0.5); }, hasWeights),
+    setterOf<DPDThermostatIntegrator>("setDefaultTransverseFriction", [](auto& i) { i.setDefaultTransverseFriction(4.5); },
+                                      hasTransverse),
+    setterOf<DPDThermostatIntegrator>("setTypePairTransverseFriction", [](auto& i) { i.setTypePairTransverseFriction(0, 6.0, 1.0); },
+                                      hasTransverse),
     setterOf<DPDThermostatIntegrator>("addThermostatException", [](auto& i) {
         for (int j = 1; j < NUM_PARTICLES; j++)
             i.addThermostatException(0, j, 0.0);

@@ -96,6 +96,60 @@ bool DPDThermostatIntegrator::hasStandardWeights() const {
     return defaultWeightExponent == 2;
 }
 
+void DPDThermostatIntegrator::checkTransverseFriction(const std::string& parameter, double friction) const {
+    require(std::isfinite(friction) && friction >= 0, name + ": " + parameter + " must be >= 0 /ps, got " + numberText(friction));
+}
+
+void DPDThermostatIntegrator::setDefaultTransverseFriction(double friction) {
+    checkTransverseFriction("defaultTransverseFriction", friction);
+    defaultTransverseFriction = friction;
+    parametersVersion++;
+}
+
+void DPDThermostatIntegrator::setDefaultTransverseWeightExponent(double s) {
+    checkWeightExponent("defaultTransverseWeightExponent", s);
+    defaultTransverseWeightExponent = s;
+    parametersVersion++;
+}
+
+void DPDThermostatIntegrator::getTypePairTransverseFriction(int pairIndex, double& friction, double& weightExponent) const {
+    getTypePairWeightExponent(pairIndex);  // checks the index
+    const auto own = typePairTransverse.find(pairIndex);
+    friction = (own == typePairTransverse.end() ? defaultTransverseFriction : own->second.first);
+    weightExponent = (own == typePairTransverse.end() ? defaultTransverseWeightExponent : own->second.second);
+}
+
+void DPDThermostatIntegrator::setTypePairTransverseFriction(int pairIndex, double friction, double weightExponent) {
+    getTypePairWeightExponent(pairIndex);  // checks the index
+    const std::string pair = "type pair " + std::to_string(pairIndex);
+    checkTransverseFriction("the transverse friction of " + pair, friction);
+    checkWeightExponent("the transverse weight exponent of " + pair, weightExponent);
+    typePairTransverse[pairIndex] = {friction, weightExponent};
+    parametersVersion++;
+}
+
+bool DPDThermostatIntegrator::hasTransverseFriction() const {
+    double friction, exponent;
+    for (int k = 0; k < getNumTypePairs(); k++) {
+        getTypePairTransverseFriction(k, friction, exponent);
+        if (friction != 0)
+            return true;
+    }
+    return defaultTransverseFriction != 0;
+}
+
+void DPDThermostatIntegrator::validateTransverseFriction(const OpenMM::System&) const {
+    throw OpenMMException(name + ": transverse friction (setDefaultTransverseFriction, setTypePairTransverseFriction) is not "
+                          "available for this integrator; DPDVVIntegrator, ShardlowIntegrator and LoweAndersenIntegrator's "
+                          "PairOrnsteinUhlenbeck method have it");
+}
+
+void DPDThermostatIntegrator::refuseTransverseFrictionWithConstraints(const OpenMM::System& system) const {
+    require(system.getNumConstraints() == 0, name + ": transverse friction is not available with constraints (the System has " +
+            std::to_string(system.getNumConstraints()) + "): this scheme's pair impulses would have another effective mass "
+            "for each direction across the pair; use DPDVVIntegrator, or bonds instead of constraints");
+}
+
 namespace {
 
 std::pair<int, int> orderedPair(int a, int b) {
@@ -267,6 +321,8 @@ void DPDThermostatIntegrator::validate(const OpenMM::System& system) const {
     }
     if (shearRate != 0)
         validateShear(system);
+    if (hasTransverseFriction())
+        validateTransverseFriction(system);
 }
 
 void DPDThermostatIntegrator::initialize(OpenMM::ContextImpl& contextRef) {

@@ -29,6 +29,12 @@ void LoweAndersenIntegrator::validate(const OpenMM::System& system) const {
             numberText(getMaxFriction() * getStepSize()));
 }
 
+void LoweAndersenIntegrator::validateTransverseFriction(const OpenMM::System& system) const {
+    require(method == PairOrnsteinUhlenbeck, "LoweAndersenIntegrator: transverse friction is available with the "
+            "PairOrnsteinUhlenbeck method (1) only: Lowe's collisions redraw the velocity along e alone");
+    refuseTransverseFrictionWithConstraints(system);
+}
+
 std::string LoweAndersenIntegrator::kernelName() const {
     return IntegrateLoweAndersenStepKernel::Name();
 }

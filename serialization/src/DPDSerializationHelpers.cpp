@@ -99,6 +99,14 @@ void DPDPlugin::serializeThermostatParameters(const DPDThermostatIntegrator& int
     SerializationNode& exponents = node.createChildNode("WeightExponents");
     for (int k = 0; k < integrator.getNumTypePairs(); k++)
         exponents.createChildNode("TypePair").setIntProperty("index", k).setDoubleProperty("s", integrator.getTypePairWeightExponent(k));
+    node.setDoubleProperty("defaultTransverseFriction", integrator.getDefaultTransverseFriction());
+    node.setDoubleProperty("defaultTransverseWeightExponent", integrator.getDefaultTransverseWeightExponent());
+    SerializationNode& transverse = node.createChildNode("TransverseFriction");
+    for (int k = 0; k < integrator.getNumTypePairs(); k++) {
+        double friction, s;
+        integrator.getTypePairTransverseFriction(k, friction, s);
+        transverse.createChildNode("TypePair").setIntProperty("index", k).setDoubleProperty("friction", friction).setDoubleProperty("s", s);
+    }
     SerializationNode& exceptions = node.createChildNode("ThermostatExceptions");
     for (int k = 0; k < integrator.getNumThermostatExceptions(); k++) {
         int p1, p2;
@@ -122,6 +130,11 @@ void DPDPlugin::deserializeThermostatParameters(const XmlReader& xml, DPDThermos
     if (xml.hasChild("WeightExponents"))
         for (const XmlReader& p : xml.child("WeightExponents").children())
             integrator.setTypePairWeightExponent(p.integer("index"), p.number("s"));
+    integrator.setDefaultTransverseFriction(xml.number("defaultTransverseFriction", 0.0));
+    integrator.setDefaultTransverseWeightExponent(xml.number("defaultTransverseWeightExponent", 2.0));
+    if (xml.hasChild("TransverseFriction"))
+        for (const XmlReader& p : xml.child("TransverseFriction").children())
+            integrator.setTypePairTransverseFriction(p.integer("index"), p.number("friction"), p.number("s"));
     if (xml.hasChild("ThermostatExceptions"))
         for (const XmlReader& e : xml.child("ThermostatExceptions").children())
             integrator.addThermostatException(e.integer("p1"), e.integer("p2"), e.number("factor"));

@@ -179,6 +179,13 @@ def _arg(self, method, name, value, target_unit):
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setDefaultFriction %{
     friction = _arg(self, "setDefaultFriction", "defaultFriction", friction, _RATE)
 %}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::setDefaultTransverseFriction %{
+    friction = _arg(self, "setDefaultTransverseFriction", "defaultTransverseFriction", friction, _RATE)
+%}
+%pythonprepend DPDPlugin::DPDThermostatIntegrator::setTypePairTransverseFriction %{
+    friction = _arg(self, "setTypePairTransverseFriction", "friction", friction, _RATE)
+    weightExponent = _arg(self, "setTypePairTransverseFriction", "weightExponent", weightExponent, None)
+%}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setShearRate %{
     rate = _arg(self, "setShearRate", "shearRate", rate, _RATE)
 %}
@@ -232,6 +239,12 @@ def _arg(self, method, name, value, target_unit):
 %pythonappend DPDPlugin::DPDThermostatIntegrator::getDefaultFriction %{
     val = _unit.Quantity(val, _unit.picosecond**-1)
 %}
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getDefaultTransverseFriction %{
+    val = _unit.Quantity(val, _unit.picosecond**-1)
+%}
+%pythonappend DPDPlugin::DPDThermostatIntegrator::getTypePairTransverseFriction %{
+    val = [_unit.Quantity(val[0], _unit.picosecond**-1), val[1]]
+%}
 %pythonappend DPDPlugin::DPDThermostatIntegrator::getShearRate %{
     val = _unit.Quantity(val, _unit.picosecond**-1)
 %}
@@ -246,7 +259,7 @@ def _arg(self, method, name, value, target_unit):
 %}
 
 %apply int& OUTPUT { int& type1, int& type2, int& particle1, int& particle2 };
-%apply double& OUTPUT { double& friction, double& cutoff, double& a, double& factor };
+%apply double& OUTPUT { double& friction, double& cutoff, double& a, double& factor, double& weightExponent };
 %apply double& OUTPUT { double& alpha, double& beta, double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR };
 %apply long long& OUTPUT { long long& count };
 

@@ -112,6 +112,33 @@ public:
     /** Whether every pair has the standard weight exponent 2 (the default and every type pair's). */
     bool hasStandardWeights() const;
     /**
+     * Get the default transverse friction rate (1/ps; 0, the default, means none): friction
+     * on the part of a pair's relative velocity perpendicular to e = r_ij / r, with its own
+     * random force that keeps fluctuation-dissipation (Junghans, Praprotnik and Kremer 2008;
+     * docs/theory/dpd.md).  Its coefficient is 2 mu_ij times the rate, as for the friction
+     * along e, and its weights are wD = (1 - r/rc)^s, wR = (1 - r/rc)^(s/2) with the transverse
+     * exponent s.  It raises the viscosity (and the Schmidt number) without changing the
+     * equilibrium; the pair force is then not central (angular momentum is not conserved).
+     * DPDVVIntegrator, ShardlowIntegrator and LoweAndersenIntegrator's pair Ornstein-Uhlenbeck
+     * method have it.
+     */
+    double getDefaultTransverseFriction() const { return defaultTransverseFriction; }
+    /** Set the default transverse friction rate (1/ps), >= 0 (see getDefaultTransverseFriction()). */
+    void setDefaultTransverseFriction(double friction);
+    /** Get the default transverse weight exponent s (2 unless set; see getDefaultTransverseFriction()). */
+    double getDefaultTransverseWeightExponent() const { return defaultTransverseWeightExponent; }
+    /** Set the default transverse weight exponent s, > 0. */
+    void setDefaultTransverseWeightExponent(double s);
+    /**
+     * Get the transverse friction rate (1/ps) and its weight exponent of a type pair: its own
+     * if set, else the defaults.
+     */
+    void getTypePairTransverseFriction(int pairIndex, double& friction, double& weightExponent) const;
+    /** Set the transverse friction rate (1/ps, >= 0) and its weight exponent (> 0) of a type pair. */
+    void setTypePairTransverseFriction(int pairIndex, double friction, double weightExponent);
+    /** Whether any pair has transverse friction (the default or a type pair's is not 0). */
+    bool hasTransverseFriction() const;
+    /**
      * Scale the thermostat of one pair of particles (docs/theory/dpd.md): its friction by
      * factor and its noise amplitude by sqrt(factor), which keeps fluctuation-dissipation;
      * factor 0 excludes the pair from the thermostat (for Lowe-Andersen collisions: their
@@ -236,7 +263,7 @@ public:
     double getMaxFriction() const { return types.getMaxValue(defaultFriction); }
     /**
      * Changes whenever a thermostat parameter does (temperature, friction, cutoffs, types,
-     * type pairs, weight exponents, the instability threshold, the shear rate): the step kernels take such changes into a live
+     * type pairs, weight exponents, transverse friction, the instability threshold, the shear rate): the step kernels take such changes into a live
      * Context at the next step.
      */
     int getThermostatParametersVersion() const { return parametersVersion; }
@@ -261,6 +288,13 @@ protected:
      * is refused otherwise.
      */
     virtual bool supportsPressureTensor() const { return true; }
+    /**
+     * Throw an OpenMMException unless this integrator's scheme, as set, has transverse friction
+     * for this System (called by validate() where a pair has any); by default it has none.
+     */
+    virtual void validateTransverseFriction(const OpenMM::System& system) const;
+    /** The refusal of transverse friction with constraints, for the schemes that sweep pairs: their impulses are along e there. */
+    void refuseTransverseFrictionWithConstraints(const OpenMM::System& system) const;
     /** Initialize the step kernel (of this class's typed interface) for a System. */
     virtual void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const = 0;
     /** Take one step with the step kernel. */
@@ -280,6 +314,7 @@ private:
     void checkFriction(double friction) const;
     void checkCutoff(double cutoff) const;
     void checkWeightExponent(const std::string& parameter, double s) const;
+    void checkTransverseFriction(const std::string& parameter, double friction) const;
     /** A valid exception that is not a second one for its pair (`replacing`: the index it replaces, or -1). */
     void checkException(int particle1, int particle2, double factor, int replacing) const;
     void checkStepSize(double size) const;
@@ -291,7 +326,9 @@ private:
     void validateContextBox() const;
     std::string name;
     double temperature, defaultFriction, defaultCutoff, instabilityThreshold = 0, shearRate = 0, defaultWeightExponent = 2;
+    double defaultTransverseFriction = 0, defaultTransverseWeightExponent = 2;
     std::map<int, double> typePairWeightExponent;  // by type-pair index, where set
+    std::map<int, std::pair<double, double>> typePairTransverse;  // (friction, exponent) by type-pair index, where set
     struct Exception {
         int particle1, particle2;
         double factor;

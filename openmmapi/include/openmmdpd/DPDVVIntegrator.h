@@ -53,6 +53,8 @@ public:
     void setTolerance(double tol);
 
 protected:
+    /** Every variant has transverse friction, with or without constraints. */
+    void validateTransverseFriction(const OpenMM::System&) const override {}
     std::string kernelName() const override;
     void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const override;
     void executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const override;

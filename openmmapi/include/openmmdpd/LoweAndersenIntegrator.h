@@ -56,6 +56,8 @@ public:
     void validate(const OpenMM::System& system) const override;
 
 protected:
+    /** The pair Ornstein-Uhlenbeck method has transverse friction, in a System without constraints; Lowe's collisions have none. */
+    void validateTransverseFriction(const OpenMM::System& system) const override;
     std::string kernelName() const override;
     void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const override;
     void executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const override;

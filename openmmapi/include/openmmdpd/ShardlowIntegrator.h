@@ -33,6 +33,8 @@ public:
     void setOrder(int order);
 
 protected:
+    /** S1 and S2 sweep transverse friction as they sweep the friction along e, in a System without constraints. */
+    void validateTransverseFriction(const OpenMM::System& system) const override { refuseTransverseFrictionWithConstraints(system); }
     std::string kernelName() const override;
     void initializeStepKernel(OpenMM::Kernel& kernel, const OpenMM::System& system) const override;
     void executeStepKernel(OpenMM::Kernel& kernel, OpenMM::ContextImpl& context) const override;

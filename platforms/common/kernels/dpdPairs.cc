@@ -8,6 +8,9 @@
  * dissipative / random force (terms: 1 = dissipative, 2 = random, 3 = both).  The virial
  * r F e e^T of the terms in virialTerms (a subset of terms) is added to the slot's row of
  * virial (6 components paddedNumAtoms apart), each pair counted by its lo particle.
+ * With transverse friction (transverse != 0), transverseParams holds each type pair's
+ * (friction rate across e, its weight exponent, unused, unused), and the forces across e
+ * (DPDPairForce::transverseDissipative, transverseRandom) are added, their virial r F^T.
  */
 /* A slot's sums: its atom's forces into outD / outR (the terms computed), its virial into the slot's row (if any). */
 inline DEVICE void storeSums(int a, int k, int numAtoms, int paddedNumAtoms, int terms, int virialTerms, const mm_long* fd,
@@ -29,7 +32,7 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
         unsigned int stepLow, unsigned int stepHigh, int terms, GLOBAL mm_long* RESTRICT outD, GLOBAL mm_long* RESTRICT outR,
         mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
         GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int virialTerms, int paddedNumAtoms,
-        GLOBAL mixed* RESTRICT virial, mixed imageVelocity) {
+        GLOBAL mixed* RESTRICT virial, mixed imageVelocity, int transverse, GLOBAL const mixed4* RESTRICT transverseParams) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         const mixed4 va = velocity[a];
@@ -52,7 +55,8 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 const mixed4 vLo = (aIsLo ? va : vb), vHi = (aIsLo ? vb : va);
                 const mixed4 d = nearestDisplacement(rLo, rHi, boxSize, invBoxSize);
                 const mixed dx = d.x, dy = d.y, dz = d.z;
-                const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];  // friction, rc, s, rc^2
+                const int typePair = atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a];
+                const mixed4 p = typeParams[typePair];  // friction, rc, s, rc^2
                 const mixed r2 = dx*dx+dy*dy+dz*dz;
                 if (r2 >= p.w || r2 == 0)
                     continue;
@@ -60,12 +64,13 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 const mixed wR = pairRandomWeight(pairLinearWeight(r, p.y), p.z);
                 const mixed ex = dx/r, ey = dy/r, ez = dz/r;
                 // 2 mu friction f, f the pair's thermostat factor (sigma follows as sqrt(2 gamma kT))
-                const mixed gamma = 2*p.x/(vLo.w+vHi.w)*thermostatFactor(a, b, exceptionStart, exceptionPartner, exceptionFactor);
+                const mixed factor = thermostatFactor(a, b, exceptionStart, exceptionPartner, exceptionFactor);
+                const mixed gamma = 2*p.x/(vLo.w+vHi.w)*factor;
                 const mm_long sign = (aIsLo ? 1 : -1);
+                // Under shear, hi's image moves at d.w U along x.
+                const mixed vx = vLo.x-vHi.x-d.w*imageVelocity;
                 mixed virialForce = 0;
                 if (terms & 1) {
-                    // Under shear, hi's image moves at d.w U along x.
-                    const mixed vx = vLo.x-vHi.x-d.w*imageVelocity;
                     const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), ex*vx+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
                     fd[0] += sign*toFixed(ex*f);
                     fd[1] += sign*toFixed(ey*f);
@@ -82,8 +87,35 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                     if (virialTerms & 2)
                         virialForce += f;
                 }
-                if (aIsLo && virialTerms != 0)
+                mixed across[3] = {0, 0, 0};  // the forces across e of the virial's terms
+                const mixed4 tp = (transverse ? transverseParams[typePair] : make_mixed4(0, 0, 0, 0));
+                if (tp.x != 0) {
+                    const mixed gammaPerp = 2*tp.x/(vLo.w+vHi.w)*factor, wRPerp = pairRandomWeight(pairLinearWeight(r, p.y), tp.y);
+                    if (terms & 1) {
+                        mixed u[3] = {vx, vLo.y-vHi.y, vLo.z-vHi.z};
+                        perpendicularInPlace(u, ex, ey, ez);
+                        for (int c = 0; c < 3; c++) {
+                            const mixed f = dissipativeAlongE(gammaPerp*pairDissipativeWeight(wRPerp), u[c]);
+                            fd[c] += sign*toFixed(f);
+                            across[c] += (virialTerms & 1 ? f : 0);
+                        }
+                    }
+                    if (terms & 2) {
+                        mixed zeta[3];
+                        // PairRandom::TransverseNoise, on lo
+                        normalVector(pairWords(seed, 5, stepLow, stepHigh, a, b), aIsLo ? a : b, aIsLo ? b : a, zeta);
+                        perpendicularInPlace(zeta, ex, ey, ez);
+                        for (int c = 0; c < 3; c++) {
+                            const mixed f = randomAlongE(pairNoiseAmplitude(gammaPerp, kT)*wRPerp, zeta[c], invSqrtDt);
+                            fr[c] += sign*toFixed(f);
+                            across[c] += (virialTerms & 2 ? f : 0);
+                        }
+                    }
+                }
+                if (aIsLo && virialTerms != 0) {
                     addVirialAlong(w, dx, dy, dz, virialForce/r);
+                    addVirialOuter(w, dx, dy, dz, across[0], across[1], across[2]);
+                }
             }
         }
         storeSums(a, k, numAtoms, paddedNumAtoms, terms, virialTerms, fd, fr, w, outD, outR, virial);

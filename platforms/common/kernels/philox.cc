@@ -56,3 +56,18 @@ DEVICE mixed boxMuller(PhiloxWords w) {
 DEVICE mixed boxMullerPartner(PhiloxWords w) {
     return boxMullerRadius(w)*sin(boxMullerAngle(w));
 }
+
+/*
+ * The noise vector on i of the pair (i, j)'s words (PairRandom::normalVector): both of
+ * Box-Muller's numbers on the first two words and the first on the last two, negated where
+ * i is the higher index.
+ */
+DEVICE void normalVector(PhiloxWords w, int i, int j, mixed* out) {
+    const mixed sign = (i < j ? 1 : -1);
+    PhiloxWords last;
+    last.v[0] = w.v[2];
+    last.v[1] = w.v[3];
+    out[0] = sign*boxMuller(w);
+    out[1] = sign*boxMullerPartner(w);
+    out[2] = sign*boxMuller(last);
+}

@@ -90,6 +90,8 @@ typedef struct {
     unsigned int seed, stream, stepLow, stepHigh;
     int partner;  /* xi the partner of the key's Box-Muller number (boxMullerPartner) */
     int virial;   /* whether to add the pairs' impulse virials */
+    unsigned int transverseStream;  /* the stream of transverse friction's noise vectors (same step) */
+    int transverse;  /* whether any type pair has transverse friction */
 } SweepRule;
 
 /* The relative velocity along e of i and the image of j, which moves at images U along x. */
@@ -108,13 +110,66 @@ inline DEVICE void applyImpulse(mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixe
     (*vj).z -= ez*jj;
 }
 
+/* An impulse J in any direction (across e): v_i += J/m_i, v_j -= J/m_j (FreePairImpulse::applyAcross). */
+inline DEVICE void applyImpulseAcross(mixed4* vi, mixed4* vj, const mixed* J) {
+    (*vi).x += J[0]*(*vi).w;
+    (*vi).y += J[1]*(*vi).w;
+    (*vi).z += J[2]*(*vi).w;
+    (*vj).x -= J[0]*(*vj).w;
+    (*vj).y -= J[1]*(*vj).w;
+    (*vj).z -= J[2]*(*vj).w;
+}
+
+/* The part across e of the relative velocity of i and the image of j, which moves at images U along x. */
+inline DEVICE void velocityAcross(mixed4 vi, mixed4 vj, mixed ex, mixed ey, mixed ez, mixed imagesU, mixed* u) {
+    u[0] = vi.x-vj.x-imagesU;
+    u[1] = vi.y-vj.y;
+    u[2] = vi.z-vj.z;
+    perpendicularInPlace(u, ex, ey, ez);
+}
+
+/*
+ * The rule's update across e of a pair with transverse friction (ShardlowPairUpdate::applyAcross,
+ * PairOrnsteinUhlenbeckUpdate::applyAcross): each axis of the relative velocity's part across e
+ * with gammaPerp wD_perp and the part across e of the pair's noise vector, as one impulse in the
+ * plane; returns it in J.  weight: the pair's 1 - r/rc; tp: the type pair's (rate, exponent, -, -).
+ */
+inline DEVICE void sweepPairAcross(SweepRule s, int i, int j, mixed ex, mixed ey, mixed ez, mixed imagesU, mixed weight, mixed4 tp,
+        mixed mu, mixed f, mixed4* vi, mixed4* vj, mixed* J) {
+    mixed zeta[3], u[3];
+    normalVector(pairWords(s.seed, s.transverseStream, s.stepLow, s.stepHigh, i, j), i, j, zeta);
+    perpendicularInPlace(zeta, ex, ey, ez);
+    const mixed gamma = 2*tp.x*mu*f, wR = pairRandomWeight(weight, tp.y);
+    velocityAcross(*vi, *vj, ex, ey, ez, imagesU, u);
+    if (s.rule == SWEEP_SHARDLOW) {
+        const mixed noise = pairNoiseAmplitude(gamma, s.kT)*wR*sqrt(s.h), friction = gamma*pairDissipativeWeight(wR)*s.h;
+        mixed J2[3];
+        for (int c = 0; c < 3; c++)
+            J[c] = shardlowExplicitHalf(noise*zeta[c], friction, u[c]);
+        applyImpulseAcross(vi, vj, J);
+        velocityAcross(*vi, *vj, ex, ey, ez, imagesU, u);
+        for (int c = 0; c < 3; c++)
+            J2[c] = shardlowImplicitHalf(noise*zeta[c], friction, mu, u[c]);
+        applyImpulseAcross(vi, vj, J2);
+        for (int c = 0; c < 3; c++)
+            J[c] += J2[c];
+        return;
+    }
+    const mixed x = gamma*pairDissipativeWeight(wR)*s.h/mu, decay = exp(-x), spread = sqrt(-s.kT/mu*expm1(-2*x));
+    for (int c = 0; c < 3; c++)
+        J[c] = mu*(pairOUVelocity(u[c], decay, spread, zeta[c])-u[c]);
+    applyImpulseAcross(vi, vj, J);
+}
+
 /*
  * One pair (i, j) at d = r_i - r_j (d.w: the images of b taken off): the rule's update of both velocities in place
  * (ShardlowPairUpdate, LowePairUpdate, PairOrnsteinUhlenbeckUpdate).  p: the type pair's
- * (friction or collision rate, rc, weight exponent s, rc^2); f: the pair's thermostat factor
- * (0: the pair is left alone).  The virial of the impulse is added to `virial` (if s.virial).
+ * (friction or collision rate, rc, weight exponent s, rc^2); tp its transverse friction's
+ * (rate, exponent, -, -); f: the pair's thermostat factor (0: the pair is left alone).  The
+ * virial of the impulse is added to `virial` (if s.virial).
  */
-inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed4 d, mixed4 p, mixed f, GLOBAL mixed4* RESTRICT velocity, mixed* virial) {
+inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed4 d, mixed4 p, mixed4 tp, mixed f, GLOBAL mixed4* RESTRICT velocity,
+        mixed* virial) {
     const mixed dx = d.x, dy = d.y, dz = d.z;
     const mixed r2 = dx*dx+dy*dy+dz*dz;
     if (r2 >= p.w || r2 == 0 || f == 0)
@@ -127,7 +182,7 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed4 d, mixed4 p, mixe
         return;
     const mixed r = sqrt(r2);
     const mixed ex = dx/r, ey = dy/r, ez = dz/r;
-    const mixed wR = pairRandomWeight(pairLinearWeight(r, p.y), p.z);
+    const mixed weight = pairLinearWeight(r, p.y), wR = pairRandomWeight(weight, p.z);
     const mixed mu = 1/(vi.w+vj.w);
     const mixed gamma = 2*p.x*mu*f;  // 2 mu friction f
     const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
@@ -155,10 +210,15 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed4 d, mixed4 p, mixe
         J = mu*(target-u);
         applyImpulse(&vi, &vj, ex, ey, ez, J);
     }
+    mixed across[3] = {0, 0, 0};
+    if (tp.x != 0 && s.rule != SWEEP_LOWE)
+        sweepPairAcross(s, i, j, ex, ey, ez, imagesU, weight, tp, mu, f, &vi, &vj, across);
     velocity[i] = vi;
     velocity[j] = vj;
-    if (s.virial)
+    if (s.virial) {
         addVirialAlong(virial, dx, dy, dz, J/r);
+        addVirialOuter(virial, dx, dy, dz, across[0], across[1], across[2]);
+    }
 }
 
 /* Every pair of one cell, in the sweep order or (reverse) exactly the opposite order. */
@@ -166,7 +226,7 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
         GLOBAL mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams,
         mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms,
         GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor,
-        mixed* virial) {
+        GLOBAL const mixed4* RESTRICT transverseParams, mixed* virial) {
     int neighbours[27];
     const int numNeighbours = sweepNeighbours(cell, numCells, halfShell, neighbours);
     const int first = cellStart[cell], last = cellStart[cell+1];
@@ -180,7 +240,9 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
             for (int t = 0; t < end-begin; t++) {
                 const int j = cellAtoms[reverse ? end-1-t : begin+t];
                 const mixed4 rj = position[j];
-                sweepPair(s, i, j, nearestDisplacement(ri, rj, boxSize, invBoxSize), typeParams[atomType[i]*numTypes+atomType[j]],
+                const int typePair = atomType[i]*numTypes+atomType[j];
+                sweepPair(s, i, j, nearestDisplacement(ri, rj, boxSize, invBoxSize), typeParams[typePair],
+                          s.transverse ? transverseParams[typePair] : make_mixed4(0, 0, 0, 0),
                           thermostatFactor(i, j, exceptionStart, exceptionPartner, exceptionFactor), velocity, virial);
             }
         }
@@ -196,7 +258,8 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
         GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed4 boxSize,
         mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int partner,
         GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor,
-        int virial, int virialStride, GLOBAL mixed* RESTRICT virialRows, mixed imageVelocity) {
+        int virial, int virialStride, GLOBAL mixed* RESTRICT virialRows, mixed imageVelocity, unsigned int transverseStream,
+        int transverse, GLOBAL const mixed4* RESTRICT transverseParams) {
     SweepRule s;
     s.rule = rule;
     s.h = h;
@@ -208,13 +271,16 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
     s.partner = partner;
     s.virial = virial;
     s.imageVelocity = imageVelocity;
+    s.transverseStream = transverseStream;
+    s.transverse = transverse;
     mixed w[6] = {0, 0, 0, 0, 0, 0};
     if (colour < 0) {
         const int total = numCells.x*numCells.y*numCells.z;
         if (GLOBAL_ID == 0) {
             for (int c = 0; c < total; c++)
                 sweepCell(s, reverse ? total-1-c : c, reverse, false, position, velocity, atomType, numTypes, typeParams,
-                          boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor, w);
+                          boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor,
+                          transverseParams, w);
             if (virial)
                 addVirialRow(virialRows, 0, virialStride, w);
         }
@@ -224,7 +290,8 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
     for (int t = GLOBAL_ID; t < px*py*pz; t += GLOBAL_SIZE) {
         const int x = colour%3+3*(t%px), y = (colour/3)%3+3*((t/px)%py), z = colour/9+3*(t/(px*py));
         sweepCell(s, x+numCells.x*(y+numCells.y*z), reverse, true, position, velocity, atomType, numTypes, typeParams,
-                  boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor, w);
+                  boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor,
+                  transverseParams, w);
     }
     if (virial && GLOBAL_ID < px*py*pz)
         addVirialRow(virialRows, GLOBAL_ID, virialStride, w);

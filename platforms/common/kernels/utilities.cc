@@ -79,6 +79,27 @@ inline DEVICE void addVirialAlong(mixed* t, mixed dx, mixed dy, mixed dz, mixed 
     t[5] += c*dy*dz;
 }
 
+/*
+ * t += the virial r F^T of a pair force F not along r (transverse friction), in the order the
+ * host's addOuter writes it (PressureTensor.h): the diagonal r_a F_a, and r_b F_a for a < b.
+ */
+inline DEVICE void addVirialOuter(mixed* t, mixed dx, mixed dy, mixed dz, mixed fx, mixed fy, mixed fz) {
+    t[0] += dx*fx;
+    t[1] += dy*fy;
+    t[2] += dz*fz;
+    t[3] += dy*fx;
+    t[4] += dz*fx;
+    t[5] += dz*fy;
+}
+
+/* The part of (x, y, z) perpendicular to the unit vector e (PairGeometry::perpendicular), in place. */
+inline DEVICE void perpendicularInPlace(mixed* x, mixed ex, mixed ey, mixed ez) {
+    const mixed eDotX = ex*x[0]+ey*x[1]+ez*x[2];
+    x[0] = perpendicularPart(x[0], eDotX, ex);
+    x[1] = perpendicularPart(x[1], eDotX, ey);
+    x[2] = perpendicularPart(x[2], eDotX, ez);
+}
+
 /* rows[k + c stride] += t[c]: a thread's tensor into its own row of a tensor array laid out by component. */
 inline DEVICE void addVirialRow(GLOBAL mixed* RESTRICT rows, int k, int stride, const mixed* t) {
     for (int c = 0; c < 6; c++)

@@ -163,6 +163,8 @@ void CommonDynamics::updateParameters(const System& system, const DPDThermostatI
         pairKernel->setArg(6, parameters.getTable().getNumTypes());
         pairKernel->setArg(7, typeParams);
         setArrayArgs(pairKernel, 8, {&exceptionStart, &exceptionPartner, &exceptionFactor});
+        pairKernel->setArg(29, parameters.hasTransverse() ? 1 : 0);
+        pairKernel->setArg(30, transverseParams);
     }
 }
 
@@ -177,6 +179,11 @@ void CommonDynamics::uploadParameters() {
     for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++)
         rows.insert(rows.end(), {table.value(t), table.cutoff(t), table.exponent(t), table.cutoff2(t)});
     uploadMixed4(cc, typeParams, rows, "dpdTypeParams");
+    // Per type pair: the transverse friction rate, its weight exponent (and two unused).
+    rows.clear();
+    for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++)
+        rows.insert(rows.end(), {table.transverseValue(t), table.transverseExponent(t), 0.0, 0.0});
+    uploadMixed4(cc, transverseParams, rows, "dpdTransverseParams");
     // The thermostat exceptions by lower atom index; without any, every atom's list is empty.
     std::vector<int> start = parameters.getExceptionStart();
     if (start.empty())
@@ -208,6 +215,8 @@ void CommonDynamics::createPairKernels() {
     pairKernel->addArg(cc.getPaddedNumAtoms());
     pairKernel->addArg(virialRows);
     pairKernel->addArg();      // the image velocity U of shear: set per pass
+    pairKernel->addArg(parameters.hasTransverse() ? 1 : 0);
+    pairKernel->addArg(transverseParams);
     sumKernel = program->createKernel("sumForces");
     sumKernel->addArg(numAtoms());
     sumKernel->addArg(cc.getPaddedNumAtoms());

@@ -21,7 +21,7 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
             {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
-            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 27}}, {&scatterKernel, {"scatterVelocities", 6}},
+            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 30}}, {&scatterKernel, {"scatterVelocities", 6}},
             {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels)
         *k.first = createKernelWithArgs(program, k.second.first, k.second.second);
@@ -127,7 +127,8 @@ void CommonSweepDynamics::buildGrid() {
     sortKernel->execute(total);
 }
 
-void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stream stream, long long step, bool reverse, bool partner) {
+void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stream stream, PairRandom::Stream transverseStream,
+                                long long step, bool reverse, bool partner) {
     gatherVelocities();
     buildGrid();
     const double size[4] = {boxSize[0], boxSize[1], boxSize[2], boxSize[3]},
@@ -158,6 +159,9 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
     colourKernel->setArg(24, rows);
     colourKernel->setArg(25, virialRows);
     setMixedArg(cc, colourKernel, 26, parameters.getShearRate() * boxSize[1]);
+    colourKernel->setArg(27, (unsigned int) transverseStream);
+    colourKernel->setArg(28, parameters.hasTransverse() ? 1 : 0);
+    colourKernel->setArg(29, transverseParams);
     for (int k = 0; k < (coloured ? 27 : 1); k++) {
         colourKernel->setArg(0, coloured ? (reverse ? 26 - k : k) : -1);
         colourKernel->execute(rows);
@@ -172,7 +176,8 @@ void CommonShardlowDynamics::step(ContextImpl& context, const ShardlowIntegrator
     ContextSelector selector(cc);
     const double dt = integrator.getStepSize();
     const int forceGroups = integrator.getIntegrationForceGroups();
-    // Every random number of the step is keyed by the step it starts from (but S2's second sweep's).
+    // Every random number of the step is keyed by the step it starts from (but S2's second
+    // sweep's); transverse friction's by the same steps, in streams of its own.
     const long long current = cc.getStepCount(), next = current + 1;
     ensureCarriedForce(context, forceGroups);
     const bool secondOrder = (integrator.getOrder() == 2);
@@ -180,10 +185,10 @@ void CommonShardlowDynamics::step(ContextImpl& context, const ShardlowIntegrator
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
     // the pairs at the new positions, with the partners of the numbers the next step's first
     // sweep takes (as the Reference).
-    sweep(ShardlowRule, h, dt, PairRandom::RandomForce, current, false);
+    sweep(ShardlowRule, h, dt, PairRandom::RandomForce, PairRandom::TransverseNoise, current, false);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder)
-        sweep(ShardlowRule, h, dt, PairRandom::RandomForce, next, true, true);
+        sweep(ShardlowRule, h, dt, PairRandom::RandomForce, PairRandom::TransverseSecondSweep, next, true, true);
     checkStatus(context, next);
     finishStep(dt);
 }
@@ -218,5 +223,6 @@ void CommonLoweAndersenDynamics::middleStep(ContextImpl& context, const LoweAnde
 
 void CommonLoweAndersenDynamics::applyThermostat(const LoweAndersenIntegrator& integrator, long long step) {
     const Rule rule = (integrator.getMethod() == LoweAndersenIntegrator::Lowe ? LoweRule : PairOrnsteinUhlenbeckRule);
-    sweep(rule, integrator.getStepSize(), integrator.getStepSize(), PairRandom::PairThermalisation, step, false);
+    sweep(rule, integrator.getStepSize(), integrator.getStepSize(), PairRandom::PairThermalisation, PairRandom::TransverseNoise, step,
+          false);
 }

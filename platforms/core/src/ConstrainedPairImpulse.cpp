@@ -1,6 +1,8 @@
 #include "openmmdpd/ConstrainedPairImpulse.h"
+#include "openmm/OpenMMException.h"
 #include <cmath>
 #include <numeric>
+#include <string>
 
 using namespace DPDPlugin;
 using OpenMM::Vec3;
@@ -115,4 +117,9 @@ double ConstrainedPairImpulse::inverseReducedMass(const PairGeometry& p) const {
 void ConstrainedPairImpulse::apply(const PairGeometry& p, double impulse, std::vector<Vec3>& v) const {
     for (const std::pair<int, Vec3>& s : spread)
         v[s.first] += s.second * impulse;
+}
+
+void ConstrainedPairImpulse::applyAcross(const PairGeometry& p, const Vec3&, std::vector<Vec3>&) const {
+    throw OpenMM::OpenMMException("transverse friction in a pairwise-sequential sweep is not available with constraints "
+                                  "(pair " + std::to_string(p.i) + ", " + std::to_string(p.j) + ")");
 }

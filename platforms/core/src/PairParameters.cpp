@@ -7,7 +7,7 @@ using namespace DPDPlugin;
 using OpenMM::Vec3;
 
 TypePairTable::TypePairTable(int numParticles, const std::map<int, int>& particleTypes, double defaultValue, double defaultCutoff,
-                             const std::vector<Entry>& entries, double defaultExponent) {
+                             const std::vector<Entry>& entries, double defaultExponent, Transverse defaultTransverse) {
     // Dense indices for the types in use (type 0 always exists: it is everyone's default).
     std::map<int, int> dense = {{0, 0}};
     for (auto& entry : particleTypes)
@@ -22,13 +22,16 @@ TypePairTable::TypePairTable(int numParticles, const std::map<int, int>& particl
     values.assign(numTypes * numTypes, defaultValue);
     cutoffs.assign(numTypes * numTypes, defaultCutoff);
     exponents.assign(numTypes * numTypes, defaultExponent);
+    transverse.assign(numTypes * numTypes, defaultTransverse);
     for (const Entry& e : entries) {
         const int a = dense.at(e.type1), b = dense.at(e.type2);
         values[a * numTypes + b] = values[b * numTypes + a] = e.value;
         cutoffs[a * numTypes + b] = cutoffs[b * numTypes + a] = e.cutoff;
         exponents[a * numTypes + b] = exponents[b * numTypes + a] = e.exponent;
+        transverse[a * numTypes + b] = transverse[b * numTypes + a] = e.transverse;
     }
     standardWeights = std::all_of(exponents.begin(), exponents.end(), [](double s) { return s == 2; });
+    anyTransverse = std::any_of(transverse.begin(), transverse.end(), [](const Transverse& t) { return t.value != 0; });
     maxCutoff = *std::max_element(cutoffs.begin(), cutoffs.end());
     cutoffs2.resize(cutoffs.size());
     inverseCutoffs.resize(cutoffs.size());
@@ -46,9 +49,13 @@ TypePairTable thermostatTable(const OpenMM::System& system, const DPDThermostatI
         TypePairTable::Entry& e = entries[k];
         integrator.getTypePairParameters(k, e.type1, e.type2, e.value, e.cutoff);
         e.exponent = integrator.getTypePairWeightExponent(k);
+        integrator.getTypePairTransverseFriction(k, e.transverse.value, e.transverse.exponent);
     }
+    TypePairTable::Transverse transverse;
+    transverse.value = integrator.getDefaultTransverseFriction();
+    transverse.exponent = integrator.getDefaultTransverseWeightExponent();
     return TypePairTable(system.getNumParticles(), integrator.getParticleTypes(), integrator.getDefaultFriction(),
-                         integrator.getDefaultCutoff(), entries, integrator.getDefaultWeightExponent());
+                         integrator.getDefaultCutoff(), entries, integrator.getDefaultWeightExponent(), transverse);
 }
 
 } // namespace
@@ -77,9 +84,10 @@ DPDPairParameters::DPDPairParameters(const OpenMM::System& system, const DPDTher
     if (uniformMass && first >= 0) {
         // The same arithmetic as pairGamma() and noiseAmplitude(), so either path gives the same bits.
         for (int t = 0; t < table.getNumTypes() * table.getNumTypes(); t++) {
-            const double gamma = 2 * mass[first] * mass[first] / (mass[first] + mass[first]) * table.value(t);
+            const double gamma = reducedMassTwice(first, first) * table.value(t);
             typeGamma.push_back(gamma);
             typeSigma.push_back(noiseAmplitude(gamma));
+            typeTransverseGamma.push_back(reducedMassTwice(first, first) * table.transverseValue(t));
         }
     }
     else

@@ -34,6 +34,7 @@ DPDThermostatForces::DPDThermostatForces(const OpenMM::System& system, const DPD
     workerListSize.resize(workers);
     keptPairs.resize(workers);
     keptImageVx.resize(workers);
+    keptTransverseGammaWD.resize(workers);
     keptPairCount.assign(workers, 0);
     workerDissipative.assign(workers, std::vector<Vec3>(system.getNumParticles()));
     if (workers > 1)
@@ -228,7 +229,7 @@ bool DPDThermostatForces::appendUniformPairs(const UniformPairRule& rule, int p,
 bool DPDThermostatForces::uniformRule(const SoftRepulsionKernel* soft, UniformPairRule& rule) const {
     const TypePairTable& table = parameters.getTable();
     if (table.getNumTypes() != 1 || !table.hasStandardWeights() || parameters.hasExceptions() || !parameters.hasUniformMass() ||
-        parameters.getShearRate() != 0)
+        parameters.getShearRate() != 0 || parameters.hasTransverse())
         return false;
     if (soft != nullptr && (soft->getTable().getNumTypes() != 1 || soft->hasExcludedPairs()))
         return false;
@@ -475,10 +476,12 @@ struct DPDSlotForces {
     const SoftRepulsionKernel* soft;
     std::vector<DPDThermostatForces::KeptPair>* keep;  // where the accepted pairs go (null: nowhere)
     std::vector<double>* keepImageVx;                  // and their image velocities (null: nowhere)
+    std::vector<double>* keepTransverse;               // and their transverse gamma wD (null: nowhere)
     int terms;
     bool separate;
     long long step;
     double invSqrtDt;
+    bool transverse;  // whether any pair has transverse friction (the rows have none)
     int batchSize = 0;  // pairs in the batch so far: accumulateBySlot's position in it
     size_t keptCount = 0;  // pairs kept so far: the vectors may be longer
     PairGeometry g[PairSearch::MAX_BLOCK];
@@ -531,14 +534,14 @@ struct DPDSlotForces {
             softForcesAlongE(n, slots);
         DPDThermostatForces::KeptPair* kept = (keep != nullptr ? keptSpace(n) : nullptr);
         int k = 0;
-        if (terms == (DissipativeTerm | RandomTerm)) {
+        if (terms == (DissipativeTerm | RandomTerm) && !transverse) {
             const DPDBatchPairs pairs{g, slotP, slots, xi, soft != nullptr ? softOnPair : nullptr, sortedHeights != nullptr, kept};
             k = dpdPairForceRows(pairs, n, sortedVelocities.data(), invSqrtDt, forces, separate ? dissipative : nullptr);
         }
         if (kept != nullptr)
             keepPairs(k, n, slots, kept);
         for (; k < n; k++) {
-            forces[k] = (terms & RandomTerm ? DPDPairForce::random(g[k], xi[k], invSqrtDt) : Vec3());
+            forces[k] = (terms & RandomTerm ? randomForce(k) : Vec3());
             Vec3 fd;
             if (terms & DissipativeTerm)
                 fd = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[slotP[k]], sortedVelocities[slots[k]]));
@@ -547,6 +550,16 @@ struct DPDSlotForces {
                 forces[k] += g[k].e * softOnPair[k];
         }
         batchSize = 0;
+    }
+
+    /** FR of pair k of the batch, across e too where it has transverse friction. */
+    Vec3 randomForce(int k) const {
+        const Vec3 along = DPDPairForce::random(g[k], xi[k], invSqrtDt);
+        if (!g[k].hasTransverse())
+            return along;
+        double zeta[3];
+        random.normalVector(PairRandom::TransverseNoise, step, first[k], second[k], zeta);
+        return along + DPDPairForce::transverseRandom(g[k], zeta, invSqrtDt);
     }
 
     /** softOnPair[0, n) pair by pair, from the soft force's table. */
@@ -568,6 +581,9 @@ struct DPDSlotForces {
         if (keepImageVx != nullptr)
             for (int k = 0; k < n; k++)
                 (*keepImageVx)[keptCount + k] = g[k].imageVx;
+        if (keepTransverse != nullptr)
+            for (int k = 0; k < n; k++)
+                (*keepTransverse)[keptCount + k] = g[k].transverseGammaWD;
         keptCount += n;
     }
 
@@ -582,6 +598,8 @@ struct DPDSlotForces {
             keep->resize(keptCount + n);
         if (keepImageVx != nullptr && keptCount + n > keepImageVx->size())
             keepImageVx->resize(keptCount + n);
+        if (keepTransverse != nullptr && keptCount + n > keepTransverse->size())
+            keepTransverse->resize(keptCount + n);
         return keep->data() + keptCount;
     }
 };
@@ -592,14 +610,16 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
                                               double dt, bool keep) {
     // Kept in a vector of this worker's own, as in findWorkerPairs.
     std::vector<KeptPair> kept;
-    std::vector<double> keptVx;
+    std::vector<double> keptVx, keptTransverse;
     kept.swap(keptPairs[w]);
     keptVx.swap(keptImageVx[w]);
-    const bool sheared = !sortedHeights.empty();
+    keptTransverse.swap(keptTransverseGammaWD[w]);
+    const bool sheared = !sortedHeights.empty(), transverse = parameters.hasTransverse();
     std::unique_ptr<DPDSlotForces> evaluate(
             new DPDSlotForces{parameters, random, search.getSortedIndex(), *slotVelocities, sortedTypes, sortedSoftTypes,
                               sheared ? sortedHeights.data() : nullptr, searchedHeight, soft, keep ? &kept : nullptr,
-                              keep && sheared ? &keptVx : nullptr, terms, separate, step, 1 / std::sqrt(dt)});
+                              keep && sheared ? &keptVx : nullptr, keep && transverse ? &keptTransverse : nullptr, terms, separate,
+                              step, 1 / std::sqrt(dt), transverse});
     UniformPairRule rule;
     if (canRunUniformPairBlock() && ((soft != nullptr && uniformRule(soft, rule)) || uniformRule(nullptr, rule)))
         evaluate->uniform = &rule;
@@ -607,17 +627,19 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);
     kept.swap(keptPairs[w]);
     keptVx.swap(keptImageVx[w]);
+    keptTransverse.swap(keptTransverseGammaWD[w]);
     keptPairCount[w] = evaluate->keptCount;
 }
 
 namespace {
 
-/** FD of one kept pair, its j image moving with imageVx. */
-Vec3 keptDissipative(const DPDThermostatForces::KeptPair& pair, double imageVx, const Vec3* v) {
+/** FD of one kept pair, its j image moving with imageVx, with transverse friction transverseGammaWD. */
+Vec3 keptDissipative(const DPDThermostatForces::KeptPair& pair, double imageVx, double transverseGammaWD, const Vec3* v) {
     PairGeometry g;
     g.e = pair.e;
     g.gammaWD = pair.gammaWD;
     g.imageVx = imageVx;
+    g.transverseGammaWD = transverseGammaWD;
     return DPDPairForce::dissipative(g, g.relativeVelocity(v[pair.p], v[pair.q]));
 }
 
@@ -628,6 +650,7 @@ void DPDThermostatForces::sumKeptDissipative(int w) {
     workerReach[w].zero(out);
     const KeptPair* kept = keptPairs[w].data();
     const double* imageVx = (sortedHeights.empty() ? nullptr : keptImageVx[w].data());  // sheared as in the pass that kept them
+    const double* transverse = (parameters.hasTransverse() ? keptTransverseGammaWD[w].data() : nullptr);
     const Vec3* v = slotVelocities->data();
     const size_t count = keptPairCount[w];
     // The forces a chunk at a time (four pairs at a time where the rows run); the pairs come
@@ -639,8 +662,10 @@ void DPDThermostatForces::sumKeptDissipative(int w) {
     for (size_t start = 0; start < count; start += chunk) {
         const int n = (int) std::min<size_t>(chunk, count - start);
         const double* chunkImageVx = (imageVx != nullptr ? imageVx + start : nullptr);
-        for (int k = dpdKeptDissipativeRows(kept + start, chunkImageVx, n, v, f); k < n; k++)
-            f[k] = keptDissipative(kept[start + k], chunkImageVx != nullptr ? chunkImageVx[k] : 0.0, v);
+        // (The rows have no transverse friction.)
+        for (int k = (transverse ? 0 : dpdKeptDissipativeRows(kept + start, chunkImageVx, n, v, f)); k < n; k++)
+            f[k] = keptDissipative(kept[start + k], chunkImageVx != nullptr ? chunkImageVx[k] : 0.0,
+                                   transverse != nullptr ? transverse[start + k] : 0.0, v);
         for (int k = 0; k < n; k++) {
             const KeptPair& pair = kept[start + k];
             if (pair.p != p) {

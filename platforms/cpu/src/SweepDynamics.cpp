@@ -92,14 +92,16 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     // the partners of the next step's first sweep's numbers.
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
+    const TransverseNoiseSource firstNoise{thermostat.getRandom(), PairRandom::TransverseNoise, current},
+            secondNoise{thermostat.getRandom(), PairRandom::TransverseSecondSweep, current + 1};
     withPairImpulse(context, dt, [&](const auto& impulse) {
-        sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, firstSweepNormals(current), false);
+        sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse, &firstNoise}, firstSweepNormals(current), false);
     });
     constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder) {
         withPairImpulse(context, dt, [&](const auto& impulse) {
-            sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, secondSweepNormals(current + 1), true);
+            sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse, &secondNoise}, secondSweepNormals(current + 1), true);
         });
         constrainVelocities(context);
     }
@@ -143,12 +145,14 @@ void LoweAndersenDynamics::middleStep(OpenMM::ContextImpl& context, const LoweAn
 void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator, long long step) {
     std::vector<Vec3>& v = *platformData(context).velocities;
     const double dt = integrator.getStepSize(), kT = thermostat.getParameters().getKT();
+    const TransverseNoiseSource transverseNoise{thermostat.getRandom(), PairRandom::TransverseNoise, step};
     withPairImpulse(context, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
             sweep(v, LowePairUpdate<Impulse>{dt, kT, impulse}, bits(PairRandom::PairThermalisation, step), false);
         else
-            sweep(v, PairOrnsteinUhlenbeckUpdate<Impulse, RowConsistentMath>{dt, kT, impulse}, normals(PairRandom::PairThermalisation, step), false);
+            sweep(v, PairOrnsteinUhlenbeckUpdate<Impulse, RowConsistentMath>{dt, kT, impulse, &transverseNoise},
+                  normals(PairRandom::PairThermalisation, step), false);
     });
     constrainVelocities(context);
 }

@@ -56,6 +56,7 @@ inline void setEntry(PairGeometry& g, const HitRow& row, int l, const UniformPai
     g.sigmaWR = row.sigmaWR[l];
     g.rate = rule.rate;
     g.imageVx = 0;
+    g.transverseGammaWD = g.transverseSigmaWR = 0;
 }
 
 inline void setEntry(UniformPair& pair, const HitRow& row, int l, const UniformPairRule&) {

@@ -53,7 +53,13 @@ void ReferenceDynamics::addRandom(const std::vector<PairGeometry>& pairs, long l
                                   SymmetricTensor* virial) const {
     for (const PairGeometry& p : pairs) {
         const double xi = random.gaussian(PairRandom::RandomForce, step, p.i, p.j);
-        addPairForce(p, DPDPairForce::random(p, xi, 1 / std::sqrt(dt)), out, virial);
+        Vec3 f = DPDPairForce::random(p, xi, 1 / std::sqrt(dt));
+        if (p.hasTransverse()) {
+            double zeta[3];
+            random.normalVector(PairRandom::TransverseNoise, step, p.i, p.j, zeta);
+            f += DPDPairForce::transverseRandom(p, zeta, 1 / std::sqrt(dt));
+        }
+        addPairForce(p, f, out, virial);
     }
 }
 
@@ -61,7 +67,7 @@ void ReferenceDynamics::addPairForce(const PairGeometry& p, const Vec3& f, std::
     out[p.i] += f;
     out[p.j] -= f;
     if (virial != nullptr)
-        addAlong(*virial, p.e, pairDistance(p, parameters) * f.dot(p.e));
+        addPairForceVirial(*virial, p, pairDistance(p, parameters), f);
 }
 
 void ReferenceDynamics::movePositions(OpenMM::ContextImpl& context, const std::vector<Vec3>& move, long long step, double dt,

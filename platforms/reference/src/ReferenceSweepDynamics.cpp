@@ -67,16 +67,19 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
     // S1: sweep (dt) ; VV.  S2: sweep (dt/2) ; VV ; sweep (dt/2) in the reverse order, over
     // the pairs at the new positions, with the partners of the numbers the next step's first
     // sweep takes over the same pairs (independent of them and of this step's).
+    // Transverse friction draws its noise vectors from streams of their own, keyed as the numbers along e.
+    const TransverseNoiseSource firstNoise{random, PairRandom::TransverseNoise, current},
+            secondNoise{random, PairRandom::TransverseSecondSweep, current + 1};
     const std::vector<PairGeometry> pairs = findPairs(context);
     withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
-        sweep(pairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse}, DrawnNormals{random, PairRandom::RandomForce, current}, v);
+        sweep(pairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse, &firstNoise}, DrawnNormals{random, PairRandom::RandomForce, current}, v);
     });
     constrainVelocities(context);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder) {
         const std::vector<PairGeometry> newPairs = findPairs(context);
         withPairImpulse(context, newPairs, dt, [&](const auto& impulse) {
-            sweepInReverse(newPairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse},
+            sweepInReverse(newPairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse, &secondNoise},
                            DrawnPartnerNormals{random, PairRandom::RandomForce, current + 1}, v);
         });
         constrainVelocities(context);
@@ -127,12 +130,13 @@ void ReferenceLoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context
     std::vector<Vec3>& v = *data(context).velocities;
     const double dt = integrator.getStepSize(), kT = parameters.getKT();
     const std::vector<PairGeometry> pairs = findPairs(context);
+    const TransverseNoiseSource transverseNoise{random, PairRandom::TransverseNoise, step};
     withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
             sweep(pairs, LowePairUpdate<Impulse>{dt, kT, impulse}, DrawnBits{random, PairRandom::PairThermalisation, step}, v);
         else
-            sweep(pairs, PairOrnsteinUhlenbeckUpdate<Impulse>{dt, kT, impulse},
+            sweep(pairs, PairOrnsteinUhlenbeckUpdate<Impulse>{dt, kT, impulse, &transverseNoise},
                   DrawnNormals{random, PairRandom::PairThermalisation, step}, v);
     });
     constrainVelocities(context);

@@ -160,14 +160,15 @@ def test_validation_eos_chi_quick(tmp_path):
 
 
 def test_schmidt_number_quick(tmp_path):
-    # docs/results/schmidt-number: lowering s from 2 to 1/2 halves D and triples Sc.  Here
-    # (500 particles, 4 ps of MSD, 6 ps of NEMD) D is known to ~0.008 and Sc to ~0.35, so the
-    # order of both is many sigma clear, and D at s = 2 lands near the full run's.
+    # docs/results/schmidt-number: lowering s from 2 to 1/2 halves D and triples Sc, and
+    # transverse friction gamma_perp = gamma does more.  Here (500 particles, 4 ps of MSD, 6 ps
+    # of NEMD) D is known to ~0.008 and Sc to ~0.35, so the order of both is many sigma clear,
+    # and D at s = 2 lands near the full run's.
     out = str(tmp_path / "schmidt")
-    standard, wide = example("schmidt_number").main(["--quick", "--out", out])
-    assert (standard["s"], wide["s"]) == (2.0, 0.5)
-    assert 0.2 < standard["D"] < 0.4 and wide["D"] < standard["D"] - 0.05
-    assert wide["Sc"] > standard["Sc"] + 0.8 and standard["eta"] > 0
+    standard, wide, transverse = example("schmidt_number").main(["--quick", "--out", out])
+    assert (standard["s"], wide["s"], transverse["gamma_perp"]) == (2.0, 0.5, 4.5)
+    assert 0.2 < standard["D"] < 0.4 and wide["D"] < standard["D"] - 0.05 and transverse["D"] < standard["D"] - 0.05
+    assert wide["Sc"] > standard["Sc"] + 0.8 and transverse["Sc"] > standard["Sc"] + 0.8 and standard["eta"] > 0
     for name in ("schmidt.csv", "report.md"):
         assert os.path.getsize(os.path.join(out, name)) > 0
 

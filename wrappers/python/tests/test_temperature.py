@@ -90,16 +90,37 @@ SIGMA_LIMIT = 0.002            # the combined sigma that can still see a 1 % bia
 SIGMA_GOAL = 0.0018            # where sampling stops (a margin for the noise of g)
 THREADS = os.environ.get("OPENMMDPD_TEST_THREADS", "2")
 
-Case = namedtuple("Case", "integrator scene dt target systematic source slow exponent", defaults=(2.0,))
+Case = namedtuple("Case", "integrator scene dt target systematic source slow exponent transverse", defaults=(2.0, None))
 
 
-def structure(scene):
+def structure(scene, transverse=None):
+    """(g, Var, omega^2) of a scene; with transverse friction (gamma_perp, s_perp) on the ideal gas,
+    g and Var of its friction matrix (ideal_gas_friction_moments)."""
+    if transverse is not None:
+        assert scene == "ideal"
+        return (*ideal_gas_friction_moments(GAMMA, 2.0, *transverse), 0.0)
     return (G_IDEAL, VAR_IDEAL, 0.0) if scene == "ideal" else (G_SOFT, VAR_SOFT, OMEGA2_SOFT)
 
 
-def velocity_verlet_case(integrator, scene, dt, slow=False):
+def ideal_gas_friction_moments(gamma, s, gamma_perp, s_perp, rho=4.0):
+    """g = tr Gamma/3N and Var = tr Gamma^2/3N - g^2 of an ideal gas of unit masses (rc = 1)
+    whose pair friction is A(r) = gamma wD e e^T + gamma_perp wD_perp (I - e e^T).  Gamma's
+    diagonal blocks are sum_j A_ij and its off-diagonal ones -A_ij; with Poisson positions the
+    directions of different pairs are independent, so the mean of A over directions,
+    a(r) I, a = (gamma wD + 2 gamma_perp wD_perp)/3, gives the cross terms:
+    g = rho int a d^3r and Var = (2/3) rho int tr A^2 d^3r, tr A^2 = gamma^2 wD^2 + 2 gamma_perp^2 wD_perp^2,
+    with int (1 - r)^s 4 pi r^2 dr = 8 pi / ((s+1)(s+2)(s+3)).  Without transverse friction
+    these are G_IDEAL = 4 pi gamma rho/90 and VAR_IDEAL = (2/3) 4 pi gamma^2 rho/105."""
+    def moment(p):
+        return 8 * math.pi / ((p + 1) * (p + 2) * (p + 3))
+    g = rho * (gamma * moment(s) + 2 * gamma_perp * moment(s_perp)) / 3
+    var = 2 * rho * (gamma ** 2 * moment(2 * s) + 2 * gamma_perp ** 2 * moment(2 * s_perp)) / 3
+    return g, var
+
+
+def velocity_verlet_case(integrator, scene, dt, slow=False, transverse=None):
     """Target and systematic of the VV family from the mode analysis (docstring, 2. and 3.)."""
-    g, var, omega2 = structure(scene)
+    g, var, omega2 = structure(scene, transverse)
     x, d = g * dt, var / (2 * g)
     lam = {"GW": 0.5, "GW0.65": 0.65, "Staggered": 0.65}.get(integrator)
     if lam is not None:
@@ -112,16 +133,17 @@ def velocity_verlet_case(integrator, scene, dt, slow=False):
         raise ValueError(integrator)
     motion = q * d * dt / 2
     return Case(integrator, scene, dt, frozen + motion, math.hypot(motion, omega2 * dt * dt / 6),
-                f"modes f(g dt) + q D dt/2, q={q:g}", slow)
+                f"modes f(g dt) + q D dt/2, q={q:g}", slow, 2.0, transverse)
 
 
-def exact_case(integrator, scene, dt, slow=False, exponent=2.0):
+def exact_case(integrator, scene, dt, slow=False, exponent=2.0, transverse=None):
     """Pair rules and EDPD: 1 from the thermostat; VV's O(dt^2) on model B, EDPD's motion term.
-    The pair rules' 1 holds for any weight exponent s (1. does not depend on wD)."""
+    The pair rules' 1 holds for any weight exponent s (1. does not depend on wD) and with
+    transverse friction (gamma_perp, s_perp): its update is the same map on each axis across e."""
     g, var, omega2 = structure(scene)
     motion = var / (2 * g) * dt if integrator.startswith("EDPD") else 0.0
     return Case(integrator, scene, dt, 1.0, math.hypot(motion, omega2 * dt * dt / 6),
-                "exact 1" + (" +- D dt" if motion else ""), slow, exponent)
+                "exact 1" + (" +- D dt" if motion else ""), slow, exponent, transverse)
 
 
 def lammps_case(dt, slow=False):
@@ -134,6 +156,12 @@ CASES = [
     # weight exponents s = 0.5 and 1 (wD = (1 - r/rc)^s), through the pair OU's exponential and Shardlow's halves
     exact_case("PairOU", "ideal", 0.05, exponent=0.5),
     exact_case("S1", "ideal", 0.05, exponent=1.0),
+    # transverse friction (gamma_perp, s_perp) across e, each with another exponent along it
+    exact_case("PairOU", "ideal", 0.05, exponent=1.0, transverse=(GAMMA, 2.0)),
+    exact_case("S1", "ideal", 0.05, transverse=(GAMMA, 0.5)),
+    exact_case("S2", "ideal", 0.05, transverse=(2 * GAMMA, 1.0)),
+    velocity_verlet_case("SC-VV", "ideal", 0.01, transverse=(GAMMA, 2.0)),
+    velocity_verlet_case("DPD-VV", "ideal", 0.002, slow=True, transverse=(GAMMA, 1.0)),
     # pairs found where O acts: OpenMM's DPDIntegrator, which finds them before the half
     # drift, runs 0.8 % hot here
     *(exact_case(name, "ideal", 0.1) for name in ("Lowe-mid", "PairOU-mid")),
@@ -162,7 +190,7 @@ MIN_CHUNKS = 4                                     # so that g is estimated from
 MAX_SAMPLE_TIME = 400.0                            # ps; ~40 is typical, EDPD's memory needs ~200
 
 
-def make_integrator(name, dt, exponent=2.0):
+def make_integrator(name, dt, exponent=2.0, transverse=None):
     if name.startswith("EDPD"):
         scheme = name.split("-")[1]
         # OneSided in its DPD limit (alpha dt = 100); Symmetric is unstable there, so a
@@ -178,6 +206,9 @@ def make_integrator(name, dt, exponent=2.0):
     else:
         integrator = catalog.integrators()[name](dt)
     integrator.setDefaultWeightExponent(exponent)
+    if transverse is not None:
+        integrator.setDefaultTransverseFriction(transverse[0])
+        integrator.setDefaultTransverseWeightExponent(transverse[1])
     return integrator
 
 
@@ -199,7 +230,7 @@ def sample_kT(case, platform_name, seed):
     """kT samples after equilibration, in chunks until the combined sigma reaches
     SIGMA_GOAL (the fewest steps that can see a 1 % bias) or MAX_SAMPLE_TIME runs out."""
     scene = make_scene(case)
-    integrator = make_integrator(case.integrator, case.dt, case.exponent)
+    integrator = make_integrator(case.integrator, case.dt, case.exponent, case.transverse)
     integrator.setRandomNumberSeed(seed)
     properties = {"Threads": THREADS} if platform_name == "CPU" else {}
     context = openmm.Context(scene.system, integrator, openmm.Platform.getPlatformByName(platform_name), properties)
@@ -227,6 +258,8 @@ def mean_and_error(samples):
 def parameters():
     for case in CASES:
         name = f"{case.integrator}-{case.scene}-dt{case.dt:g}" + (f"-s{case.exponent:g}" if case.exponent != 2 else "")
+        if case.transverse is not None:
+            name += "-perp{:g}-s{:g}".format(*case.transverse)
         seed = zlib.crc32(name.encode()) % 1000000 + 1  # fixed per case; 0 would mean "any"
         for platform_name in ("CPU", "Reference"):
             slow = case.slow or platform_name == "Reference"
@@ -249,26 +282,33 @@ def test_kinetic_temperature(case, platform_name, seed):
 
 # --- where G_SOFT, VAR_SOFT and OMEGA2_SOFT come from: OpenMM alone, no plugin code ---
 
-def friction_moments(x, box):
+def friction_moments(x, box, transverse=(0.0, 2.0)):
     """(tr Gamma, tr Gamma^2)/3N of the DPD friction matrix at positions x: Gamma has the
-    diagonal blocks sum_j w e e^T and off-diagonal blocks -w e e^T, w = gamma (1 - r)^2."""
+    diagonal blocks sum_j A_ij and off-diagonal blocks -A_ij, A = w e e^T + w_perp (I - e e^T),
+    w = gamma (1 - r)^2, w_perp = gamma_perp (1 - r)^s_perp."""
     pairs = cKDTree(x % box, boxsize=box).query_pairs(1.0, output_type="ndarray")
     d = x[pairs[:, 0]] - x[pairs[:, 1]]
     d -= box * np.round(d / box)
     r = np.linalg.norm(d, axis=1)
-    w = GAMMA * (1 - r) ** 2
-    outer = w[:, None, None] * (d[:, :, None] * d[:, None, :]) / (r * r)[:, None, None]
+    w, w_perp = GAMMA * (1 - r) ** 2, transverse[0] * (1 - r) ** transverse[1]
+    along = (d[:, :, None] * d[:, None, :]) / (r * r)[:, None, None]
+    block = w[:, None, None] * along + w_perp[:, None, None] * (np.eye(3) - along)
     diagonal = np.zeros((len(x), 3, 3))
-    np.add.at(diagonal, pairs[:, 0], outer)
-    np.add.at(diagonal, pairs[:, 1], outer)
-    return 2 * w.sum() / (3 * len(x)), ((diagonal ** 2).sum() + 2 * (w ** 2).sum()) / (3 * len(x))
+    np.add.at(diagonal, pairs[:, 0], block)
+    np.add.at(diagonal, pairs[:, 1], block)
+    trace = np.trace(block, axis1=1, axis2=2)
+    return 2 * trace.sum() / (3 * len(x)), ((diagonal ** 2).sum() + 2 * (block ** 2).sum()) / (3 * len(x))
 
 
-def test_friction_moments_of_the_ideal_gas_match_the_formulas():
+@pytest.mark.parametrize("transverse", [(0.0, 2.0), (GAMMA, 2.0), (GAMMA, 0.5)])
+def test_friction_moments_of_the_ideal_gas_match_the_formulas(transverse):
     rng = np.random.default_rng(1)
-    g, m2 = np.mean([friction_moments(rng.uniform(0, 10, (N, 3)), 10.0) for _ in range(4)], axis=0)
-    assert g == pytest.approx(G_IDEAL, rel=0.01)
-    assert m2 - g * g == pytest.approx(VAR_IDEAL, rel=0.03)
+    g, m2 = np.mean([friction_moments(rng.uniform(0, 10, (N, 3)), 10.0, transverse) for _ in range(4)], axis=0)
+    expected_g, expected_var = ideal_gas_friction_moments(GAMMA, 2.0, *transverse)
+    if transverse[0] == 0:
+        assert (expected_g, expected_var) == pytest.approx((G_IDEAL, VAR_IDEAL), rel=1e-12)
+    assert g == pytest.approx(expected_g, rel=0.01)
+    assert m2 - g * g == pytest.approx(expected_var, rel=0.03)
 
 
 @pytest.mark.slow

@@ -43,6 +43,8 @@ def staggered(dt):
 
 
 INTEGRATORS = every_integrator()
+# The schemes with transverse friction: the velocity-Verlet family, Shardlow and the pair OU.
+TRANSVERSE = ("GW", "GW0.65", "DPD-VV", "SC-VV", "S1", "S2", "PairOU", "PairOU-mid")
 
 
 def final_state(integrator, platform_name, steps=20):
@@ -87,11 +89,36 @@ def test_an_exception_is_the_friction_scaled_by_its_factor(name, factor, platfor
 
 
 @pytest.mark.parametrize("platform_name", ["Reference", "CPU"])
+@pytest.mark.parametrize("factor", [0.0, 0.3])
+@pytest.mark.parametrize("name", TRANSVERSE)
+def test_an_exception_scales_the_transverse_friction_alike(name, factor, platform_name):
+    # As above, with transverse friction 3 (exponent 1) on every pair: the exceptions scale it
+    # by f, its noise by sqrt(f), as a type pair with f times the transverse friction.
+    with_exceptions, with_type_pair = INTEGRATORS[name](DT), INTEGRATORS[name](DT)
+    for integrator in (with_exceptions, with_type_pair):
+        for i in GROUP:
+            integrator.setParticleType(i, 1)
+        integrator.addTypePair(0, 1, FRICTION, CUTOFF)
+        integrator.addTypePair(1, 1, FRICTION * factor if integrator is with_type_pair else FRICTION, CUTOFF)
+        integrator.setDefaultTransverseFriction(3.0)
+        integrator.setDefaultTransverseWeightExponent(1.0)
+    with_type_pair.setTypePairTransverseFriction(1, 3.0 * factor, 1.0)
+    for i, j in itertools.combinations(GROUP, 2):
+        with_exceptions.addThermostatException(i, j, factor)
+    expected, actual = final_state(with_type_pair, platform_name), final_state(with_exceptions, platform_name)
+    for what, e, a in zip(("positions", "velocities", "thermostat pressure"), expected, actual):
+        assert np.max(np.abs(a - e), initial=0) <= 1e-9 * np.max(np.abs(e), initial=0), f"{name}: {what}"
+
+
+@pytest.mark.parametrize("platform_name", ["Reference", "CPU"])
 @pytest.mark.parametrize("name", sorted(INTEGRATORS))
 def test_an_excluded_pair_gets_no_thermostat_force(name, platform_name):
-    # Two particles 0.5 apart, no conservative force: with f = 0 nothing changes their velocities.
+    # Two particles 0.5 apart, no conservative force: with f = 0 nothing changes their
+    # velocities, transverse friction included where the scheme has it.
     integrator = INTEGRATORS[name](DT)
     integrator.addThermostatException(1, 0, 0.0)
+    if name in TRANSVERSE:
+        integrator.setDefaultTransverseFriction(FRICTION)
     if isinstance(integrator, openmmdpd.StaggeredDPDIntegrator):
         integrator.setPolymerParticles([0])
     system = openmm.System()
@@ -213,12 +240,20 @@ def case_seed(name):
     return zlib.crc32(name.encode()) % 1000000 + 1  # fixed per case; 0 would mean "any"
 
 
+def exact_rule_cases():
+    """(rule, factor, transverse friction) for every exact rule at f = 0 and 0.5, and for those
+    with transverse friction (gamma_perp = gamma) at 0.5."""
+    cases = [(name, factor, 0.0) for name in EXACT_RULES for factor in (0.0, 0.5)]
+    return cases + [(name, 0.5, FRICTION) for name in EXACT_RULES if name in TRANSVERSE]
+
+
 @pytest.mark.parametrize("platform_name", [pytest.param("Reference", marks=pytest.mark.slow), "CPU"])
-@pytest.mark.parametrize("factor", [0.0, 0.5])
-@pytest.mark.parametrize("name", EXACT_RULES)
-def test_the_pair_rules_stay_exact_with_bonded_pairs_excepted(name, factor, platform_name):
+@pytest.mark.parametrize("name, factor, transverse", exact_rule_cases())
+def test_the_pair_rules_stay_exact_with_bonded_pairs_excepted(name, factor, transverse, platform_name):
     """<kT> = 1 at dt = 0.1 for Lowe and the pair OU (thermostat after the Verlet step), S1
-    (before it) and S2 (half before, half after), with every 1-2 pair of the chains at factor f.
+    (before it) and S2 (half before, half after), with every 1-2 pair of the chains at factor f,
+    and with transverse friction (its update keeps Maxwell-Boltzmann velocities as the one
+    along e does: test_temperature.py, 1.).
 
     Why exact: 1000 unit masses at rho = 4, all in chains of 10, whose only force is the
     springs, linear (rest length 0; bond vectors stay far below half the box).  For a linear
@@ -242,11 +277,12 @@ def test_the_pair_rules_stay_exact_with_bonded_pairs_excepted(name, factor, plat
     sigma <= 0.0018 (statistical, pymbar); at least 100 ps, 25 times the slowest Rouse time
     of a chain (~4 ps), so that the statistical inefficiency is measured."""
     dt, n = 0.1, 1000
-    label = f"{platform_name}-{name}-f{factor:g}"
+    label = f"{platform_name}-{name}-f{factor:g}" + (f"-perp{transverse:g}" if transverse else "")
     seed = case_seed(label)
     system, positions, bonds = harmonic_chains(n, 4.0, n // CHAIN_LENGTH)
     integrator = catalog.integrators()[name](dt)
     integrator.createThermostatExceptionsFromBonds(bonds, factor, 1.0)
+    integrator.setDefaultTransverseFriction(transverse)
     integrator.setRandomNumberSeed(seed)
     context = openmm.Context(system, integrator, openmm.Platform.getPlatformByName(platform_name), properties(platform_name))
     context.setPositions(positions)
@@ -260,17 +296,21 @@ def test_the_pair_rules_stay_exact_with_bonded_pairs_excepted(name, factor, plat
 
 # --- momentum with every thermostat option on --------------------------------------------------
 
-def with_every_option(integrator, positions, box):
+def with_every_option(integrator, positions, box, transverse):
     """Group particles type 1 (friction 3, weight exponent 1 against type 0), default exponent
-    0.5 (EDPD refuses exponents other than 2), and exceptions from bonds that join each group
-    particle to its two nearest other particles: the 1-2 pairs excluded, the 1-3 pairs at 0.5.
-    The bonds join the group to the rest only, so no pair is both 1-2 and 1-3."""
+    0.5 (EDPD refuses exponents other than 2), transverse friction where the scheme has it
+    (4.5, and 2 with exponent 0.5 against type 0), and exceptions from bonds that join each
+    group particle to its two nearest other particles: the 1-2 pairs excluded, the 1-3 pairs
+    at 0.5.  The bonds join the group to the rest only, so no pair is both 1-2 and 1-3."""
     for i in GROUP:
         integrator.setParticleType(i, 1)
     pair = integrator.addTypePair(0, 1, 3.0, CUTOFF)
     if not isinstance(integrator, openmmdpd.EDPDIntegrator):
         integrator.setDefaultWeightExponent(0.5)
         integrator.setTypePairWeightExponent(pair, 1.0)
+    if transverse:
+        integrator.setDefaultTransverseFriction(FRICTION)
+        integrator.setTypePairTransverseFriction(pair, 2.0, 0.5)
     others = np.array([i for i in range(len(positions)) if i not in set(GROUP)])
     bonds = []
     for i in GROUP:
@@ -298,7 +338,7 @@ def test_momentum_is_conserved_with_every_thermostat_option(name, platform_name)
         fast = scenes.periodic_marker_force()
         fast.setForceGroup(scenes.FAST_FORCE_GROUP)
         scene.system.addForce(fast)
-    integrator = with_every_option(INTEGRATORS[name](DT), scene.positions._value, box)
+    integrator = with_every_option(INTEGRATORS[name](DT), scene.positions._value, box, name in TRANSVERSE)
     integrator.setRandomNumberSeed(3)
     context = openmm.Context(scene.system, integrator, openmm.Platform.getPlatformByName(platform_name), properties(platform_name))
     context.setPositions(scene.positions)

@@ -57,7 +57,7 @@ def test_xml_keeps_the_exponents_and_older_files_read_as_standard():
     start, end = xml.index("<WeightExponents>"), xml.index("</WeightExponents>") + len("</WeightExponents>")
     older = xml[:start] + xml[end:]
     older = older.replace(' defaultWeightExponent="1"', "")
-    assert "WeightExponent" not in older
+    assert " defaultWeightExponent" not in older and "WeightExponents" not in older
     plain = openmmdpd.LoweAndersenIntegrator.cast(openmm.XmlSerializer.deserialize(older))
     assert plain.hasStandardWeights()
 

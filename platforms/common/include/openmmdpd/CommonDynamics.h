@@ -118,7 +118,7 @@ protected:
     OpenMM::ComputeProgram program;
     std::unique_ptr<CommonPositionStrain> strain;
     std::unique_ptr<CommonCellList> cells;  // with pair forces only, as fd, fr, pairKernel and sumKernel
-    OpenMM::ComputeArray atomType, typeParams, exceptionStart, exceptionPartner, exceptionFactor, velocity, fd, fr, carriedForce, status,
+    OpenMM::ComputeArray atomType, typeParams, transverseParams, exceptionStart, exceptionPartner, exceptionFactor, velocity, fd, fr, carriedForce, status,
             moveValue, virialRows;
     OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel, findSlotsKernel, slideKernel;
     OpenMM::ComputeArray moleculeStart, moleculeAtoms, slotOf;  // for the sliding boundaries

@@ -32,11 +32,13 @@ protected:
     /**
      * The Context's velocities swept pair by pair at the current positions with a rule over
      * a time h, the numbers of `stream` keyed by step (partner: their partners,
-     * PairRandom::partnerGaussian); reverse: in exactly the opposite order.  While a
+     * PairRandom::partnerGaussian), transverse friction's noise vectors those of
+     * transverseStream at the same step; reverse: in exactly the opposite order.  While a
      * thermostat virial is recorded, the sweep adds that of its pair impulses over dt, the
      * step (docs/theory/pressure-tensor.md).
      */
-    void sweep(Rule rule, double h, double dt, PairRandom::Stream stream, long long step, bool reverse, bool partner = false);
+    void sweep(Rule rule, double h, double dt, PairRandom::Stream stream, PairRandom::Stream transverseStream, long long step,
+               bool reverse, bool partner = false);
 
 private:
     /** The Reference's grid at the current positions, each cell's atoms in index order. */

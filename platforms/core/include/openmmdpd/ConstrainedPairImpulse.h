@@ -38,6 +38,12 @@ public:
     double commonInverseReducedMass() const { return 1.0; }
     /** Apply J along the pair (after inverseReducedMass for the same pair). */
     void apply(const PairGeometry& p, double impulse, std::vector<OpenMM::Vec3>& v) const;
+    /**
+     * An impulse across e has another effective mass for each direction: transverse friction
+     * with constraints is refused before a step (DPDThermostatIntegrator::validate), and this
+     * throws if reached.
+     */
+    void applyAcross(const PairGeometry& p, const OpenMM::Vec3& impulse, std::vector<OpenMM::Vec3>& v) const;
 
 private:
     struct Constraint {
@@ -71,6 +77,11 @@ struct FreePairImpulse {
         v[p.i] += p.e * (impulse * invMass[p.i]);
         v[p.j] -= p.e * (impulse * invMass[p.j]);
     }
+    /** An impulse J in any direction (transverse friction's, across e): J/m_i at i, -J/m_j at j. */
+    void applyAcross(const PairGeometry& p, const OpenMM::Vec3& impulse, std::vector<OpenMM::Vec3>& v) const {
+        v[p.i] += impulse * invMass[p.i];
+        v[p.j] -= impulse * invMass[p.j];
+    }
 };
 
 /**
@@ -85,6 +96,10 @@ struct EqualMassPairImpulse {
         const double kick = impulse * invMass;
         v[p.i] += p.e * kick;
         v[p.j] -= p.e * kick;
+    }
+    void applyAcross(const PairGeometry& p, const OpenMM::Vec3& impulse, std::vector<OpenMM::Vec3>& v) const {
+        v[p.i] += impulse * invMass;
+        v[p.j] -= impulse * invMass;
     }
 };
 

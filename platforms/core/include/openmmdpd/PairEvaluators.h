@@ -25,14 +25,41 @@ namespace DPDPlugin {
 
 /** The DPD pair forces (docs/theory/dpd.md): the force on i (j gets the opposite). */
 struct DPDPairForce {
-    /** FD_ij = -gamma wD(r) (e . v_ij) e. */
+    /** FD_ij = -gamma wD(r) (e . v_ij) e, and -gamma_perp wD_perp(r) (I - e e^T) v_ij with transverse friction. */
     static OpenMM::Vec3 dissipative(const PairGeometry& p, const OpenMM::Vec3& vij) {
-        return p.e * dissipativeAlongE(p.gammaWD, p.e.dot(vij));
+        const OpenMM::Vec3 along = p.e * dissipativeAlongE(p.gammaWD, p.e.dot(vij));
+        return p.hasTransverse() ? along + transverseDissipative(p, vij) : along;
     }
-    /** FR_ij = sigma wR xi e / sqrt(dt). */
+    /** FR_ij along e: sigma wR xi e / sqrt(dt). */
     static OpenMM::Vec3 random(const PairGeometry& p, double xi, double invSqrtDt) {
         return p.e * randomAlongE(p.sigmaWR, xi, invSqrtDt);
     }
+    /** The transverse friction's dissipative force, -gamma_perp wD_perp (I - e e^T) v_ij. */
+    static OpenMM::Vec3 transverseDissipative(const PairGeometry& p, const OpenMM::Vec3& vij) {
+        const OpenMM::Vec3 u = p.perpendicular(vij);
+        return OpenMM::Vec3(dissipativeAlongE(p.transverseGammaWD, u[0]), dissipativeAlongE(p.transverseGammaWD, u[1]),
+                            dissipativeAlongE(p.transverseGammaWD, u[2]));
+    }
+    /**
+     * The transverse friction's random force, sigma_perp wR_perp (I - e e^T) zeta / sqrt(dt),
+     * zeta the pair's three normal numbers (PairRandom::normalVector, stream TransverseNoise).
+     */
+    static OpenMM::Vec3 transverseRandom(const PairGeometry& p, const double* zeta, double invSqrtDt) {
+        const OpenMM::Vec3 z = p.perpendicular(OpenMM::Vec3(zeta[0], zeta[1], zeta[2]));
+        return OpenMM::Vec3(randomAlongE(p.transverseSigmaWR, z[0], invSqrtDt), randomAlongE(p.transverseSigmaWR, z[1], invSqrtDt),
+                            randomAlongE(p.transverseSigmaWR, z[2], invSqrtDt));
+    }
+};
+
+/**
+ * Where a pair rule draws the noise of transverse friction: the pair's PairRandom::normalVector
+ * of one stream and step, keyed by its particles (so the pairs must be listed by particle).
+ */
+struct TransverseNoiseSource {
+    const PairRandom& random;
+    PairRandom::Stream stream;
+    long long step;
+    void operator()(const PairGeometry& p, double* zeta) const { random.normalVector(stream, step, p.i, p.j, zeta); }
 };
 
 /** The soft repulsion of DPDSoftRepulsionForce (docs/theory/forces.md), for r < rc. */
@@ -173,11 +200,13 @@ enum class ShardlowForm { TwoHalves, OneKick };
 /** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
 template <class Impulse = FreePairImpulse, ShardlowForm Form = ShardlowForm::TwoHalves>
 struct ShardlowPairUpdate {
-    ShardlowPairUpdate(double h, Impulse impulse) :
-            h(h), sqrtH(std::sqrt(h)), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()) {}
+    /** transverse: where pairs with transverse friction draw its noise (null: no pair has any). */
+    ShardlowPairUpdate(double h, Impulse impulse, const TransverseNoiseSource* transverse = nullptr) :
+            h(h), sqrtH(std::sqrt(h)), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()), transverse(transverse) {}
     double h, sqrtH;
     Impulse impulse;
     Reciprocal reducedMass;  // mu from 1/mu
+    const TransverseNoiseSource* transverse;
 
     /** xi: the pair's normal number of the sweep (RandomForce of the step; for S2's second, its partner at the next step). */
     void operator()(const PairGeometry& p, double xi, std::vector<OpenMM::Vec3>& v) const {
@@ -186,6 +215,34 @@ struct ShardlowPairUpdate {
             return;
         PairVelocities<Impulse> pair{p, v, impulse, reducedMass(inverseMu)};
         apply(pair, p.sigmaWR, p.gammaWD, xi);
+        if (transverse != nullptr && p.hasTransverse())
+            applyAcross(p, v, pair.mu);
+    }
+    /**
+     * The same splitting across e: each axis of the relative velocity's part perpendicular to
+     * e follows the one-dimensional rule with gamma_perp wD_perp and the perpendicular part of
+     * the pair's noise vector (docs/theory/shardlow.md), as one impulse in the plane.
+     */
+    void applyAcross(const PairGeometry& p, std::vector<OpenMM::Vec3>& v, double mu) const {
+        double zeta[3];
+        (*transverse)(p, zeta);
+        const OpenMM::Vec3 noise = p.perpendicular(OpenMM::Vec3(zeta[0], zeta[1], zeta[2])) * (p.transverseSigmaWR * sqrtH);
+        const double friction = p.transverseGammaWD * h;
+        const auto across = [&]() { return p.perpendicular(p.relativeVelocity(v[p.i], v[p.j])); };
+        OpenMM::Vec3 u = across(), J;
+        if (Form == ShardlowForm::OneKick) {
+            for (int a = 0; a < 3; a++)
+                J[a] = shardlowOneKick(noise[a], friction, mu, u[a]);
+            impulse.applyAcross(p, J, v);
+            return;
+        }
+        for (int a = 0; a < 3; a++)
+            J[a] = shardlowExplicitHalf(noise[a], friction, u[a]);
+        impulse.applyAcross(p, J, v);
+        u = across();
+        for (int a = 0; a < 3; a++)
+            J[a] = shardlowImplicitHalf(noise[a], friction, mu, u[a]);
+        impulse.applyAcross(p, J, v);
     }
     /**
      * Both halves on a pair (PairVelocities), given sigma wR, gamma wD and xi; or on a row of
@@ -233,13 +290,15 @@ struct LowePairUpdate {
  */
 template <class Impulse = FreePairImpulse, class Math = ScalarMath>
 struct PairOrnsteinUhlenbeckUpdate {
-    PairOrnsteinUhlenbeckUpdate(double h, double kT, Impulse impulse) :
+    /** transverse: where pairs with transverse friction draw its noise (null: no pair has any). */
+    PairOrnsteinUhlenbeckUpdate(double h, double kT, Impulse impulse, const TransverseNoiseSource* transverse = nullptr) :
             h(h), kT(kT), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()),
-            commonKTOverMu(kT / reducedMass.inverse) {}
+            commonKTOverMu(kT / reducedMass.inverse), transverse(transverse) {}
     double h, kT;
     Impulse impulse;
     Reciprocal reducedMass;  // mu from 1/mu
     double commonKTOverMu;   // kT/mu for the common mu
+    const TransverseNoiseSource* transverse;
 
     /** xi: the pair's normal number of stream PairThermalisation. */
     void operator()(const PairGeometry& p, double xi, std::vector<OpenMM::Vec3>& v) const {
@@ -248,7 +307,26 @@ struct PairOrnsteinUhlenbeckUpdate {
             return;
         const double mu = reducedMass(inverseMu);
         PairVelocities<Impulse, Math> pair{p, v, impulse, mu};
-        apply(pair, p.gammaWD, xi, inverseMu == reducedMass.common ? commonKTOverMu : kT / mu);
+        const double kTOverMu = (inverseMu == reducedMass.common ? commonKTOverMu : kT / mu);
+        apply(pair, p.gammaWD, xi, kTOverMu);
+        if (transverse != nullptr && p.hasTransverse())
+            applyAcross(p, v, mu, kTOverMu);
+    }
+    /**
+     * The exact solution across e: each axis of the relative velocity's part perpendicular to
+     * e decays with gamma_perp wD_perp and takes the perpendicular part of the pair's noise
+     * vector (docs/theory/lowe-andersen.md), as one impulse in the plane.
+     */
+    void applyAcross(const PairGeometry& p, std::vector<OpenMM::Vec3>& v, double mu, double kTOverMu) const {
+        double zeta[3];
+        (*transverse)(p, zeta);
+        const OpenMM::Vec3 z = p.perpendicular(OpenMM::Vec3(zeta[0], zeta[1], zeta[2]));
+        const double decay = Math::exp(-p.transverseGammaWD * h / mu), spread = Math::sqrt(kTOverMu * (1 - decay * decay));
+        const OpenMM::Vec3 u = p.perpendicular(p.relativeVelocity(v[p.i], v[p.j]));
+        OpenMM::Vec3 J;
+        for (int a = 0; a < 3; a++)
+            J[a] = mu * (pairOUVelocity(u[a], decay, spread, z[a]) - u[a]);
+        impulse.applyAcross(p, J, v);
     }
     /**
      * The update of a pair (PairVelocities) given gamma wD, xi and kT/mu, or of a row of pairs

@@ -57,14 +57,26 @@ OPENMMDPD_FORMULA pairNoiseAmplitude(Real gamma, Scalar kT) {
     return sqrt(2 * gamma * kT);
 }
 
-/* The dissipative force on i along e: F_D = -gamma wD (e . v_ij). */
+/*
+ * The dissipative force on i along e: F_D = -gamma wD (e . v_ij).  Transverse friction
+ * applies the same formula to each axis of v_ij's part perpendicular to e
+ * (perpendicularPart), with its own gamma and weight.
+ */
 OPENMMDPD_FORMULA dissipativeAlongE(Real gammaWD, Real eDotVij) {
     return -gammaWD * eDotVij;
 }
 
-/* The random force on i along e: F_R = sigma wR xi / sqrt(dt). */
+/* The random force on i along e: F_R = sigma wR xi / sqrt(dt) (and across e, as dissipativeAlongE). */
 OPENMMDPD_FORMULA randomAlongE(Real sigmaWR, Real xi, Scalar invSqrtDt) {
     return sigmaWR * xi * invSqrtDt;
+}
+
+/*
+ * One axis a of the part of a vector x perpendicular to the pair's e, x_a - (e . x) e_a:
+ * what transverse friction acts on (the relative velocity) and draws (its noise).
+ */
+OPENMMDPD_FORMULA perpendicularPart(Real x, Real eDotX, Real e) {
+    return x - eDotX * e;
 }
 
 /*

@@ -20,12 +20,15 @@ namespace DPDPlugin {
  * friction gamma_ij wD = gamma_ij (1 - r/rc)^s, weighted noise amplitude
  * sigma_ij (1 - r/rc)^(s/2), and its type pair's friction rate (1/ps; Lowe-Andersen's
  * collision rate Gamma).  Under shear, imageVx is the x velocity of the image of j that
- * r_ij points to, relative to j itself (0 within the box).
+ * r_ij points to, relative to j itself (0 within the box).  With transverse friction, the
+ * friction and noise across e, weighted with their own exponent: gamma_perp wD_perp and
+ * sigma_perp wR_perp (both 0 without).
  */
 struct PairGeometry {
     int i, j;
     OpenMM::Vec3 e;
     double wR, gammaWD, sigmaWR, rate, imageVx;
+    double transverseGammaWD = 0, transverseSigmaWR = 0;  // (0 unless set: most code makes pairs without it)
 
     /** v_ij = v_i - v_j, with j moving as its image does. */
     OpenMM::Vec3 relativeVelocity(const OpenMM::Vec3& vi, const OpenMM::Vec3& vj) const {
@@ -33,22 +36,38 @@ struct PairGeometry {
         v[0] -= imageVx;
         return v;
     }
+    /** Whether the pair has friction across e (its pair forces and impulses are then not along e). */
+    bool hasTransverse() const { return transverseGammaWD != 0; }
+    /** The part of x perpendicular to e, (I - e e^T) x. */
+    OpenMM::Vec3 perpendicular(const OpenMM::Vec3& x) const {
+        const double eDotX = e.dot(x);
+        return OpenMM::Vec3(perpendicularPart(x[0], eDotX, e[0]), perpendicularPart(x[1], eDotX, e[1]),
+                            perpendicularPart(x[2], eDotX, e[2]));
+    }
 };
 
 /**
  * A per-type-pair table of one parameter, a cutoff and a weight exponent, resolved for
  * lookup by particle: the particle types in use get dense indices, and pairs of types
  * without an entry get the defaults.  The thermostats (friction, and the exponent s of their
- * weights) and the soft repulsion force (a; its exponents unused) both use it.
+ * weights; a transverse friction and its exponent) and the soft repulsion force (a; the
+ * rest unused) both use it.
  */
+/** A type pair's transverse friction and its weight exponent (or the defaults'). */
+struct TypePairTransverse {
+    double value = 0, exponent = 2;
+};
+
 class TypePairTable {
 public:
+    typedef TypePairTransverse Transverse;
     struct Entry {
         int type1, type2;
         double value, cutoff, exponent = 2;
+        Transverse transverse;
     };
     TypePairTable(int numParticles, const std::map<int, int>& particleTypes, double defaultValue, double defaultCutoff,
-                  const std::vector<Entry>& entries, double defaultExponent = 2);
+                  const std::vector<Entry>& entries, double defaultExponent = 2, Transverse defaultTransverse = Transverse());
     /** The table index of the pair (i, j). */
     int index(int i, int j) const { return typeIndex[i] * numTypes + typeIndex[j]; }
     /** The dense type of a particle, and the table index of a pair of dense types. */
@@ -59,17 +78,22 @@ public:
     double cutoff2(int t) const { return cutoffs2[t]; }
     double inverseCutoff(int t) const { return inverseCutoffs[t]; }
     double exponent(int t) const { return exponents[t]; }
+    double transverseValue(int t) const { return transverse[t].value; }
+    double transverseExponent(int t) const { return transverse[t].exponent; }
     /** Whether every type pair has the standard weight exponent 2. */
     bool hasStandardWeights() const { return standardWeights; }
+    /** Whether any type pair has a transverse friction. */
+    bool hasTransverse() const { return anyTransverse; }
     double getMaxCutoff() const { return maxCutoff; }
     int getNumTypes() const { return numTypes; }
 
 private:
     int numTypes;
     double maxCutoff;
-    bool standardWeights;
+    bool standardWeights, anyTransverse;
     std::vector<int> typeIndex;
     std::vector<double> values, cutoffs, cutoffs2, inverseCutoffs, exponents;
+    std::vector<Transverse> transverse;
 };
 
 /**
@@ -143,6 +167,9 @@ public:
         out.sigmaWR = sigma * wR;
         out.rate = table.value(t);
         out.imageVx = imageVx;
+        out.transverseGammaWD = out.transverseSigmaWR = 0;
+        if (table.hasTransverse())
+            setTransverse(out, t, w);
         if (!exceptionStart.empty())
             scaleByException(out);
         return true;
@@ -166,6 +193,8 @@ public:
                 return exceptionFactor[k];
         return 1;
     }
+    /** Whether any pair has transverse friction. */
+    bool hasTransverse() const { return table.hasTransverse(); }
     /** gamma and sigma of every pair of table index t where masses are uniform (hasUniformMass), as pairGeometry takes them. */
     double uniformGamma(int t) const { return typeGamma[t]; }
     double uniformSigma(int t) const { return typeSigma[t]; }
@@ -173,9 +202,7 @@ public:
     double noiseAmplitude(double gamma) const { return pairNoiseAmplitude(gamma, kT); }
 
     /** The friction coefficient gamma_ij = 2 mu_ij friction_ij of any pair (amu/ps). */
-    double pairGamma(int i, int j) const {
-        return 2 * mass[i] * mass[j] / (mass[i] + mass[j]) * table.value(table.index(i, j));
-    }
+    double pairGamma(int i, int j) const { return reducedMassTwice(i, j) * table.value(table.index(i, j)); }
     /** gamma_ij f_ij: the friction coefficient of any pair scaled by its thermostat exception (amu/ps). */
     double pairThermostatGamma(int i, int j) const { return pairGamma(i, j) * pairFactor(i, j); }
     /** The cutoff of any pair (nm). */
@@ -183,13 +210,23 @@ public:
 
 private:
     void listExceptions(const DPDThermostatIntegrator& integrator);
-    /** gamma by f, sigma by sqrt(f) and Lowe's collision rate by f, for a pair with an exception. */
+    double reducedMassTwice(int i, int j) const { return 2 * mass[i] * mass[j] / (mass[i] + mass[j]); }
+    /** The transverse friction and noise of a pair of table index t and linear weight w. */
+    void setTransverse(PairGeometry& p, int t, double w) const {
+        const double gamma = uniformMass ? typeTransverseGamma[t] : reducedMassTwice(p.i, p.j) * table.transverseValue(t);
+        const double wR = pairRandomWeight(w, table.transverseExponent(t));
+        p.transverseGammaWD = gamma * pairDissipativeWeight(wR);
+        p.transverseSigmaWR = noiseAmplitude(gamma) * wR;
+    }
+    /** gamma by f, sigma by sqrt(f) (along e and across) and Lowe's collision rate by f, for a pair with an exception. */
     void scaleByException(PairGeometry& p) const {
         const double f = pairFactor(p.i, p.j);
         if (f != 1) {
             p.gammaWD *= f;
             p.sigmaWR *= std::sqrt(f);
             p.rate *= f;
+            p.transverseGammaWD *= f;
+            p.transverseSigmaWR *= std::sqrt(f);
         }
     }
     TypePairTable table;
@@ -202,7 +239,7 @@ private:
     // When every particle has one mass (the usual DPD fluid), gamma and sigma depend on the
     // type pair alone and are looked up instead of computed per pair.
     bool uniformMass;
-    std::vector<double> typeGamma, typeSigma;
+    std::vector<double> typeGamma, typeSigma, typeTransverseGamma;
 };
 
 } // namespace DPDPlugin

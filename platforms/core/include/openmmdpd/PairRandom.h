@@ -23,7 +23,9 @@ public:
         RandomForce = 0, PairThermalisation = 1,
         // (2 was S2's second sweep, which now takes partnerGaussian of the next step's RandomForce)
         AuxiliaryNoise = 3,    // EDPD: the noise of a pair variable's step
-        AuxiliaryRecall = 4    // EDPD: a pair variable drawn or caught up when a pair (re)appears
+        AuxiliaryRecall = 4,   // EDPD: a pair variable drawn or caught up when a pair (re)appears
+        TransverseNoise = 5,   // transverse friction: the noise across e (a force's, or a sweep's)
+        TransverseSecondSweep = 6  // transverse friction: S2's second sweep
     };
 
     explicit PairRandom(uint32_t seed = 0) : seed(seed) {}
@@ -55,6 +57,20 @@ public:
      */
     double partnerGaussian(Stream stream, long long step, int i, int j) const {
         return boxMullerPartner(bits(stream, step, i, j));
+    }
+
+    /**
+     * The noise vector of transverse friction on i, out[0..2], of which the pair rules take the
+     * part perpendicular to e: three independent standard normal numbers (both of Box-Muller
+     * on the first two words, the first on the last two) for the lower index, their negatives
+     * for the higher, so that i and j get opposite forces whichever is named first.
+     */
+    void normalVector(Stream stream, long long step, int i, int j, double* out) const {
+        const r123::Philox4x32::ctr_type r = bits(stream, step, i, j);
+        const double sign = (i < j ? 1.0 : -1.0);
+        out[0] = sign * boxMuller(r);
+        out[1] = sign * boxMullerPartner(r);
+        out[2] = sign * boxMuller(r[2], r[3]);
     }
 
     /** A uniform number in [0, 1) from one word of a draw. */

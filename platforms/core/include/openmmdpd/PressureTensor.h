@@ -27,6 +27,22 @@ inline void addAlong(SymmetricTensor& t, const OpenMM::Vec3& e, double c) {
     t[5] += c * e[1] * e[2];
 }
 
+/**
+ * t += the virial r F^T of a pair force F (on i) at separation r = r_i - r_j that need not be
+ * along r (transverse friction), as the momentum flux the pressure tensor holds: the
+ * diagonal r_a F_a, and for a < b the flux of a-momentum across planes of constant b,
+ * r_b F_a (P_xy = sum y_ij F_x / V: the shear stress of flow along x with its gradient along
+ * y).  For F along r it is addAlong's.
+ */
+inline void addOuter(SymmetricTensor& t, const OpenMM::Vec3& r, const OpenMM::Vec3& f) {
+    t[0] += r[0] * f[0];
+    t[1] += r[1] * f[1];
+    t[2] += r[2] * f[2];
+    t[3] += r[1] * f[0];
+    t[4] += r[2] * f[0];
+    t[5] += r[2] * f[1];
+}
+
 inline void addTensor(SymmetricTensor& t, const SymmetricTensor& u, double scale = 1) {
     for (int k = 0; k < 6; k++)
         t[k] += scale * u[k];
@@ -37,6 +53,14 @@ inline double pairDistance(const PairGeometry& p, const DPDPairParameters& param
     return parameters.pairCutoff(p.i, p.j) * (1 - p.wR);
 }
 
+/** virial += the virial of a pair force f on i at distance r: along e (addAlong) unless the pair has transverse friction (addOuter). */
+inline void addPairForceVirial(SymmetricTensor& virial, const PairGeometry& p, double r, const OpenMM::Vec3& f) {
+    if (p.hasTransverse())
+        addOuter(virial, p.e * r, f);
+    else
+        addAlong(virial, p.e, r * f.dot(p.e));
+}
+
 /** virial += sum over the pairs of r_k c_k e_k e_k^T, for pair forces c_k e_k given per pair. */
 inline void addPairVirial(const std::vector<PairGeometry>& pairs, const std::vector<double>& c, const DPDPairParameters& parameters,
                           SymmetricTensor& virial) {
@@ -45,30 +69,36 @@ inline void addPairVirial(const std::vector<PairGeometry>& pairs, const std::vec
 }
 
 /**
- * The impulses J (along e, on i) that a pairwise-sequential sweep gives each pair of its
- * list, for the thermostat part of the pressure tensor (docs/theory/pressure-tensor.md): the
- * sweep's rules apply their impulses through RecordedImpulse, which adds J to the pair's
- * own entry, so a sweep split over threads records without sharing an entry.
+ * The impulses J (along e, on i; and across e, with transverse friction) that a
+ * pairwise-sequential sweep gives each pair of its list, for the thermostat part of the
+ * pressure tensor (docs/theory/pressure-tensor.md): the sweep's rules apply their impulses
+ * through RecordedImpulse, which adds J to the pair's own entry, so a sweep split over
+ * threads records without sharing an entry.
  */
 class PairImpulseRecord {
 public:
     /** Start recording a sweep over these pairs (the rules get references into the list). */
-    void start(const std::vector<PairGeometry>& pairs) {
+    void start(const std::vector<PairGeometry>& pairs, bool transverse) {
         first = pairs.data();
         impulse.assign(pairs.size(), 0.0);
+        acrossImpulse.assign(transverse ? pairs.size() : 0, OpenMM::Vec3());
     }
     void add(const PairGeometry& p, double J) { impulse[&p - first] += J; }
-    /** virial += scale * sum over the pairs of r J e e^T. */
+    void addAcross(const PairGeometry& p, const OpenMM::Vec3& J) { acrossImpulse[&p - first] += J; }
+    /** virial += scale * sum over the pairs of r J e e^T (and r J_perp^T, addOuter). */
     void addVirial(const std::vector<PairGeometry>& pairs, const DPDPairParameters& parameters, double scale,
                    SymmetricTensor& virial) const {
         for (size_t k = 0; k < pairs.size(); k++)
             if (impulse[k] != 0)
                 addAlong(virial, pairs[k].e, scale * pairDistance(pairs[k], parameters) * impulse[k]);
+        for (size_t k = 0; k < acrossImpulse.size(); k++)
+            addOuter(virial, pairs[k].e * (scale * pairDistance(pairs[k], parameters)), acrossImpulse[k]);
     }
 
 private:
     const PairGeometry* first = nullptr;
     std::vector<double> impulse;
+    std::vector<OpenMM::Vec3> acrossImpulse;
 };
 
 /** A sweep's pair impulse that also records what it applies (Impulse: FreePairImpulse or ConstrainedPairImpulse). */
@@ -81,6 +111,10 @@ struct RecordedImpulse {
     void apply(const PairGeometry& p, double J, std::vector<OpenMM::Vec3>& v) const {
         impulse.apply(p, J, v);
         record.add(p, J);
+    }
+    void applyAcross(const PairGeometry& p, const OpenMM::Vec3& J, std::vector<OpenMM::Vec3>& v) const {
+        impulse.applyAcross(p, J, v);
+        record.addAcross(p, J);
     }
 };
 
@@ -97,7 +131,7 @@ void withRecordedPairImpulse(ConstrainedPairImpulse& constrained, const DPDPairP
         withPairImpulse(constrained, parameters.getInverseMasses(), positions, body);
         return;
     }
-    record.start(pairs);
+    record.start(pairs, parameters.hasTransverse());
     withPairImpulse(constrained, parameters.getInverseMasses(), positions, [&](const auto& impulse) {
         body(RecordedImpulse<std::decay_t<decltype(impulse)>>{impulse, record});
     });

@@ -37,7 +37,8 @@ void accumulateAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, 
 
 /**
  * The same loop for the pressure tensor: virial += sum over pairs k in [begin, end) of
- * r_k f_k e_k e_k^T, f_k the first output of the evaluator (a force along e_k).
+ * r_k f_k e_k e_k^T, f_k the first output of the evaluator (a force along e_k, or across it
+ * too with transverse friction: addPairForceVirial).
  */
 template <class Evaluator>
 void addVirialAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, size_t end, Evaluator evaluate,
@@ -49,7 +50,7 @@ void addVirialAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, s
     for (size_t k = begin; k < end; k++) {
         const PairGeometry& p = pairs[k];
         evaluate(k, p, f);
-        addAlong(sum, p.e, pairDistance(p, parameters) * f[0].dot(p.e));
+        addPairForceVirial(sum, p, pairDistance(p, parameters), f[0]);
     }
     virial = sum;
 }
@@ -57,7 +58,8 @@ void addVirialAlongPairs(const std::vector<PairGeometry>& pairs, size_t begin, s
 /**
  * FD(v) and/or FR of each pair (docs/theory/dpd.md): one output with the terms asked
  * for (summed if both), or two (FD, FR) when Separate.  The normal numbers are drawn a
- * chunk of pairs at a time (PairRandomBatch), keyed by `step`.
+ * chunk of pairs at a time (PairRandomBatch), keyed by `step` (transverse friction's pair by
+ * pair).
  */
 template <bool Dissipative, bool Random, bool Separate>
 struct DPDListForces {
@@ -86,6 +88,11 @@ struct DPDListForces {
                 drawChunk();
             }
             fr = DPDPairForce::random(p, xi[k - chunkStart], invSqrtDt);
+            if (p.hasTransverse()) {
+                double zeta[3];
+                random.normalVector(PairRandom::TransverseNoise, step, p.i, p.j, zeta);
+                fr += DPDPairForce::transverseRandom(p, zeta, invSqrtDt);
+            }
         }
         f[0] = (Separate ? fd : fd + fr);
         if (Separate)

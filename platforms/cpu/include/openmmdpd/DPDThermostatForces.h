@@ -268,6 +268,7 @@ private:
     std::vector<int> sortedTypes, sortedSoftTypes;
     std::vector<std::vector<KeptPair>> keptPairs;  // each worker's, by its FindAndKeepPairs pass
     std::vector<std::vector<double>> keptImageVx;  // and their image velocities (read under shear only)
+    std::vector<std::vector<double>> keptTransverseGammaWD;  // and their transverse gamma wD (with transverse friction only)
     std::vector<size_t> keptPairCount;             // how many of each worker's are kept (the vectors may be longer)
     // Whether the sorted types (and heights) are those of the last search, and the soft
     // force's too (of sortedSoft).

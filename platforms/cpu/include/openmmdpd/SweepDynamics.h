@@ -97,7 +97,10 @@ protected:
         body(FreePairImpulse{slotInverseMasses});
     }
     /** Sweeps take their pairs by slot where they need no particle indices: no constraints, no virial. */
-    bool wantsPairsBySlot() const override { return !constrainedImpulse.hasConstraints() && thermostatVirial == nullptr; }
+    /** By slot but with constraints, the pressure tensor or transverse friction (whose noise is keyed by particle). */
+    bool wantsPairsBySlot() const override {
+        return !constrainedImpulse.hasConstraints() && thermostatVirial == nullptr && !thermostat.getParameters().hasTransverse();
+    }
     /** This step's words of a stream for every pair of the current list, drawn in batches (as DrawnBits). */
     const std::vector<r123::Philox4x32::ctr_type>& bits(PairRandom::Stream stream, long long step);
 
