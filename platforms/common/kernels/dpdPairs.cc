@@ -25,6 +25,58 @@ inline DEVICE void storeSums(int a, int k, int numAtoms, int paddedNumAtoms, int
         addVirialRow(virial, k, paddedNumAtoms, w);
 }
 
+/*
+ * The forces along e of a pair on lo for the terms asked (DPDPairForce::dissipative, random),
+ * added to the slot's fd / fr with its sign: gamma = 2 mu f times the friction rate, wR the
+ * random weight, eDotV e . (v_lo - v_hi), xi the pair's normal number (read with the random
+ * term).  Returns the sum of those of virialTerms, along e.
+ */
+inline DEVICE mixed addForcesAlong(int terms, int virialTerms, mixed gamma, mixed wR, mixed kT, mixed invSqrtDt, mixed ex, mixed ey,
+        mixed ez, mixed eDotV, mixed xi, mm_long sign, mm_long* fd, mm_long* fr) {
+    mixed virialForce = 0;
+    if (terms & 1) {
+        const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), eDotV);
+        fd[0] += sign*toFixed(ex*f);
+        fd[1] += sign*toFixed(ey*f);
+        fd[2] += sign*toFixed(ez*f);
+        virialForce += (virialTerms & 1 ? f : 0);
+    }
+    if (terms & 2) {
+        const mixed f = randomAlongE(pairNoiseAmplitude(gamma, kT)*wR, xi, invSqrtDt);
+        fr[0] += sign*toFixed(ex*f);
+        fr[1] += sign*toFixed(ey*f);
+        fr[2] += sign*toFixed(ez*f);
+        virialForce += (virialTerms & 2 ? f : 0);
+    }
+    return virialForce;
+}
+
+/*
+ * The forces across e of a pair with transverse friction on lo (DPDPairForce::transverseDissipative,
+ * transverseRandom) for the terms asked, added to the slot's fd / fr with its sign, and those of
+ * virialTerms to `across`: gamma = 2 mu f times the transverse rate, wR its random weight, u the
+ * relative velocity v_lo - v_hi (hi's image), zeta lo's noise vector (read with the random term).
+ */
+inline DEVICE void addForcesAcross(int terms, int virialTerms, mixed gamma, mixed wR, mixed kT, mixed invSqrtDt, mixed ex, mixed ey,
+        mixed ez, mixed* u, mixed* zeta, mm_long sign, mm_long* fd, mm_long* fr, mixed* across) {
+    if (terms & 1) {
+        perpendicularInPlace(u, ex, ey, ez);
+        for (int c = 0; c < 3; c++) {
+            const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), u[c]);
+            fd[c] += sign*toFixed(f);
+            across[c] += (virialTerms & 1 ? f : 0);
+        }
+    }
+    if (terms & 2) {
+        perpendicularInPlace(zeta, ex, ey, ez);
+        for (int c = 0; c < 3; c++) {
+            const mixed f = randomAlongE(pairNoiseAmplitude(gamma, kT)*wR, zeta[c], invSqrtDt);
+            fr[c] += sign*toFixed(f);
+            across[c] += (virialTerms & 2 ? f : 0);
+        }
+    }
+}
+
 KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
         GLOBAL const int* RESTRICT atomIndex, GLOBAL const mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType,
         int numTypes, GLOBAL const mixed4* RESTRICT typeParams, GLOBAL const int* RESTRICT exceptionStart,
@@ -69,48 +121,17 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 const mm_long sign = (aIsLo ? 1 : -1);
                 // Under shear, hi's image moves at d.w U along x.
                 const mixed vx = vLo.x-vHi.x-d.w*imageVelocity;
-                mixed virialForce = 0;
-                if (terms & 1) {
-                    const mixed f = dissipativeAlongE(gamma*pairDissipativeWeight(wR), ex*vx+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z));
-                    fd[0] += sign*toFixed(ex*f);
-                    fd[1] += sign*toFixed(ey*f);
-                    fd[2] += sign*toFixed(ez*f);
-                    if (virialTerms & 1)
-                        virialForce += f;
-                }
-                if (terms & 2) {
-                    const mixed xi = boxMuller(pairWords(seed, 0, stepLow, stepHigh, a, b));
-                    const mixed f = randomAlongE(pairNoiseAmplitude(gamma, kT)*wR, xi, invSqrtDt);
-                    fr[0] += sign*toFixed(ex*f);
-                    fr[1] += sign*toFixed(ey*f);
-                    fr[2] += sign*toFixed(ez*f);
-                    if (virialTerms & 2)
-                        virialForce += f;
-                }
+                const mixed xi = (terms & 2 ? boxMuller(pairWords(seed, 0, stepLow, stepHigh, a, b)) : 0);
+                const mixed virialForce = addForcesAlong(terms, virialTerms, gamma, wR, kT, invSqrtDt, ex, ey, ez,
+                                                         ex*vx+ey*(vLo.y-vHi.y)+ez*(vLo.z-vHi.z), xi, sign, fd, fr);
                 mixed across[3] = {0, 0, 0};  // the forces across e of the virial's terms
                 const mixed4 tp = (transverse ? transverseParams[typePair] : make_mixed4(0, 0, 0, 0));
                 if (tp.x != 0) {
-                    const mixed gammaPerp = 2*tp.x/(vLo.w+vHi.w)*factor, wRPerp = pairRandomWeight(pairLinearWeight(r, p.y), tp.y);
-                    if (terms & 1) {
-                        mixed u[3] = {vx, vLo.y-vHi.y, vLo.z-vHi.z};
-                        perpendicularInPlace(u, ex, ey, ez);
-                        for (int c = 0; c < 3; c++) {
-                            const mixed f = dissipativeAlongE(gammaPerp*pairDissipativeWeight(wRPerp), u[c]);
-                            fd[c] += sign*toFixed(f);
-                            across[c] += (virialTerms & 1 ? f : 0);
-                        }
-                    }
-                    if (terms & 2) {
-                        mixed zeta[3];
-                        // PairRandom::TransverseNoise, on lo
+                    mixed u[3] = {vx, vLo.y-vHi.y, vLo.z-vHi.z}, zeta[3];
+                    if (terms & 2)  // PairRandom::TransverseNoise, on lo
                         normalVector(pairWords(seed, 5, stepLow, stepHigh, a, b), aIsLo ? a : b, aIsLo ? b : a, zeta);
-                        perpendicularInPlace(zeta, ex, ey, ez);
-                        for (int c = 0; c < 3; c++) {
-                            const mixed f = randomAlongE(pairNoiseAmplitude(gammaPerp, kT)*wRPerp, zeta[c], invSqrtDt);
-                            fr[c] += sign*toFixed(f);
-                            across[c] += (virialTerms & 2 ? f : 0);
-                        }
-                    }
+                    addForcesAcross(terms, virialTerms, 2*tp.x/(vLo.w+vHi.w)*factor, pairRandomWeight(pairLinearWeight(r, p.y), tp.y),
+                                    kT, invSqrtDt, ex, ey, ez, u, zeta, sign, fd, fr, across);
                 }
                 if (aIsLo && virialTerms != 0) {
                     addVirialAlong(w, dx, dy, dz, virialForce/r);
