@@ -10,7 +10,11 @@ a CSV and a Markdown report (report.md) into docs/results/schmidt-number/.
 
 eta = -<P_xy> / rate, the tensor averaged over blocks of BLOCK time whose means give the error
 (pymbar's statistical inefficiency).  D is the slope of the MSD over its second half of lags,
-its error the spread of D over 8 interleaved sets of particles (openmmdpd.analysis).
+its error the spread of D over 8 interleaved sets of particles (openmmdpd.analysis).  eta_T,
+from the same equilibrium run, is the viscosity the decay of the transverse momentum current
+at the box's smallest wavevector gives (openmmdpd.dynamics): no shear and no pressure tensor,
+so it checks eta independently, the more so with transverse friction, whose pair forces are
+not central and whose stress the pressure tensor must read in the right order.
 
 Kinetic theory (Groot and Warren 1997 for s = 2, the same integrals for any s): a particle's
 friction zeta = (rho / 3) int (gamma wD + 2 gamma_perp wD_perp) 4 pi r^2 dr (the trace of a
@@ -32,7 +36,7 @@ import numpy as np
 import openmm
 
 import openmmdpd
-from openmmdpd import scenes
+from openmmdpd import dynamics, scenes
 from openmmdpd.analysis import grouped_squared_displacement, standard_error
 from openmmdpd.compare import diffusion_with_error
 
@@ -40,8 +44,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "..", "docs", "results", "schmidt-number")
 DENSITY, A, GAMMA, KT = 3.0, 25.0, 4.5, 1.0
 BLOCK = 1.0  # ps of one pressure-tensor block
+FRAME, CURRENT = 0.5, 0.1  # ps between the MSD's frames and between the transverse currents' samples
 # (s, gamma_perp): the weight exponent along e, and the transverse friction (its exponent 2)
-FULL = dict(particles=3000, dt=0.02, rate=0.2, equilibrate=10.0, diffusion_time=100.0, nemd_time=400.0,
+FULL = dict(particles=3000, dt=0.02, rate=0.2, equilibrate=10.0, diffusion_time=200.0, nemd_time=400.0,
             cases=[(2.0, 0.0), (1.0, 0.0), (0.5, 0.0), (2.0, GAMMA)])
 QUICK = dict(particles=500, dt=0.02, rate=0.5, equilibrate=1.0, diffusion_time=4.0, nemd_time=6.0,
              cases=[(2.0, 0.0), (0.5, 0.0), (2.0, GAMMA)])
@@ -79,15 +84,25 @@ def start(args, case, rate, seed):
     return context, integrator
 
 
-def diffusion(args, case, seed):
+def equilibrium(args, case, seed):
+    """(D, its error, eta_T, its error) of one run at equilibrium: positions every FRAME for the
+    MSD, the transverse currents every CURRENT."""
     context, integrator = start(args, case, 0.0, seed)
-    every = 0.5
-    frames = []
-    for _ in range(round(args.diffusion_time / every) + 1):
-        frames.append(context.getState(getPositions=True).getPositions(asNumpy=True)._value.copy())
-        integrator.step(round(every / args.dt))
-    times, msd, by_group = grouped_squared_displacement(np.array(frames), every, 8)
-    return diffusion_with_error(times, msd, by_group)
+    frames, currents = [], []
+    masses = np.ones(args.particles)
+    length = (args.particles / DENSITY) ** (1 / 3)
+    per_frame = round(FRAME / CURRENT)
+    for k in range(round(args.diffusion_time / CURRENT) + 1):
+        state = context.getState(getPositions=True, getVelocities=True)
+        positions = state.getPositions(asNumpy=True)._value
+        currents.append(dynamics.transverse_currents(positions, state.getVelocities(asNumpy=True)._value, masses, length))
+        if k % per_frame == 0:
+            frames.append(positions.copy())
+        integrator.step(round(CURRENT / args.dt))
+    times, msd, by_group = grouped_squared_displacement(np.array(frames), FRAME, 8)
+    d, d_err = diffusion_with_error(times, msd, by_group)
+    eta_t, eta_t_err = dynamics.transverse_viscosity(currents, CURRENT, DENSITY, length)
+    return d, d_err, eta_t, eta_t_err
 
 
 def viscosity(args, case, seed):
@@ -105,14 +120,16 @@ def measure(args):
     rows = []
     for k, (s, gamma_perp) in enumerate(args.cases):
         t0 = time.perf_counter()
-        d, d_err = diffusion(args, (s, gamma_perp), seed=11 + k)
+        d, d_err, eta_t, eta_t_err = equilibrium(args, (s, gamma_perp), seed=11 + k)
         eta, eta_err = viscosity(args, (s, gamma_perp), seed=31 + k)
         sc = eta / (DENSITY * d)
         sc_err = sc * math.hypot(eta_err / eta, d_err / d)
         d_kin, eta_kin, sc_kin = kinetic_theory(s, gamma_perp)
-        rows.append(dict(s=s, gamma_perp=gamma_perp, D=d, D_err=d_err, eta=eta, eta_err=eta_err, Sc=sc, Sc_err=sc_err,
+        rows.append(dict(s=s, gamma_perp=gamma_perp, D=d, D_err=d_err, eta=eta, eta_err=eta_err, eta_T=eta_t, eta_T_err=eta_t_err,
+                         Sc=sc, Sc_err=sc_err,
                          D_kinetic=d_kin, eta_kinetic=eta_kin, Sc_kinetic=sc_kin, seconds=time.perf_counter() - t0))
         print(f"s = {s:g}, gamma_perp = {gamma_perp:g}: D = {d:.4f} +- {d_err:.4f}, eta = {eta:.3f} +- {eta_err:.3f}, "
+              f"eta_T = {eta_t:.3f} +- {eta_t_err:.3f}, "
               f"Sc = {sc:.2f} +- {sc_err:.2f} "
               f"(kinetic theory {d_kin:.4f}, {eta_kin:.3f}, {sc_kin:.2f}) in {rows[-1]['seconds']:.0f} s", flush=True)
     return rows
@@ -128,16 +145,17 @@ def write(rows, args):
         "# Schmidt number against the weight exponent s and with transverse friction",
         "",
         f"Standard DPD fluid: rho {DENSITY:g}, a {A:g}, gamma {GAMMA:g}, kT {KT:g}, rc 1, N = {args.particles}, "
-        f"ShardlowIntegrator S1 at dt {args.dt:g}; D from {args.diffusion_time:g} ps at equilibrium, eta from "
+        f"ShardlowIntegrator S1 at dt {args.dt:g}; D and eta_T from {args.diffusion_time:g} ps at equilibrium, eta from "
         f"{args.nemd_time:g} ps of NEMD at shear rate {args.rate:g} after {args.equilibrate:g} ps.",
         "Errors are one standard error. Made by `examples/schmidt_number.py"
         + (" --quick" if args.quick else "") + "`.",
         "",
-        "| s | gamma_perp | D | eta | Sc = eta/(rho D) | D, kinetic theory | eta, kinetic theory | Sc, kinetic theory |",
-        "|---|---|---|---|---|---|---|---|",
+        "| s | gamma_perp | D | eta | eta_T | Sc = eta/(rho D) | D, kinetic theory | eta, kinetic theory | Sc, kinetic theory |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         lines.append(f"| {r['s']:g} | {r['gamma_perp']:g} | {r['D']:.4f} ± {r['D_err']:.4f} | {r['eta']:.3f} ± {r['eta_err']:.3f} | "
+                     f"{r['eta_T']:.3f} ± {r['eta_T_err']:.3f} | "
                      f"{r['Sc']:.2f} ± {r['Sc_err']:.2f} | {r['D_kinetic']:.4f} | {r['eta_kinetic']:.3f} | {r['Sc_kinetic']:.2f} |")
     with open(os.path.join(args.out, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -114,6 +114,21 @@ TEST(PairRandom, BatchedNormalsEqualOneAtATime) {
                     << "batch of " << n << ", partner " << k;
         }
     }
+    // The noise vectors of transverse friction: normalVector() to rounding in every batch, the
+    // pairs named either way round (first[k] > second[k] for every third) giving the negative.
+    for (int n = 1; n <= pairs; n++) {
+        std::vector<double> vectors(3 * n);
+        PairRandomBatch::normalVectors(random, PairRandom::TransverseNoise, 3, first.data(), second.data(), n, vectors.data());
+        for (int k = 0; k < n; k++) {
+            double expected[3], reversed[3];
+            random.normalVector(PairRandom::TransverseNoise, 3, first[k], second[k], expected);
+            random.normalVector(PairRandom::TransverseNoise, 3, second[k], first[k], reversed);
+            for (int c = 0; c < 3; c++) {
+                EXPECT_NEAR(vectors[3 * k + c], expected[c], 1e-14) << "batch of " << n << ", vector " << k << ", component " << c;
+                EXPECT_EQ(reversed[c], -expected[c]) << "vector " << k;
+            }
+        }
+    }
     // ...and the scalar one agrees with the textbook formula to rounding.
     for (int k = 0; k < pairs; k++) {
         const r123::Philox4x32::ctr_type draw = random.bits(PairRandom::RandomForce, 3, first[k], second[k]);

@@ -487,6 +487,7 @@ struct DPDSlotForces {
     PairGeometry g[PairSearch::MAX_BLOCK];
     int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
+    double zeta[3 * PairSearch::MAX_BLOCK];  // transverse friction's noise vectors
     double softOnPair[PairSearch::MAX_BLOCK];  // the soft force along e (from the rows, where they make it: their softPairForce)
 
     // Every pair's parameters where they are shared, else null; the soft force's too where
@@ -529,6 +530,8 @@ struct DPDSlotForces {
     void finishBatch(int n, const int* slots, Vec3* forces) {
         if (terms & RandomTerm)  // the same numbers as random.gaussian(), drawn for the whole batch at once
             PairRandomBatch::normals(random, PairRandom::RandomForce, step, first, second, n, xi);
+        if ((terms & RandomTerm) && transverse)
+            PairRandomBatch::normalVectors(random, PairRandom::TransverseNoise, step, first, second, n, zeta);
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
         if (soft != nullptr && !(uniform != nullptr && uniform->soft))  // else the rows made them
             softForcesAlongE(n, slots);
@@ -555,11 +558,7 @@ struct DPDSlotForces {
     /** FR of pair k of the batch, across e too where it has transverse friction. */
     Vec3 randomForce(int k) const {
         const Vec3 along = DPDPairForce::random(g[k], xi[k], invSqrtDt);
-        if (!g[k].hasTransverse())
-            return along;
-        double zeta[3];
-        random.normalVector(PairRandom::TransverseNoise, step, first[k], second[k], zeta);
-        return along + DPDPairForce::transverseRandom(g[k], zeta, invSqrtDt);
+        return g[k].hasTransverse() ? along + DPDPairForce::transverseRandom(g[k], zeta + 3 * k, invSqrtDt) : along;
     }
 
     /** softOnPair[0, n) pair by pair, from the soft force's table. */
@@ -685,6 +684,13 @@ void DPDThermostatForces::drawNormals(PairRandom::Stream stream, long long step,
     xi.resize(getNumPairs());
     forEachChunkOfPairs([&](size_t start, int n, const int* first, const int* second) {
         PairRandomBatch::normals(random, stream, step, first, second, n, &xi[start]);
+    });
+}
+
+void DPDThermostatForces::drawNormalVectors(PairRandom::Stream stream, long long step, std::vector<double>& zeta) {
+    zeta.resize(3 * getNumPairs());
+    forEachChunkOfPairs([&](size_t start, int n, const int* first, const int* second) {
+        PairRandomBatch::normalVectors(random, stream, step, first, second, n, &zeta[3 * start]);
     });
 }
 

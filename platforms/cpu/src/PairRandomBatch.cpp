@@ -209,6 +209,32 @@ __attribute__((target("avx2"))) void normalBlockAVX2(const PairRandom& random, u
             storeFour(y, partnerOut + k, n - k);
     }
 }
+
+/** PairRandomBatch::normalVectors for n <= NORMALS_BLOCK pairs: their words (bits()), then the three numbers four pairs at a time. */
+__attribute__((target("avx2"))) void normalVectorBlockAVX2(const PairRandom& random, uint32_t stream, long long step, const int* i,
+                                                           const int* j, int n, double* out) {
+    Counter words[NORMALS_BLOCK];
+    PairRandomBatch::bits(random, (PairRandom::Stream) stream, step, i, j, n, words);
+    alignas(32) double w[4][NORMALS_BLOCK], number[3][NORMALS_BLOCK];
+    int k = 0;
+    for (; k < n; k++)
+        for (int c = 0; c < 4; c++)
+            w[c][k] = words[k][c];
+    for (; k % 4 != 0; k++)  // the last four's lanes past n repeat the last pair (as normalBlockAVX2's)
+        for (int c = 0; c < 4; c++)
+            w[c][k] = w[c][n - 1];
+    for (k = 0; k < n; k += 4) {
+        __m256d partner;
+        _mm256_store_pd(number[0] + k, boxMullerOf(_mm256_load_pd(w[0] + k), _mm256_load_pd(w[1] + k), &partner));
+        _mm256_store_pd(number[1] + k, partner);
+        _mm256_store_pd(number[2] + k, boxMullerOf(_mm256_load_pd(w[2] + k), _mm256_load_pd(w[3] + k), nullptr));
+    }
+    for (k = 0; k < n; k++) {
+        const double sign = (i[k] < j[k] ? 1.0 : -1.0);  // as PairRandom::normalVector
+        for (int c = 0; c < 3; c++)
+            out[3 * k + c] = sign * number[c][k];
+    }
+}
 #define OPENMMDPD_BOX_MULLER_AVX2
 #endif
 
@@ -232,6 +258,21 @@ void PairRandomBatch::bits(const PairRandom& random, PairRandom::Stream stream, 
 void PairRandomBatch::normals(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j,
                               int n, double* out) {
     normalsAndPartners(random, stream, step, i, j, n, out, nullptr);
+}
+
+void PairRandomBatch::normalVectors(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j,
+                                    int n, double* out) {
+    for (int start = 0; start < n; start += NORMALS_BLOCK) {
+        const int m = std::min(NORMALS_BLOCK, n - start);
+#ifdef OPENMMDPD_BOX_MULLER_AVX2
+        if (haveAVX2()) {
+            normalVectorBlockAVX2(random, (uint32_t) stream, step, i + start, j + start, m, out + 3 * start);
+            continue;
+        }
+#endif
+        for (int k = start; k < start + m; k++)
+            random.normalVector(stream, step, i[k], j[k], out + 3 * k);
+    }
 }
 
 void PairRandomBatch::normalsAndPartners(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i,

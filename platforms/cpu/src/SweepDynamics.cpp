@@ -78,6 +78,17 @@ const std::vector<double>& SweepDynamics::secondSweepNormals(long long next) {
     return pairNormals;
 }
 
+TransverseNoiseSource SweepDynamics::transverseNoise(PairRandom::Stream stream, long long step) {
+    TransverseNoiseSource source{thermostat.getRandom(), stream, step};
+    if (thermostat.getParameters().hasTransverse()) {
+        // Drawn ahead in batches, for the list by particle that transverse friction keeps (wantsPairsBySlot).
+        thermostat.drawNormalVectors(stream, step, pairNoiseVectors);
+        source.first = thermostat.getPairs().data();
+        source.drawn = pairNoiseVectors.data();
+    }
+    return source;
+}
+
 const std::vector<r123::Philox4x32::ctr_type>& SweepDynamics::bits(PairRandom::Stream stream, long long step) {
     thermostat.drawBits(stream, step, pairBits);
     return pairBits;
@@ -92,16 +103,16 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     // the partners of the next step's first sweep's numbers.
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
-    const TransverseNoiseSource firstNoise{thermostat.getRandom(), PairRandom::TransverseNoise, current},
-            secondNoise{thermostat.getRandom(), PairRandom::TransverseSecondSweep, current + 1};
     withPairImpulse(context, dt, [&](const auto& impulse) {
-        sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse, &firstNoise}, firstSweepNormals(current), false);
+        const TransverseNoiseSource noise = transverseNoise(PairRandom::TransverseNoise, current);
+        sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse, &noise}, firstSweepNormals(current), false);
     });
     constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder) {
         withPairImpulse(context, dt, [&](const auto& impulse) {
-            sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse, &secondNoise}, secondSweepNormals(current + 1), true);
+            const TransverseNoiseSource noise = transverseNoise(PairRandom::TransverseSecondSweep, current + 1);
+            sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse, &noise}, secondSweepNormals(current + 1), true);
         });
         constrainVelocities(context);
     }
@@ -145,14 +156,15 @@ void LoweAndersenDynamics::middleStep(OpenMM::ContextImpl& context, const LoweAn
 void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const LoweAndersenIntegrator& integrator, long long step) {
     std::vector<Vec3>& v = *platformData(context).velocities;
     const double dt = integrator.getStepSize(), kT = thermostat.getParameters().getKT();
-    const TransverseNoiseSource transverseNoise{thermostat.getRandom(), PairRandom::TransverseNoise, step};
     withPairImpulse(context, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
-        if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
+        if (integrator.getMethod() == LoweAndersenIntegrator::Lowe) {
             sweep(v, LowePairUpdate<Impulse>{dt, kT, impulse}, bits(PairRandom::PairThermalisation, step), false);
-        else
-            sweep(v, PairOrnsteinUhlenbeckUpdate<Impulse, RowConsistentMath>{dt, kT, impulse, &transverseNoise},
-                  normals(PairRandom::PairThermalisation, step), false);
+            return;
+        }
+        const TransverseNoiseSource noise = transverseNoise(PairRandom::TransverseNoise, step);
+        sweep(v, PairOrnsteinUhlenbeckUpdate<Impulse, RowConsistentMath>{dt, kT, impulse, &noise},
+              normals(PairRandom::PairThermalisation, step), false);
     });
     constrainVelocities(context);
 }

@@ -1,5 +1,5 @@
 """What an option costs an integrator's step: the instability sentinel, Lees-Edwards shear, a
-thermostat weight exponent other than 2, thermostat exceptions.
+thermostat weight exponent other than 2, thermostat exceptions, transverse friction.
 
 Scene soft on the CPU platform (or --platform's); each integrator as is and with the option,
 alternated --repeats times, medians side by side (the two may differ by less than the noise).
@@ -9,6 +9,7 @@ alternated --repeats times, medians side by side (the two may differ by less tha
     python3 -m openmmdpd.bench shear --pressure-tensor --integrators GW --sizes 1000000 --platform CUDA
     python3 -m openmmdpd.bench weight-exponent --exponent 1 --integrators GW S1 --sizes 32000 --threads 1
     python3 -m openmmdpd.bench exceptions --chain-length 10 --integrators GW S1 --sizes 32000 --threads 1
+    python3 -m openmmdpd.bench transverse --friction 4.5 --integrators GW S1 --sizes 32000 --threads 1
 
 The exceptions mode excludes the 1-2 pairs of chains of --chain-length consecutive particles
 (createThermostatExceptionsFromBonds), as in a polymer melt; the scene's particles are not
@@ -20,6 +21,7 @@ OpenMM's Langevin), by default those of the rates mode.
 """
 import statistics
 
+from . import DPDVVIntegrator, LoweAndersenIntegrator, ShardlowIntegrator
 from .bench_rates import DEFAULT_INTEGRATORS
 from .bench_timing import (add_integrators_argument, add_mode, add_platform_argument, add_round_arguments,
                            add_system_arguments, make_context, steps_per_second, timed_steps, waiter, warm_up)
@@ -33,6 +35,8 @@ WEIGHT_SUMMARY = ("a weight exponent other than 2's cost to each integrator's st
                   "32000, 1 and 2 threads, medians of 3: about 5 minutes)")
 EXCEPTIONS_SUMMARY = ("thermostat exceptions' cost to each integrator's step (the 1-2 pairs of chains of 10 "
                       "excluded, 8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
+TRANSVERSE_SUMMARY = ("transverse friction's cost to each integrator's step (gamma_perp 4.5, the integrators with it, "
+                      "N 4000 32000, 1 and 2 threads, medians of 3: about 4 minutes)")
 SHEAR_SUMMARY = ("Lees-Edwards shear's cost to each integrator's step (rate 0.1, 8 integrators, N 4000 32000, "
                  "1 and 2 threads, medians of 3: about 5 minutes)")
 # Estimates: about 1 s per integrator, size, thread count, round and setting (as is and changed),
@@ -50,6 +54,16 @@ def shear_integrators():
     shear rate to set: asked of each integrator, so that one added to the catalog is offered
     as soon as it can shear."""
     return [name for name, make in integrators("soft").items() if hasattr(make(0.04), "setShearRate")]
+
+
+def transverse_integrators():
+    """The names of the catalog (scene soft) whose integrator, as the catalog sets it, has
+    transverse friction: the velocity-Verlet family, Shardlow and the pair OU method."""
+    def has_transverse(integrator):
+        if isinstance(integrator, LoweAndersenIntegrator):
+            return integrator.getMethod() == LoweAndersenIntegrator.PairOrnsteinUhlenbeck
+        return isinstance(integrator, (DPDVVIntegrator, ShardlowIntegrator))
+    return [name for name, make in integrators("soft").items() if has_transverse(make(0.04))]
 
 
 def add_parsers(modes):
@@ -74,6 +88,12 @@ def add_parsers(modes):
     exceptions.add_argument("--chain-length", type=int, default=10, help="beads per chain whose 1-2 pairs are excluded")
     add_integrators_argument(exceptions, ours, names=sheared)
     add_cost_arguments(exceptions)
+    transverse = add_mode(modes, "transverse", TRANSVERSE_SUMMARY, f"Each of --integrators without and with transverse "
+                          f"friction --friction, alternated. {SHEAR_DURATION}", run_transverse)
+    transverse.add_argument("--friction", type=float, default=4.5, help="the transverse friction rate (1/ps)")
+    capable = transverse_integrators()
+    add_integrators_argument(transverse, [name for name in DEFAULT_INTEGRATORS if name in capable], names=capable)
+    add_cost_arguments(transverse)
 
 
 def add_cost_arguments(parser):
@@ -112,6 +132,12 @@ def run_exceptions(args):
     print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; no exceptions and the 1-2 pairs of chains of "
                  f"{args.chain_length} excluded, alternated, medians of {args.repeats}", args.integrators,
                  ("steps/s", "steps/s excl."), exclude_chain_bonds)
+
+
+def run_transverse(args):
+    print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; no transverse friction and "
+                 f"{args.friction:g}/ps alternated, medians of {args.repeats}", args.integrators,
+                 ("steps/s", "steps/s perp."), lambda i, n: i.setDefaultTransverseFriction(args.friction))
 
 
 def print_paired(args, title, names, columns, change):

@@ -56,7 +56,8 @@ def test_sentinel_cost_is_measured(capsys):
     assert len(rows) == 1 and rows[0].split()[:3] == ["GW", "500", "1"]
 
 
-@pytest.mark.parametrize("mode, option", [("weight-exponent", ["--exponent", "1"]), ("exceptions", ["--chain-length", "10"])])
+@pytest.mark.parametrize("mode, option", [("weight-exponent", ["--exponent", "1"]), ("exceptions", ["--chain-length", "10"]),
+                                          ("transverse", ["--friction", "4.5"])])
 def test_thermostat_option_costs_are_measured(mode, option, capsys):
     bench.main([mode, *option, "--integrators", "GW", "S1", "--sizes", "500", "--threads", "1", "--seconds", "0.02",
                 "--repeats", "1", "--warmup", "2"])

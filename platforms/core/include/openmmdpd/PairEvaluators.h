@@ -52,14 +52,26 @@ struct DPDPairForce {
 };
 
 /**
- * Where a pair rule draws the noise of transverse friction: the pair's PairRandom::normalVector
- * of one stream and step, keyed by its particles (so the pairs must be listed by particle).
+ * Where a pair rule gets the noise of transverse friction: the pair's PairRandom::normalVector
+ * of one stream and step, keyed by its particles (so the pairs must be listed by particle),
+ * or, where a platform drew them ahead for a list of pairs (`first` its start), the list's.
  */
 struct TransverseNoiseSource {
     const PairRandom& random;
     PairRandom::Stream stream;
     long long step;
-    void operator()(const PairGeometry& p, double* zeta) const { random.normalVector(stream, step, p.i, p.j, zeta); }
+    const PairGeometry* first = nullptr;  // the list drawn for, if drawn ahead
+    const double* drawn = nullptr;        // its vectors, three numbers per pair in list order
+    void operator()(const PairGeometry& p, double* zeta) const {
+        if (drawn == nullptr) {
+            random.normalVector(stream, step, p.i, p.j, zeta);
+            return;
+        }
+        const double* z = drawn + 3 * (&p - first);
+        zeta[0] = z[0];
+        zeta[1] = z[1];
+        zeta[2] = z[2];
+    }
 };
 
 /** The soft repulsion of DPDSoftRepulsionForce (docs/theory/forces.md), for r < rc. */

@@ -137,6 +137,8 @@ public:
         OpenMM::Vec3 e;
         double gammaWD;
     };
+    /** zeta[3k, 3k + 3) = getRandom().normalVector(stream, step, pair k), for every pair of the list, in batches. */
+    void drawNormalVectors(PairRandom::Stream stream, long long step, std::vector<double>& zeta);
     /** xi[k] = getRandom().gaussian(stream, step, pair k), for every pair of the list, in batches. */
     void drawNormals(PairRandom::Stream stream, long long step, std::vector<double>& xi);
     /** drawNormals, and partners[k] = getRandom().partnerGaussian(stream, step, pair k) from the same draws. */

@@ -30,6 +30,13 @@ struct PairRandomBatch {
     /** normals() and, where partnerOut is given, partnerOut[k] = random.partnerGaussian(...) to rounding, from the same draws. */
     static void normalsAndPartners(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j,
                                    int n, double* out, double* partnerOut);
+    /**
+     * out[3k, 3k + 3) = random.normalVector(stream, step, i[k], j[k]) for k < n, to rounding:
+     * the words as bits() draws them, their three Box-Muller numbers four pairs at a time as
+     * normals() makes them.
+     */
+    static void normalVectors(const PairRandom& random, PairRandom::Stream stream, long long step, const int* i, const int* j, int n,
+                              double* out);
 };
 
 } // namespace DPDPlugin

@@ -41,6 +41,8 @@ protected:
     }
     /** This step's normal numbers of a stream for every pair of the current list, drawn in batches (as DrawnNormals). */
     const std::vector<double>& normals(PairRandom::Stream stream, long long step);
+    /** Where a sweep's rule gets transverse friction's noise vectors of a stream and step: drawn ahead for the current list. */
+    TransverseNoiseSource transverseNoise(PairRandom::Stream stream, long long step);
     /**
      * Shardlow's numbers for a first sweep at `step` (RandomForce): kept from the last S2
      * step's second sweep where it drew them over the same pair list and seed, else drawn.
@@ -109,7 +111,7 @@ private:
     PairImpulseRecord impulses;
     PairSweep pairSweep;
     long long pairsStep;
-    std::vector<double> pairNormals;
+    std::vector<double> pairNormals, pairNoiseVectors;
     // Where normalsKept: firstSweepNormals(nextNormalsStep) over the current list, drawn with nextNormalsSeed
     std::vector<double> nextNormals;
     bool normalsKept = false;
