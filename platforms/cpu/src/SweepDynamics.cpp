@@ -78,15 +78,15 @@ const std::vector<double>& SweepDynamics::secondSweepNormals(long long next) {
     return pairNormals;
 }
 
-TransverseNoiseSource SweepDynamics::transverseNoise(PairRandom::Stream stream, long long step) {
-    TransverseNoiseSource source{thermostat.getRandom(), stream, step};
-    if (thermostat.getParameters().hasTransverse()) {
-        // Drawn ahead in batches, for the list by particle that transverse friction keeps (wantsPairsBySlot).
-        thermostat.drawNormalVectors(stream, step, pairNoiseVectors);
-        source.first = thermostat.getPairs().data();
-        source.drawn = pairNoiseVectors.data();
-    }
-    return source;
+const std::vector<PairNoise>& SweepDynamics::pairNoise(const std::vector<double>& normals, PairRandom::Stream transverseStream,
+                                                        long long step) {
+    thermostat.drawNormalVectors(transverseStream, step, pairNoiseVectors);
+    pairNoises.resize(normals.size());
+    forEachParticle(normals.size(), [&](size_t k) {
+        pairNoises[k].xi = normals[k];
+        std::copy(&pairNoiseVectors[3 * k], &pairNoiseVectors[3 * k] + 3, pairNoises[k].zeta);
+    });
+    return pairNoises;
 }
 
 const std::vector<r123::Philox4x32::ctr_type>& SweepDynamics::bits(PairRandom::Stream stream, long long step) {
@@ -104,15 +104,15 @@ void ShardlowDynamics::step(OpenMM::ContextImpl& context, const ShardlowIntegrat
     const bool secondOrder = (integrator.getOrder() == 2);
     const double h = secondOrder ? 0.5 * dt : dt;
     withPairImpulse(context, dt, [&](const auto& impulse) {
-        const TransverseNoiseSource noise = transverseNoise(PairRandom::TransverseNoise, current);
-        sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse, &noise}, firstSweepNormals(current), false);
+        sweepWith(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, firstSweepNormals(current), PairRandom::TransverseNoise,
+                  current, false);
     });
     constrainVelocities(context);
     velocityVerlet(context, integrator.getIntegrationForceGroups(), dt);
     if (secondOrder) {
         withPairImpulse(context, dt, [&](const auto& impulse) {
-            const TransverseNoiseSource noise = transverseNoise(PairRandom::TransverseSecondSweep, current + 1);
-            sweep(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse, &noise}, secondSweepNormals(current + 1), true);
+            sweepWith(*data.velocities, CpuShardlowUpdate<decltype(impulse)>{h, impulse}, secondSweepNormals(current + 1),
+                      PairRandom::TransverseSecondSweep, current + 1, true);
         });
         constrainVelocities(context);
     }
@@ -162,9 +162,8 @@ void LoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context, const L
             sweep(v, LowePairUpdate<Impulse>{dt, kT, impulse}, bits(PairRandom::PairThermalisation, step), false);
             return;
         }
-        const TransverseNoiseSource noise = transverseNoise(PairRandom::TransverseNoise, step);
-        sweep(v, PairOrnsteinUhlenbeckUpdate<Impulse, RowConsistentMath>{dt, kT, impulse, &noise},
-              normals(PairRandom::PairThermalisation, step), false);
+        sweepWith(v, PairOrnsteinUhlenbeckUpdate<Impulse, RowConsistentMath>{dt, kT, impulse}, normals(PairRandom::PairThermalisation, step),
+                  PairRandom::TransverseNoise, step, false);
     });
     constrainVelocities(context);
 }

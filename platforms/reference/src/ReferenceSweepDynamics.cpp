@@ -23,6 +23,28 @@ void sweepInReverse(const std::vector<PairGeometry>& pairs, const Rule& rule, co
         rule(pairs[k], draw(pairs[k]), v);
 }
 
+/** The numbers a sweep's pairs take: a pair's normal number of a stream and step (its partner's, `partner`). */
+struct SweepNumbers {
+    const PairRandom& random;
+    PairRandom::Stream stream;
+    long long step;
+    bool partner;
+    PairRandom::Stream transverseStream;  // with transverse friction: each pair's PairNoise, its vector from this stream
+};
+
+/** The sweep (or, reverse, its reverse) with the pairs' numbers: PairNoise where any pair has transverse friction. */
+template <class Rule>
+void sweepWith(const std::vector<PairGeometry>& pairs, const Rule& rule, const SweepNumbers& n, bool transverse, bool reverse,
+               std::vector<Vec3>& v) {
+    const auto run = [&](const auto& draw) { reverse ? sweepInReverse(pairs, rule, draw, v) : sweep(pairs, rule, draw, v); };
+    if (transverse)
+        run(DrawnPairNoise{n.random, n.stream, n.transverseStream, n.step, n.partner});
+    else if (n.partner)
+        run(DrawnPartnerNormals{n.random, n.stream, n.step});
+    else
+        run(DrawnNormals{n.random, n.stream, n.step});
+}
+
 } // namespace
 
 void ReferenceSweepDynamics::ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups) {
@@ -68,19 +90,20 @@ void ReferenceShardlowDynamics::step(OpenMM::ContextImpl& context, const Shardlo
     // the pairs at the new positions, with the partners of the numbers the next step's first
     // sweep takes over the same pairs (independent of them and of this step's).
     // Transverse friction draws its noise vectors from streams of their own, keyed as the numbers along e.
-    const TransverseNoiseSource firstNoise{random, PairRandom::TransverseNoise, current},
-            secondNoise{random, PairRandom::TransverseSecondSweep, current + 1};
+    const bool transverse = parameters.hasTransverse();
     const std::vector<PairGeometry> pairs = findPairs(context);
     withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
-        sweep(pairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse, &firstNoise}, DrawnNormals{random, PairRandom::RandomForce, current}, v);
+        sweepWith(pairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse},
+                  SweepNumbers{random, PairRandom::RandomForce, current, false, PairRandom::TransverseNoise}, transverse, false, v);
     });
     constrainVelocities(context);
     velocityVerlet(context, forceGroups, dt);
     if (secondOrder) {
         const std::vector<PairGeometry> newPairs = findPairs(context);
         withPairImpulse(context, newPairs, dt, [&](const auto& impulse) {
-            sweepInReverse(newPairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse, &secondNoise},
-                           DrawnPartnerNormals{random, PairRandom::RandomForce, current + 1}, v);
+            sweepWith(newPairs, ShardlowPairUpdate<decltype(impulse)>{h, impulse},
+                      SweepNumbers{random, PairRandom::RandomForce, current + 1, true, PairRandom::TransverseSecondSweep}, transverse,
+                      true, v);
         });
         constrainVelocities(context);
     }
@@ -130,14 +153,14 @@ void ReferenceLoweAndersenDynamics::applyThermostat(OpenMM::ContextImpl& context
     std::vector<Vec3>& v = *data(context).velocities;
     const double dt = integrator.getStepSize(), kT = parameters.getKT();
     const std::vector<PairGeometry> pairs = findPairs(context);
-    const TransverseNoiseSource transverseNoise{random, PairRandom::TransverseNoise, step};
     withPairImpulse(context, pairs, dt, [&](const auto& impulse) {
         using Impulse = decltype(impulse);
         if (integrator.getMethod() == LoweAndersenIntegrator::Lowe)
             sweep(pairs, LowePairUpdate<Impulse>{dt, kT, impulse}, DrawnBits{random, PairRandom::PairThermalisation, step}, v);
         else
-            sweep(pairs, PairOrnsteinUhlenbeckUpdate<Impulse>{dt, kT, impulse, &transverseNoise},
-                  DrawnNormals{random, PairRandom::PairThermalisation, step}, v);
+            sweepWith(pairs, PairOrnsteinUhlenbeckUpdate<Impulse>{dt, kT, impulse},
+                      SweepNumbers{random, PairRandom::PairThermalisation, step, false, PairRandom::TransverseNoise},
+                      parameters.hasTransverse(), false, v);
     });
     constrainVelocities(context);
 }

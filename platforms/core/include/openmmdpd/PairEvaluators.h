@@ -52,26 +52,11 @@ struct DPDPairForce {
 };
 
 /**
- * Where a pair rule gets the noise of transverse friction: the pair's PairRandom::normalVector
- * of one stream and step, keyed by its particles (so the pairs must be listed by particle),
- * or, where a platform drew them ahead for a list of pairs (`first` its start), the list's.
+ * A pair's random input to a sweep with transverse friction: its normal number xi (along e)
+ * and its noise vector zeta (PairRandom::normalVector; across e).
  */
-struct TransverseNoiseSource {
-    const PairRandom& random;
-    PairRandom::Stream stream;
-    long long step;
-    const PairGeometry* first = nullptr;  // the list drawn for, if drawn ahead
-    const double* drawn = nullptr;        // its vectors, three numbers per pair in list order
-    void operator()(const PairGeometry& p, double* zeta) const {
-        if (drawn == nullptr) {
-            random.normalVector(stream, step, p.i, p.j, zeta);
-            return;
-        }
-        const double* z = drawn + 3 * (&p - first);
-        zeta[0] = z[0];
-        zeta[1] = z[1];
-        zeta[2] = z[2];
-    }
+struct PairNoise {
+    double xi, zeta[3];
 };
 
 /** The soft repulsion of DPDSoftRepulsionForce (docs/theory/forces.md), for r < rc. */
@@ -154,6 +139,24 @@ struct DrawnPartnerNormals {
     double operator()(const PairGeometry& p) const { return random.partnerGaussian(stream, step, p.i, p.j); }
 };
 
+/**
+ * A pair's PairNoise for a sweep with transverse friction: its normal number as DrawnNormals
+ * (or DrawnPartnerNormals, `partner`) draws it, and its noise vector of `transverseStream` at
+ * the same step.
+ */
+struct DrawnPairNoise {
+    const PairRandom& random;
+    PairRandom::Stream stream, transverseStream;
+    long long step;
+    bool partner;
+    PairNoise operator()(const PairGeometry& p) const {
+        PairNoise noise;
+        noise.xi = (partner ? random.partnerGaussian(stream, step, p.i, p.j) : random.gaussian(stream, step, p.i, p.j));
+        random.normalVector(transverseStream, step, p.i, p.j, noise.zeta);
+        return noise;
+    }
+};
+
 /** A pair's random words for a sweep, drawn from PairRandom (the definition). */
 struct DrawnBits {
     const PairRandom& random;
@@ -212,13 +215,11 @@ enum class ShardlowForm { TwoHalves, OneKick };
 /** Shardlow's splitting of the fluctuation-dissipation part over a time h (Table IV, general masses). */
 template <class Impulse = FreePairImpulse, ShardlowForm Form = ShardlowForm::TwoHalves>
 struct ShardlowPairUpdate {
-    /** transverse: where pairs with transverse friction draw its noise (null: no pair has any). */
-    ShardlowPairUpdate(double h, Impulse impulse, const TransverseNoiseSource* transverse = nullptr) :
-            h(h), sqrtH(std::sqrt(h)), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()), transverse(transverse) {}
+    ShardlowPairUpdate(double h, Impulse impulse) :
+            h(h), sqrtH(std::sqrt(h)), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()) {}
     double h, sqrtH;
     Impulse impulse;
     Reciprocal reducedMass;  // mu from 1/mu
-    const TransverseNoiseSource* transverse;
 
     /** xi: the pair's normal number of the sweep (RandomForce of the step; for S2's second, its partner at the next step). */
     void operator()(const PairGeometry& p, double xi, std::vector<OpenMM::Vec3>& v) const {
@@ -227,17 +228,23 @@ struct ShardlowPairUpdate {
             return;
         PairVelocities<Impulse> pair{p, v, impulse, reducedMass(inverseMu)};
         apply(pair, p.sigmaWR, p.gammaWD, xi);
-        if (transverse != nullptr && p.hasTransverse())
-            applyAcross(p, v, pair.mu);
+    }
+    /** With transverse friction: along e with noise.xi, as above, then across e with noise.zeta. */
+    void operator()(const PairGeometry& p, const PairNoise& noise, std::vector<OpenMM::Vec3>& v) const {
+        const double inverseMu = impulse.inverseReducedMass(p);
+        if (inverseMu == 0)
+            return;
+        PairVelocities<Impulse> pair{p, v, impulse, reducedMass(inverseMu)};
+        apply(pair, p.sigmaWR, p.gammaWD, noise.xi);
+        if (p.hasTransverse())
+            applyAcross(p, noise.zeta, v, pair.mu);
     }
     /**
      * The same splitting across e: each axis of the relative velocity's part perpendicular to
      * e follows the one-dimensional rule with gamma_perp wD_perp and the perpendicular part of
-     * the pair's noise vector (docs/theory/shardlow.md), as one impulse in the plane.
+     * the pair's noise vector zeta (docs/theory/shardlow.md), as one impulse in the plane.
      */
-    void applyAcross(const PairGeometry& p, std::vector<OpenMM::Vec3>& v, double mu) const {
-        double zeta[3];
-        (*transverse)(p, zeta);
+    void applyAcross(const PairGeometry& p, const double* zeta, std::vector<OpenMM::Vec3>& v, double mu) const {
         const OpenMM::Vec3 noise = p.perpendicular(OpenMM::Vec3(zeta[0], zeta[1], zeta[2])) * (p.transverseSigmaWR * sqrtH);
         const double friction = p.transverseGammaWD * h;
         const auto across = [&]() { return p.perpendicular(p.relativeVelocity(v[p.i], v[p.j])); };
@@ -302,15 +309,13 @@ struct LowePairUpdate {
  */
 template <class Impulse = FreePairImpulse, class Math = ScalarMath>
 struct PairOrnsteinUhlenbeckUpdate {
-    /** transverse: where pairs with transverse friction draw its noise (null: no pair has any). */
-    PairOrnsteinUhlenbeckUpdate(double h, double kT, Impulse impulse, const TransverseNoiseSource* transverse = nullptr) :
+    PairOrnsteinUhlenbeckUpdate(double h, double kT, Impulse impulse) :
             h(h), kT(kT), impulse(impulse), reducedMass(impulse.commonInverseReducedMass()),
-            commonKTOverMu(kT / reducedMass.inverse), transverse(transverse) {}
+            commonKTOverMu(kT / reducedMass.inverse) {}
     double h, kT;
     Impulse impulse;
     Reciprocal reducedMass;  // mu from 1/mu
     double commonKTOverMu;   // kT/mu for the common mu
-    const TransverseNoiseSource* transverse;
 
     /** xi: the pair's normal number of stream PairThermalisation. */
     void operator()(const PairGeometry& p, double xi, std::vector<OpenMM::Vec3>& v) const {
@@ -319,21 +324,29 @@ struct PairOrnsteinUhlenbeckUpdate {
             return;
         const double mu = reducedMass(inverseMu);
         PairVelocities<Impulse, Math> pair{p, v, impulse, mu};
-        const double kTOverMu = (inverseMu == reducedMass.common ? commonKTOverMu : kT / mu);
-        apply(pair, p.gammaWD, xi, kTOverMu);
-        if (transverse != nullptr && p.hasTransverse())
-            applyAcross(p, v, mu, kTOverMu);
+        apply(pair, p.gammaWD, xi, kTOverMu(inverseMu, mu));
     }
+    /** With transverse friction: along e with noise.xi, as above, then across e with noise.zeta. */
+    void operator()(const PairGeometry& p, const PairNoise& noise, std::vector<OpenMM::Vec3>& v) const {
+        const double inverseMu = impulse.inverseReducedMass(p);
+        if (inverseMu == 0)
+            return;
+        const double mu = reducedMass(inverseMu);
+        PairVelocities<Impulse, Math> pair{p, v, impulse, mu};
+        apply(pair, p.gammaWD, noise.xi, kTOverMu(inverseMu, mu));
+        if (p.hasTransverse())
+            applyAcross(p, noise.zeta, v, mu, kTOverMu(inverseMu, mu));
+    }
+    double kTOverMu(double inverseMu, double mu) const { return inverseMu == reducedMass.common ? commonKTOverMu : kT / mu; }
     /**
      * The exact solution across e: each axis of the relative velocity's part perpendicular to
      * e decays with gamma_perp wD_perp and takes the perpendicular part of the pair's noise
-     * vector (docs/theory/lowe-andersen.md), as one impulse in the plane.
+     * vector zeta (docs/theory/lowe-andersen.md), as one impulse in the plane.
      */
-    void applyAcross(const PairGeometry& p, std::vector<OpenMM::Vec3>& v, double mu, double kTOverMu) const {
-        double zeta[3];
-        (*transverse)(p, zeta);
+    void applyAcross(const PairGeometry& p, const double* zeta, std::vector<OpenMM::Vec3>& v, double mu, double kTOverMu) const {
         const OpenMM::Vec3 z = p.perpendicular(OpenMM::Vec3(zeta[0], zeta[1], zeta[2]));
-        const double decay = Math::exp(-p.transverseGammaWD * h / mu), spread = Math::sqrt(kTOverMu * (1 - decay * decay));
+        // The standard library's exp: no vector row takes transverse friction, so nothing need agree with one.
+        const double decay = std::exp(-p.transverseGammaWD * h / mu), spread = std::sqrt(kTOverMu * (1 - decay * decay));
         const OpenMM::Vec3 u = p.perpendicular(p.relativeVelocity(v[p.i], v[p.j]));
         OpenMM::Vec3 J;
         for (int a = 0; a < 3; a++)

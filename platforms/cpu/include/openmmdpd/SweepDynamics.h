@@ -41,8 +41,20 @@ protected:
     }
     /** This step's normal numbers of a stream for every pair of the current list, drawn in batches (as DrawnNormals). */
     const std::vector<double>& normals(PairRandom::Stream stream, long long step);
-    /** Where a sweep's rule gets transverse friction's noise vectors of a stream and step: drawn ahead for the current list. */
-    TransverseNoiseSource transverseNoise(PairRandom::Stream stream, long long step);
+    /**
+     * The pairs' PairNoise for a sweep with transverse friction: xi from `normals` (as the
+     * sweep would take them), the noise vectors of transverseStream at `step`, drawn in batches.
+     */
+    const std::vector<PairNoise>& pairNoise(const std::vector<double>& normals, PairRandom::Stream transverseStream, long long step);
+    /** sweep() with each pair's normal number, or its PairNoise where any pair has transverse friction. */
+    template <class Rule>
+    void sweepWith(std::vector<OpenMM::Vec3>& v, const Rule& rule, const std::vector<double>& normals, PairRandom::Stream transverseStream,
+                   long long step, bool reverse) {
+        if (thermostat.getParameters().hasTransverse())
+            sweep(v, rule, pairNoise(normals, transverseStream, step), reverse);
+        else
+            sweep(v, rule, normals, reverse);
+    }
     /**
      * Shardlow's numbers for a first sweep at `step` (RandomForce): kept from the last S2
      * step's second sweep where it drew them over the same pair list and seed, else drawn.
@@ -99,10 +111,7 @@ protected:
         body(FreePairImpulse{slotInverseMasses});
     }
     /** Sweeps take their pairs by slot where they need no particle indices: no constraints, no virial. */
-    /** By slot but with constraints, the pressure tensor or transverse friction (whose noise is keyed by particle). */
-    bool wantsPairsBySlot() const override {
-        return !constrainedImpulse.hasConstraints() && thermostatVirial == nullptr && !thermostat.getParameters().hasTransverse();
-    }
+    bool wantsPairsBySlot() const override { return !constrainedImpulse.hasConstraints() && thermostatVirial == nullptr; }
     /** This step's words of a stream for every pair of the current list, drawn in batches (as DrawnBits). */
     const std::vector<r123::Philox4x32::ctr_type>& bits(PairRandom::Stream stream, long long step);
 
@@ -112,6 +121,7 @@ private:
     PairSweep pairSweep;
     long long pairsStep;
     std::vector<double> pairNormals, pairNoiseVectors;
+    std::vector<PairNoise> pairNoises;
     // Where normalsKept: firstSweepNormals(nextNormalsStep) over the current list, drawn with nextNormalsSeed
     std::vector<double> nextNormals;
     bool normalsKept = false;
