@@ -9,8 +9,8 @@ a CSV and a Markdown report (report.md) into docs/results/schmidt-number/.
     PYTHONPATH=build/python /usr/bin/python3 examples/schmidt_number.py [--quick] [--out DIR]
 
 eta = -<P_xy> / rate, the tensor averaged over blocks of BLOCK time whose means give the error
-(pymbar's statistical inefficiency).  D is the slope of the MSD over its second half of lags,
-its error the spread of D over 8 interleaved sets of particles (openmmdpd.analysis).  eta_T,
+(pymbar's statistical inefficiency).  D is the slope / 6 of the MSD over lags of 10 to 30 ps
+(openmmdpd.compare.diffusion), its error the spread of D over 8 interleaved sets of particles.  eta_T,
 from the same equilibrium run, is the viscosity the decay of the transverse momentum current
 at the box's smallest wavevector gives (openmmdpd.dynamics): no shear and no pressure tensor,
 so it checks eta independently, the more so with transverse friction, whose pair forces are
