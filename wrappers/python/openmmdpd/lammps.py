@@ -9,9 +9,10 @@ kT / (1 kJ/mol), the lj temperature (Boltzmann's constant is 1 there).
 What maps (anything else is refused, naming it, before a file is written):
 
 - `DPDSoftRepulsionForce` (periodic) and the integrator's thermostat table -> `pair_style dpd`
-  (`dpd/ext` where a weight exponent s is not 2: ws = s/2), one `pair_coeff I J a gamma rc`
-  per pair of LAMMPS atom types, an atom type per distinct (soft-repulsion type, thermostat
-  type, mass); gamma_IJ = 2 mu_IJ friction;
+  (`dpd/ext` where a weight exponent s is not 2, ws = s/2, or where there is transverse
+  friction, its gamma_perp and ws_perp = s_perp/2), one `pair_coeff I J a gamma rc` per pair of
+  LAMMPS atom types, an atom type per distinct (soft-repulsion type, thermostat type, mass);
+  gamma_IJ = 2 mu_IJ friction, and gamma_perp likewise;
 - `HarmonicBondForce` -> `bond_style harmonic` (K = k/2, r0); `CustomBondForce` (FENE, worm-like
   chains, any energy of r) -> `bond_style table`, its energy and force evaluated by OpenMM on a
   grid of lengths for each distinct set of per-bond parameters (openmmdpd.lammps_tables), both
@@ -79,6 +80,9 @@ special_bonds: its arguments; fixes: {fix id: [group, style, arguments...]}."""
 _VERLET_LIKE = (DPDVVIntegrator, EDPDIntegrator, DenOtterClarkeIntegrator)
 
 _Model = namedtuple("_Model", "masses soft thermostat bonds angles exclusions exceptions momentum custom")
+# One pair_coeff of LAMMPS atom types I <= J: a, gamma (amu/ps) and the weight exponent s along e,
+# the cutoff, and transverse friction's gamma (0: none) and exponent.
+_PairRow = namedtuple("_PairRow", "i j a gamma s rc gamma_perp s_perp")
 
 
 # --- Reading the System --------------------------------------------------------------------
@@ -108,14 +112,18 @@ def _soft_table(force, num_particles):
 
 
 def _thermostat_table(integrator, num_particles):
-    """(friction 1/ps, cutoff nm, weight exponent s) per pair of thermostat types."""
+    """(friction 1/ps, cutoff nm, weight exponent s, transverse friction 1/ps, its exponent) per pair of thermostat types."""
+    rate = unit.picosecond**-1
     pairs = {}
     for index in range(integrator.getNumTypePairs()):
         t1, t2, friction, cutoff = integrator.getTypePairParameters(index)
-        pairs[(min(t1, t2), max(t1, t2))] = (_value(friction, unit.picosecond**-1), _value(cutoff, unit.nanometer),
-                                             float(integrator.getTypePairWeightExponent(index)))
-    default = (_value(integrator.getDefaultFriction(), unit.picosecond**-1),
-               _value(integrator.getDefaultCutoff(), unit.nanometer), float(integrator.getDefaultWeightExponent()))
+        friction_perp, s_perp = integrator.getTypePairTransverseFriction(index)
+        pairs[(min(t1, t2), max(t1, t2))] = (_value(friction, rate), _value(cutoff, unit.nanometer),
+                                             float(integrator.getTypePairWeightExponent(index)), _value(friction_perp, rate),
+                                             float(s_perp))
+    default = (_value(integrator.getDefaultFriction(), rate), _value(integrator.getDefaultCutoff(), unit.nanometer),
+               float(integrator.getDefaultWeightExponent()), _value(integrator.getDefaultTransverseFriction(), rate),
+               float(integrator.getDefaultTransverseWeightExponent()))
     return _PairTable([integrator.getParticleType(i) for i in range(num_particles)], default, pairs)
 
 
@@ -329,17 +337,18 @@ def _pair_cutoff(a, soft_cutoff, gamma, thermostat_cutoff, where):
 
 
 def _pair_coefficients(model, distinct):
-    """[(I, J, a, gamma, s, rc)] for every pair of LAMMPS types I <= J."""
+    """[_PairRow] for every pair of LAMMPS types I <= J."""
     rows = []
     for first in range(len(distinct)):
         for second in range(first, len(distinct)):
             (s1, t1, m1), (s2, t2, m2) = distinct[first], distinct[second]
             a, soft_cutoff = model.soft(s1, s2) if model.soft is not None else (0.0, None)
-            friction, cutoff, exponent = model.thermostat(t1, t2)
-            gamma = 2 * m1 * m2 / (m1 + m2) * friction
+            friction, cutoff, exponent, friction_perp, exponent_perp = model.thermostat(t1, t2)
+            two_mu = 2 * m1 * m2 / (m1 + m2)
+            gamma = two_mu * friction
             where = (f"the pair of soft-repulsion types ({s1}, {s2}) with thermostat types ({t1}, {t2})")
-            rows.append((first + 1, second + 1, a, gamma, exponent,
-                         _pair_cutoff(a, soft_cutoff, gamma, cutoff, where)))
+            rows.append(_PairRow(first + 1, second + 1, a, gamma, exponent, _pair_cutoff(a, soft_cutoff, gamma, cutoff, where),
+                                 two_mu * friction_perp, exponent_perp))
     return rows
 
 
@@ -544,21 +553,20 @@ def _data_file(model, distinct, types, names, box, triclinic, positions, velocit
 
 
 def _pair_lines(scheme, rows, kT, seed):
-    """pair_style and pair_coeff: dpd (a gamma rc), dpd/ext (a gamma 0 ws 1 rc) or dpd/fdt (a sigma rc)."""
-    global_cutoff = _number(max(row[5] for row in rows))
+    """pair_style and pair_coeff: dpd (a gamma rc), dpd/ext (a gamma gamma_perp ws ws_perp rc) or dpd/fdt (a sigma rc)."""
+    global_cutoff = _number(max(row.rc for row in rows))
     if scheme == "shardlow":
         # dpd/fdt skips every conservative force when its last pair_coeff has a = 0: end on a nonzero a.
-        rows = sorted(rows, key=lambda row: row[2] != 0)
+        rows = sorted(rows, key=lambda row: row.a != 0)
         lines = [f"pair_style dpd/fdt {_number(kT)} {global_cutoff} {seed}"]
-        return lines + [f"pair_coeff {i} {j} {_number(a)} {_number(math.sqrt(2 * kT * gamma))} {_number(rc)}"
-                        for i, j, a, gamma, _, rc in rows]
-    if all(row[4] == 2.0 for row in rows):
+        return lines + [f"pair_coeff {r.i} {r.j} {_number(r.a)} {_number(math.sqrt(2 * kT * r.gamma))} {_number(r.rc)}"
+                        for r in rows]
+    if all(row.s == 2.0 and row.gamma_perp == 0 for row in rows):
         lines = [f"pair_style dpd {_number(kT)} {global_cutoff} {seed}"]
-        return lines + [f"pair_coeff {i} {j} {_number(a)} {_number(gamma)} {_number(rc)}"
-                        for i, j, a, gamma, _, rc in rows]
+        return lines + [f"pair_coeff {r.i} {r.j} {_number(r.a)} {_number(r.gamma)} {_number(r.rc)}" for r in rows]
     lines = [f"pair_style dpd/ext {_number(kT)} {global_cutoff} {seed}"]
-    return lines + [f"pair_coeff {i} {j} {_number(a)} {_number(gamma)} 0.0 {_number(s / 2)} 1.0 {_number(rc)}"
-                    for i, j, a, gamma, s, rc in rows]
+    return lines + [f"pair_coeff {r.i} {r.j} {_number(r.a)} {_number(r.gamma)} {_number(r.gamma_perp)} {_number(r.s / 2)} "
+                    f"{_number(r.s_perp / 2)} {_number(r.rc)}" for r in rows]
 
 
 def _half_width(box):
@@ -599,7 +607,7 @@ def _ghost_cutoff(rows, bond_types, tables, angle_types, kT):
     far image of its partner. DPD's rest-length-0 springs (k 4, kT 1) stretch past r_c + skin on a
     few percent of the bonds at any time."""
     reach = math.ceil(round(100 * (_bond_reach(bond_types, tables, angle_types, kT) + SKIN), 6)) / 100
-    return reach if reach > max(row[5] for row in rows) + SKIN else None
+    return reach if reach > max(row.rc for row in rows) + SKIN else None
 
 
 def _header(integrator, scheme, warning, kT, factors):
@@ -716,9 +724,13 @@ def _plan(integrator, model, box, seed, approximate):
     rows = _pair_coefficients(model, distinct)
     factors = _special_factors(model)
     if scheme == "shardlow":
-        if any(row[4] != 2.0 for row in rows):
+        if any(row.s != 2.0 for row in rows):
             raise ValueError("export_lammps: LAMMPS's pair dpd/fdt has only the weight exponent 2; this "
                              "ShardlowIntegrator sets another (setDefaultWeightExponent, setTypePairWeightExponent)")
+        if any(row.gamma_perp != 0 for row in rows):
+            raise ValueError("export_lammps: LAMMPS's pair dpd/fdt has no transverse friction; this ShardlowIntegrator "
+                             "sets one (setDefaultTransverseFriction, setTypePairTransverseFriction): export "
+                             "DPDVVIntegrator (GrootWarren, lambda 0.5), which pair dpd/ext runs with it")
         if any(0 < f < 1 for f in factors):
             raise ValueError(f"export_lammps: LAMMPS's fix shardlow ignores special_bonds factors between 0 and 1; "
                              f"the factors here are {factors}")

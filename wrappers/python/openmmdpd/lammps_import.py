@@ -37,39 +37,39 @@ def _refuse(message):
 
 
 def _pair_table(script, kT):
-    """{(I, J): (a, gamma, s, rc)} from the pair_coeff lines of pair dpd, dpd/ext or dpd/fdt."""
+    """{(I, J): (a, gamma, s, rc, gamma_perp, s_perp)} from the pair_coeff lines of pair dpd, dpd/ext or dpd/fdt."""
     style = script.pair_style[0]
     table = {}
     for pair, values in script.pair_coeffs.items():
+        gamma_perp, s_perp = 0.0, 2.0
         if style == "dpd":
             a, gamma, rc = values
             s = 2.0
         elif style == "dpd/ext":
-            a, gamma, gamma_perpendicular, ws, _, rc = values
-            if gamma_perpendicular:
-                _refuse(f"pair_coeff {pair} has a transverse friction {gamma_perpendicular}, which no integrator here has")
-            s = 2 * ws
+            a, gamma, gamma_perp, ws, ws_perp, rc = values
+            s, s_perp = 2 * ws, 2 * ws_perp
         elif style == "dpd/fdt":
             a, sigma, rc = values
             gamma, s = sigma**2 / (2 * kT), 2.0
         else:
             _refuse(f"pair_style {style} is not one export_lammps writes (dpd, dpd/ext, dpd/fdt)")
-        table[pair] = (a, gamma, s, rc)
+        table[pair] = (a, gamma, s, rc, gamma_perp, s_perp)
     return table
 
 
 def _integrator(script, kT, dt, masses, table):
     """The integrator the fixes and pair coefficients say, with its friction table."""
     seed = int(script.pair_style[3])
-    _, gamma, _, rc = table[(1, 1)]
+    _, gamma, _, rc, _, _ = table[(1, 1)]
     scheme = ShardlowIntegrator if any(fix[1] == "shardlow" for fix in script.fixes.values()) else DPDVVIntegrator
     integrator = scheme(reduced_temperature(kT), gamma / masses[1], rc, dt)  # type 1's; every pair is listed
     if scheme is DPDVVIntegrator:
         integrator.setLambda(0.5)
-    for (i, j), (_, gamma, s, rc) in sorted(table.items()):
+    for (i, j), (_, gamma, s, rc, gamma_perp, s_perp) in sorted(table.items()):
         reduced_mass = masses[i] * masses[j] / (masses[i] + masses[j])
         index = integrator.addTypePair(i - 1, j - 1, gamma / (2 * reduced_mass), rc)
         integrator.setTypePairWeightExponent(index, s)
+        integrator.setTypePairTransverseFriction(index, gamma_perp / (2 * reduced_mass), s_perp)
     integrator.setRandomNumberSeed(seed)
     shear = script.fixes.get("shear")
     if shear is not None:
@@ -82,7 +82,7 @@ def _soft_force(table, types):
         return None
     force = DPDSoftRepulsionForce(0.0, 1.0)
     force.setNonbondedMethod(DPDSoftRepulsionForce.CutoffPeriodic)
-    for (i, j), (a, _, _, rc) in sorted(table.items()):
+    for (i, j), (a, _, _, rc, _, _) in sorted(table.items()):
         force.addTypePair(i - 1, j - 1, a, rc)
     for particle, number in enumerate(types):
         force.setParticleType(particle, int(number) - 1)

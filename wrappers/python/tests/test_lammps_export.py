@@ -42,37 +42,40 @@ def soft_parameters(system, i, j):
 
 
 def thermostat_parameters(integrator, system, i, j):
-    """(gamma_ij = 2 mu_ij friction, cutoff, weight exponent) of particles i and j."""
+    """(gamma_ij = 2 mu_ij friction, cutoff, weight exponent, the transverse friction's gamma and exponent) of particles i and j."""
     ti, tj = integrator.getParticleType(i), integrator.getParticleType(j)
     friction, rc, s = integrator.getDefaultFriction(), integrator.getDefaultCutoff(), integrator.getDefaultWeightExponent()
+    perp, s_perp = integrator.getDefaultTransverseFriction(), integrator.getDefaultTransverseWeightExponent()
     for k in range(integrator.getNumTypePairs()):
         t1, t2, f, c = integrator.getTypePairParameters(k)
         if {t1, t2} == {ti, tj}:
             friction, rc, s = f, c, integrator.getTypePairWeightExponent(k)
+            perp, s_perp = integrator.getTypePairTransverseFriction(k)
     mi, mj = (value(system.getParticleMass(p), unit.dalton) for p in (i, j))
-    return 2 * mi * mj / (mi + mj) * value(friction, unit.picosecond**-1), value(rc, unit.nanometer), s
+    two_mu = 2 * mi * mj / (mi + mj)
+    rate = unit.picosecond**-1
+    return two_mu * value(friction, rate), value(rc, unit.nanometer), s, two_mu * value(perp, rate), s_perp
 
 
 def expected_pair(system, integrator, i, j):
-    """(a, gamma, cutoff, s) LAMMPS must use for particles i and j."""
-    gamma, rc, s = thermostat_parameters(integrator, system, i, j)
+    """(a, gamma, cutoff, s, gamma_perp, s_perp) LAMMPS must use for particles i and j."""
     soft = soft_parameters(system, i, j)
-    return (0.0 if soft is None else soft[0]), gamma, rc, s
+    return ((0.0 if soft is None else soft[0]),) + thermostat_parameters(integrator, system, i, j)
 
 
 def check_pairs(system, integrator, data, script, kT):
     style = script.pair_style[0]
     for i in range(system.getNumParticles()):
         for j in range(i + 1, system.getNumParticles()):
-            a, gamma, rc, s = expected_pair(system, integrator, i, j)
+            a, gamma, rc, s, gamma_perp, s_perp = expected_pair(system, integrator, i, j)
             ti, tj = sorted((data.types[i], data.types[j]))
             coefficients = script.pair_coeffs[(ti, tj)]
             if style == "dpd":
-                assert coefficients == pytest.approx([a, gamma, rc], rel=1e-14) and s == 2
+                assert coefficients == pytest.approx([a, gamma, rc], rel=1e-14) and s == 2 and gamma_perp == 0
             elif style == "dpd/ext":  # a gamma gammaT ws wsT rc, ws = s/2
-                assert coefficients == pytest.approx([a, gamma, 0.0, s / 2, 1.0, rc], rel=1e-14)
+                assert coefficients == pytest.approx([a, gamma, gamma_perp, s / 2, s_perp / 2, rc], rel=1e-14)
             else:
-                assert style == "dpd/fdt" and s == 2
+                assert style == "dpd/fdt" and s == 2 and gamma_perp == 0
                 assert coefficients == pytest.approx([a, math.sqrt(2 * kT * gamma), rc], rel=1e-14)
 
 
@@ -370,6 +373,26 @@ def test_weight_exponents_write_dpd_ext(tmp_path):
     assert {row[3] for row in script.pair_coeffs.values()} == {0.5, 0.25}
 
 
+def test_transverse_friction_writes_dpd_ext(tmp_path):
+    scene, integrator = two_type_fluid()
+    integrator.setDefaultTransverseFriction(2.0)
+    integrator.setTypePairTransverseFriction(1, 5.0, 1.0)
+    data, script = check_export(scene.system, integrator, scene.positions, tmp_path, box_of(scene.system))
+    assert script.pair_style[0] == "dpd/ext"
+    assert {row[4] for row in script.pair_coeffs.values()} == {1.0, 0.5}  # ws_perp = s_perp / 2
+    assert all(row[2] > 0 for row in script.pair_coeffs.values())
+
+
+def test_shardlow_with_transverse_friction_is_refused(tmp_path):
+    scene, _ = two_type_fluid()
+    integrator = openmmdpd.ShardlowIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)
+    integrator.setRandomNumberSeed(SEED)
+    integrator.setDefaultTransverseFriction(4.5)
+    with pytest.raises(ValueError, match="pair dpd/fdt has no transverse friction"):
+        lammps.export_lammps(scene.system, integrator, scene.positions, os.fspath(tmp_path / "model"))
+    assert os.listdir(tmp_path) == []
+
+
 def test_shardlow_order_1_writes_fix_shardlow_and_dpd_fdt(tmp_path):
     scene, _ = two_type_fluid()
     integrator = openmmdpd.ShardlowIntegrator(openmmdpd.reduced_temperature(1.5), 4.5, 1.0, DT)
@@ -630,6 +653,9 @@ def test_weight_exponents_and_shardlow_come_back(tmp_path):
     integrator.setRandomNumberSeed(SEED)
     integrator.setDefaultWeightExponent(0.5)
     check_round_trip(scene.system, integrator, scene.positions, tmp_path, seed=77)
+    integrator.setDefaultTransverseFriction(3.0)
+    integrator.setDefaultTransverseWeightExponent(1.5)
+    check_round_trip(scene.system, integrator, scene.positions, tmp_path, seed=78)
 
 
 def test_a_tabulated_bond_is_not_read_back(tmp_path):
