@@ -6,8 +6,9 @@ Importing this module registers these tags with OpenMM's `app.forcefield.parsers
 
 - `DPDSoftRepulsionForce`: `<Pair type1 type2 a cutoff/>` (kJ/mol/nm, nm), one
   `DPDSoftRepulsionForce` with a particle type per bead type;
-- `DPDThermostat`: `<Pair type1 type2 friction cutoff [weightExponent]/>` (1/ps, nm; the
-  exponent s of the weights, 2 by default), the integrator's type-pair table, and on the tag
+- `DPDThermostat`: `<Pair type1 type2 friction cutoff [weightExponent] [transverseFriction]
+  [transverseWeightExponent]/>` (1/ps, nm; the exponent s of the weights, 2 by default; the
+  transverse friction, 0 by default, and its exponent, 2), the integrator's type-pair table, and on the tag
   itself the optional `bondFactor12` and `bondFactor13` (1 by default), the thermostat factors
   of bonded pairs and of pairs two bonds apart; `apply_thermostat_parameters` copies them into
   an integrator;
@@ -296,16 +297,18 @@ def _set_particle_types(target, names, types):
 
 
 class ThermostatGenerator(_PairTableGenerator):
-    """`<DPDThermostat>`: the integrators' friction (1/ps), cutoff (nm) and weight exponent
-    (2 by default) per type pair, and the tag's bondFactor12 and bondFactor13 (1 by default):
-    the thermostat factors of the pairs one and two bonds apart.
+    """`<DPDThermostat>`: the integrators' friction (1/ps), cutoff (nm), weight exponent
+    (2 by default) and transverse friction (1/ps, 0 by default) with its exponent (2) per type
+    pair, and the tag's bondFactor12 and bondFactor13 (1 by default): the thermostat factors of
+    the pairs one and two bonds apart.
 
     It adds no force (the thermostat is the integrator's); createSystem only checks that
     it covers the same type pairs as `<DPDSoftRepulsionForce>`.
     """
     tag, kind = "DPDThermostat", "Pair"
-    values = {"friction": ">= 0", "cutoff": "> 0", "weightExponent": "> 0"}
-    defaults = {"weightExponent": 2.0}
+    values = {"friction": ">= 0", "cutoff": "> 0", "weightExponent": "> 0", "transverseFriction": ">= 0",
+              "transverseWeightExponent": "> 0"}
+    defaults = {"weightExponent": 2.0, "transverseFriction": 0.0, "transverseWeightExponent": 2.0}
 
     def __init__(self, forcefield):
         super().__init__(forcefield)
@@ -486,16 +489,17 @@ def apply_thermostat_parameters(integrator, forcefield, topology, residueTemplat
 
 
 def _check_thermostat_options(integrator, table, factors):
-    """Refuse weight exponents other than 2, or bond factors, for an integrator that lacks them."""
+    """Refuse weight exponents other than 2, transverse friction or bond factors for an integrator that lacks them."""
     if isinstance(integrator, DPDThermostatIntegrator):
         return
     lacking = [what for what, used in (("weight exponents", any(values[2] != 2.0 for values in table.values())),
+                                       ("transverse friction", any(values[3] != 0 for values in table.values())),
                                        ("thermostat exceptions", factors != (1.0, 1.0))) if used]
     if lacking:
         raise ValueError(f"apply_thermostat_parameters: {type(integrator).__name__} has no "
                          f"{' and no '.join(lacking)}, which the force field's <DPDThermostat> sets "
-                         f"(weightExponent other than 2, bondFactor12 or bondFactor13 other than 1); "
-                         f"give one of openmmdpd's integrators")
+                         f"(weightExponent other than 2, transverseFriction, bondFactor12 or bondFactor13 other "
+                         f"than 1); give one of openmmdpd's integrators")
 
 
 def _create_bond_exceptions(integrator, topology, factors):
@@ -508,18 +512,22 @@ def _create_bond_exceptions(integrator, topology, factors):
 
 def _set_type_pairs(integrator, table):
     """The defaults from type pair (0, 0) and a type pair for every other one; the weight
-    exponents only where the integrator has them (OpenMM's DPDIntegrator has not)."""
-    exponents = isinstance(integrator, DPDThermostatIntegrator)
-    friction, cutoff, exponent = table[(0, 0)]
+    exponents and transverse friction only where the integrator has them (OpenMM's
+    DPDIntegrator has not)."""
+    options = isinstance(integrator, DPDThermostatIntegrator)
+    friction, cutoff, exponent, perpendicular, perpendicular_exponent = table[(0, 0)]
     integrator.setDefaultFriction(friction)
     integrator.setDefaultCutoff(cutoff)
-    if exponents:
+    if options:
         integrator.setDefaultWeightExponent(exponent)
-    for (i, j), (friction, cutoff, exponent) in table.items():
+        integrator.setDefaultTransverseFriction(perpendicular)
+        integrator.setDefaultTransverseWeightExponent(perpendicular_exponent)
+    for (i, j), (friction, cutoff, exponent, perpendicular, perpendicular_exponent) in table.items():
         if (i, j) != (0, 0):
             index = integrator.addTypePair(i, j, friction, cutoff)
-            if exponents:
+            if options:
                 integrator.setTypePairWeightExponent(index, exponent)
+                integrator.setTypePairTransverseFriction(index, perpendicular, perpendicular_exponent)
 
 
 def _check_system_types(forcefield, system, names, types):

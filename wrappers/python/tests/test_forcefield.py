@@ -289,7 +289,8 @@ def test_without_the_new_attributes_the_thermostat_is_standard():
 @pytest.mark.parametrize("options, message", [
     (dict(a_b="0"), r"DPDThermostat: Pair .*'weightExponent': '0'.* needs .*weightExponent > 0"),
     (dict(s_s="-1"), r"DPDThermostat: Pair .*'weightExponent': '-1'.* needs .*weightExponent > 0"),
-    (dict(a_b="inf"), r"DPDThermostat: Pair .*: friction, cutoff, weightExponent must be finite numbers"),
+    (dict(a_b="inf"), r"DPDThermostat: Pair .*: friction, cutoff, weightExponent, transverseFriction, "
+                      r"transverseWeightExponent must be finite numbers"),
     (dict(factor12="1.5"), r"DPDThermostat: bondFactor12='1.5' must be a number in \[0, 1\]"),
     (dict(factor13="-0.5"), r"DPDThermostat: bondFactor13='-0.5' must be a number in \[0, 1\]"),
     (dict(factor13="nan"), r"DPDThermostat: bondFactor13='nan' must be a number in \[0, 1\]"),
@@ -338,6 +339,32 @@ class FakeDPDIntegrator:
         return lambda *args: self.calls.append(name)
 
 
+def with_transverse_friction(text, pair='type1="A" type2="B"', friction="3", exponent="1"):
+    return re.sub(f'(<Pair {pair} friction="[^"]*")', rf'\1 transverseFriction="{friction}" transverseWeightExponent="{exponent}"',
+                  text)
+
+
+def test_transverse_friction_reaches_the_integrator():
+    topology, _ = trimers_in_solvent()
+    integrator = thermostat(topology, with_transverse_friction(xml()))
+    assert integrator.getDefaultTransverseFriction() == 0 / unit.picosecond  # pair (S, S): none
+    perpendicular = {}
+    for index in range(integrator.getNumTypePairs()):
+        t1, t2 = integrator.getTypePairParameters(index)[:2]
+        perpendicular[tuple(sorted((t1, t2)))] = integrator.getTypePairTransverseFriction(index)
+    assert perpendicular[(1, 2)] == [3.0 / unit.picosecond, 1.0]  # (A, B)
+    assert all(value == [0 / unit.picosecond, 2.0] for pair, value in perpendicular.items() if pair != (1, 2))
+    assert thermostat(topology, xml()).hasTransverseFriction() is False
+
+
+@pytest.mark.parametrize("friction, exponent, message", [("-1", "1", "needs .*transverseFriction >= 0"),
+                                                         ("1", "0", "needs .*transverseWeightExponent > 0"),
+                                                         ("nan", "1", "must be finite numbers")])
+def test_bad_transverse_friction_is_refused_by_name(friction, exponent, message):
+    with pytest.raises(ValueError, match=f"DPDThermostat: Pair .*{message}"):
+        load(with_transverse_friction(xml(), friction=friction, exponent=exponent))
+
+
 def test_openmms_dpd_integrator_gets_the_table_but_refuses_exponents_and_bond_factors(monkeypatch):
     monkeypatch.setattr(openmm, "DPDIntegrator", FakeDPDIntegrator, raising=False)
     topology, _ = trimers_in_solvent()
@@ -350,6 +377,10 @@ def test_openmms_dpd_integrator_gets_the_table_but_refuses_exponents_and_bond_fa
         with pytest.raises(ValueError, match=f"FakeDPDIntegrator {lacks}"):
             forcefield.apply_thermostat_parameters(integrator, load(thermostat_options(**options)), topology)
         assert integrator.calls == []
+    integrator = FakeDPDIntegrator()
+    with pytest.raises(ValueError, match="FakeDPDIntegrator has no transverse friction, which"):
+        forcefield.apply_thermostat_parameters(integrator, load(with_transverse_friction(xml())), topology)
+    assert integrator.calls == []
 
 
 # --- Bead residues -------------------------------------------------------------------------
