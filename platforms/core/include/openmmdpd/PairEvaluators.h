@@ -337,16 +337,17 @@ struct PairOrnsteinUhlenbeckUpdate {
         if (p.hasTransverse())
             applyAcross(p, noise.zeta, v, mu, kTOverMu(inverseMu, mu));
     }
+    /** kT/mu of a pair of inverse reduced mass inverseMu = 1/mu. */
     double kTOverMu(double inverseMu, double mu) const { return inverseMu == reducedMass.common ? commonKTOverMu : kT / mu; }
     /**
      * The exact solution across e: each axis of the relative velocity's part perpendicular to
      * e decays with gamma_perp wD_perp and takes the perpendicular part of the pair's noise
      * vector zeta (docs/theory/lowe-andersen.md), as one impulse in the plane.
      */
-    void applyAcross(const PairGeometry& p, const double* zeta, std::vector<OpenMM::Vec3>& v, double mu, double kTOverMu) const {
+    void applyAcross(const PairGeometry& p, const double* zeta, std::vector<OpenMM::Vec3>& v, double mu, double pairKTOverMu) const {
         const OpenMM::Vec3 z = p.perpendicular(OpenMM::Vec3(zeta[0], zeta[1], zeta[2]));
         // The standard library's exp: no vector row takes transverse friction, so nothing need agree with one.
-        const double decay = std::exp(-p.transverseGammaWD * h / mu), spread = std::sqrt(kTOverMu * (1 - decay * decay));
+        const double decay = std::exp(-p.transverseGammaWD * h / mu), spread = std::sqrt(pairKTOverMu * (1 - decay * decay));
         const OpenMM::Vec3 u = p.perpendicular(p.relativeVelocity(v[p.i], v[p.j]));
         OpenMM::Vec3 J;
         for (int a = 0; a < 3; a++)
