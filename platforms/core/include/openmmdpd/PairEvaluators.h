@@ -326,13 +326,16 @@ struct PairOrnsteinUhlenbeckUpdate {
         PairVelocities<Impulse, Math> pair{p, v, impulse, mu};
         apply(pair, p.gammaWD, xi, kTOverMu(inverseMu, mu));
     }
-    /** With transverse friction: along e with noise.xi, as above, then across e with noise.zeta. */
+    /**
+     * With transverse friction: along e with noise.xi, as above, then across e with noise.zeta;
+     * with the standard library's exp and sqrt, as no vector row takes such a sweep.
+     */
     void operator()(const PairGeometry& p, const PairNoise& noise, std::vector<OpenMM::Vec3>& v) const {
         const double inverseMu = impulse.inverseReducedMass(p);
         if (inverseMu == 0)
             return;
         const double mu = reducedMass(inverseMu);
-        PairVelocities<Impulse, Math> pair{p, v, impulse, mu};
+        PairVelocities<Impulse, ScalarMath> pair{p, v, impulse, mu};
         apply(pair, p.gammaWD, noise.xi, kTOverMu(inverseMu, mu));
         if (p.hasTransverse())
             applyAcross(p, noise.zeta, v, mu, kTOverMu(inverseMu, mu));
@@ -346,7 +349,6 @@ struct PairOrnsteinUhlenbeckUpdate {
      */
     void applyAcross(const PairGeometry& p, const double* zeta, std::vector<OpenMM::Vec3>& v, double mu, double pairKTOverMu) const {
         const OpenMM::Vec3 z = p.perpendicular(OpenMM::Vec3(zeta[0], zeta[1], zeta[2]));
-        // The standard library's exp: no vector row takes transverse friction, so nothing need agree with one.
         const double decay = std::exp(-p.transverseGammaWD * h / mu), spread = std::sqrt(pairKTOverMu * (1 - decay * decay));
         const OpenMM::Vec3 u = p.perpendicular(p.relativeVelocity(v[p.i], v[p.j]));
         OpenMM::Vec3 J;
