@@ -68,12 +68,10 @@ def final_state(integrator, platform_name, steps=20):
     return state.getPositions(asNumpy=True)._value, state.getVelocities(asNumpy=True)._value, np.array(pressure)
 
 
-@pytest.mark.parametrize("platform_name", ["Reference", "CPU"])
-@pytest.mark.parametrize("factor", [0.0, 0.3])
-@pytest.mark.parametrize("name", sorted(INTEGRATORS))
-def test_an_exception_is_the_friction_scaled_by_its_factor(name, factor, platform_name):
-    # Group pairs carry the exception; in the other run, the same pairs are type pair (1, 1)
-    # with friction f times the default.  Every other pair is alike in both runs.
+def group_runs(name, factor):
+    """(with exceptions, with a type pair): group pairs carry the exception in the first; in the
+    second they are type pair (1, 1), with friction f times the default.  Every other pair is
+    alike in both."""
     with_exceptions, with_type_pair = INTEGRATORS[name](DT), INTEGRATORS[name](DT)
     for integrator in (with_exceptions, with_type_pair):
         for i in GROUP:
@@ -83,9 +81,20 @@ def test_an_exception_is_the_friction_scaled_by_its_factor(name, factor, platfor
     with_exceptions.addTypePair(1, 1, FRICTION, CUTOFF)
     for i, j in itertools.combinations(GROUP, 2):
         with_exceptions.addThermostatException(i, j, factor)
+    return with_exceptions, with_type_pair
+
+
+def expect_same_final_state(name, with_exceptions, with_type_pair, platform_name):
     expected, actual = final_state(with_type_pair, platform_name), final_state(with_exceptions, platform_name)
     for what, e, a in zip(("positions", "velocities", "thermostat pressure"), expected, actual):
         assert np.max(np.abs(a - e), initial=0) <= 1e-9 * np.max(np.abs(e), initial=0), f"{name}: {what}"
+
+
+@pytest.mark.parametrize("platform_name", ["Reference", "CPU"])
+@pytest.mark.parametrize("factor", [0.0, 0.3])
+@pytest.mark.parametrize("name", sorted(INTEGRATORS))
+def test_an_exception_is_the_friction_scaled_by_its_factor(name, factor, platform_name):
+    expect_same_final_state(name, *group_runs(name, factor), platform_name)
 
 
 @pytest.mark.parametrize("platform_name", ["Reference", "CPU"])
@@ -94,20 +103,12 @@ def test_an_exception_is_the_friction_scaled_by_its_factor(name, factor, platfor
 def test_an_exception_scales_the_transverse_friction_alike(name, factor, platform_name):
     # As above, with transverse friction 3 (exponent 1) on every pair: the exceptions scale it
     # by f, its noise by sqrt(f), as a type pair with f times the transverse friction.
-    with_exceptions, with_type_pair = INTEGRATORS[name](DT), INTEGRATORS[name](DT)
+    with_exceptions, with_type_pair = group_runs(name, factor)
     for integrator in (with_exceptions, with_type_pair):
-        for i in GROUP:
-            integrator.setParticleType(i, 1)
-        integrator.addTypePair(0, 1, FRICTION, CUTOFF)
-        integrator.addTypePair(1, 1, FRICTION * factor if integrator is with_type_pair else FRICTION, CUTOFF)
         integrator.setDefaultTransverseFriction(3.0)
         integrator.setDefaultTransverseWeightExponent(1.0)
     with_type_pair.setTypePairTransverseFriction(1, 3.0 * factor, 1.0)
-    for i, j in itertools.combinations(GROUP, 2):
-        with_exceptions.addThermostatException(i, j, factor)
-    expected, actual = final_state(with_type_pair, platform_name), final_state(with_exceptions, platform_name)
-    for what, e, a in zip(("positions", "velocities", "thermostat pressure"), expected, actual):
-        assert np.max(np.abs(a - e), initial=0) <= 1e-9 * np.max(np.abs(e), initial=0), f"{name}: {what}"
+    expect_same_final_state(name, with_exceptions, with_type_pair, platform_name)
 
 
 @pytest.mark.parametrize("platform_name", ["Reference", "CPU"])

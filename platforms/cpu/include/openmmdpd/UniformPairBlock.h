@@ -40,7 +40,6 @@ inline PairGeometry pairGeometry(const UniformPair& pair, const UniformPairRule&
     g.sigmaWR = rule.sigma * pair.wR;
     g.rate = rule.rate;
     g.imageVx = 0;
-    g.transverseGammaWD = g.transverseSigmaWR = 0;
     return g;
 }
 
