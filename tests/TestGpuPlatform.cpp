@@ -13,6 +13,7 @@
 #include "openmmdpd/Checkpoints.h"
 #include "openmmdpd/CommonPairRandomCheck.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/MDPDForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
@@ -157,6 +158,52 @@ TEST(GpuPlatform, SoftRepulsionForceEqualsReference) {
     // Float pair terms: 1e-5 of the largest force, 1e-5 relative energy (see the tolerance note above).
     EXPECT_LT(maxDifference(expected.getForces(), actual.getForces()), 1e-5 * maxNorm(expected.getForces()));
     EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-5 * std::fabs(expected.getPotentialEnergy()));
+}
+
+namespace {
+
+// Warren's MDPD liquid (A -40, B 25, rd 0.75) with a second type: its own A, cutoff and B; a few exclusions.
+System* makeMDPDSystem(int n, std::vector<Vec3>& positions) {
+    System* system = makeFluid(n, 0, positions);
+    system->removeForce(0);
+    MDPDForce* force = new MDPDForce(-40.0, 25.0, 1.0, 0.75);
+    for (int i = 0; i < n; i += 3)
+        force->setParticleType(i, 1);
+    force->addTypePair(0, 1, -30.0, 0.9);
+    force->setTypeB(1, 20.0);
+    for (int i = 0; i + 1 < n; i += 50)
+        force->addExclusion(i, i + 1);
+    system->addForce(force);
+    return system;
+}
+
+} // namespace
+
+// Forces, energy and (one sampled DPD-VV step) the conservative pressure tensor against the Reference's.
+TEST(GpuPlatform, MDPDForceEqualsReference) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeMDPDSystem(600, positions));
+    std::vector<State> states;
+    std::vector<std::vector<double>> pressure;
+    for (const std::string& platform : {std::string("Reference"), GPU}) {
+        DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.005);
+        integrator.setPressureTensorEnabled(true);
+        integrator.setRandomNumberSeed(1234);
+        Context context(*system, integrator, Platform::getPlatformByName(platform));
+        context.setPositions(positions);
+        states.push_back(context.getState(State::Forces | State::Energy));
+        integrator.step(1);
+        pressure.push_back(integrator.getAveragePressureTensor(DPDThermostatIntegrator::PressureConservative));
+    }
+    // Float pair terms, as SoftRepulsionForceEqualsReference.
+    EXPECT_LT(maxDifference(states[0].getForces(), states[1].getForces()), 1e-5 * maxNorm(states[0].getForces()));
+    EXPECT_NEAR(states[1].getPotentialEnergy(), states[0].getPotentialEnergy(), 1e-5 * std::fabs(states[0].getPotentialEnergy()));
+    double scale = 0;
+    for (double x : pressure[0])
+        scale = std::max(scale, std::fabs(x));
+    for (int c = 0; c < 6; c++)
+        EXPECT_NEAR(pressure[1][c], pressure[0][c], 1e-4 * scale) << "component " << c;
 }
 
 // The box that Lees-Edwards shear makes, b = (tilt, Ly, 0), at tilts up to OpenMM's Lx/2: the

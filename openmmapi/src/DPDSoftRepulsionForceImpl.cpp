@@ -28,7 +28,7 @@ void DPDSoftRepulsionForceImpl::initialize(OpenMM::ContextImpl& context) {
 }
 
 double DPDSoftRepulsionForceImpl::calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups) {
-    if ((groups & (1 << owner.getForceGroup())) == 0 || leftOut)
+    if ((groups & (1 << owner.getForceGroup())) == 0 || isLeftOut())
         return 0.0;
     return kernel.getAs<CalcDPDSoftRepulsionForceKernel>().execute(context, includeForces, includeEnergy);
 }
@@ -41,4 +41,8 @@ void DPDSoftRepulsionForceImpl::updateParametersInContext(OpenMM::ContextImpl& c
     validate(owner, context.getSystem());
     kernel.getAs<CalcDPDSoftRepulsionForceKernel>().copyParametersToContext(context, owner);
     context.systemChanged();
+}
+
+std::array<double, 6> DPDSoftRepulsionForceImpl::computeVirial(OpenMM::ContextImpl& context) {
+    return kernel.getAs<CalcDPDSoftRepulsionForceKernel>().computeVirial(context);
 }

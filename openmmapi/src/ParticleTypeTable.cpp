@@ -30,7 +30,10 @@ void ParticleTypeTable::checkPairIndex(int pairIndex) const {
 void ParticleTypeTable::checkTypePair(int type1, int type2, double value, double cutoff, int replacing) const {
     require(type1 >= 0, owner + ": type1 must be >= 0, got " + std::to_string(type1));
     require(type2 >= 0, owner + ": type2 must be >= 0, got " + std::to_string(type2));
-    require(std::isfinite(value) && value >= 0, owner + ": " + valueName + " must be >= 0 " + valueUnit + ", got " + numberText(value));
+    if (signedValues)
+        require(std::isfinite(value), owner + ": " + valueName + " must be finite, got " + numberText(value));
+    else
+        require(std::isfinite(value) && value >= 0, owner + ": " + valueName + " must be >= 0 " + valueUnit + ", got " + numberText(value));
     require(std::isfinite(cutoff) && cutoff > 0, owner + ": cutoff must be > 0 nm, got " + numberText(cutoff));
     for (int i = 0; i < (int) typePairs.size(); i++) {
         const TypePair& p = typePairs[i];

@@ -4,6 +4,7 @@
 #include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/MDPDForce.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 
@@ -19,4 +20,5 @@ extern "C" void __attribute__((constructor)) registerDPDSerializationProxies() {
     OpenMM::SerializationProxy::registerProxy(typeid(StaggeredDPDIntegrator), new DPDIntegratorProxy<StaggeredDPDIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(DenOtterClarkeIntegrator), new DPDIntegratorProxy<DenOtterClarkeIntegrator>());
     OpenMM::SerializationProxy::registerProxy(typeid(DPDSoftRepulsionForce), new DPDSoftRepulsionForceProxy());
+    OpenMM::SerializationProxy::registerProxy(typeid(MDPDForce), new MDPDForceProxy());
 }

@@ -5,6 +5,7 @@
 %{
 #include "openmmdpd/Checkpoints.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/MDPDForce.h"
 #include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/DenOtterClarkeIntegrator.h"
@@ -173,6 +174,53 @@ def _arg(self, method, name, value, target_unit):
 %pythonappend DPDPlugin::DPDSoftRepulsionForce::getTypePairParameters %{
     val = [val[0], val[1], _unit.Quantity(val[2], _unit.kilojoule_per_mole / _unit.nanometer), _unit.Quantity(val[3], _unit.nanometer)]
 %}
+%pythonprepend DPDPlugin::MDPDForce::MDPDForce %{
+    defaultA = _arg(self, None, "defaultA", defaultA, _FORCE)
+    defaultB = _arg(self, None, "defaultB", defaultB, _FORCE)
+    defaultCutoff = _arg(self, None, "defaultCutoff", defaultCutoff, _NM)
+    densityCutoff = _arg(self, None, "densityCutoff", densityCutoff, _NM)
+%}
+%pythonprepend DPDPlugin::MDPDForce::setDefaultA %{
+    a = _arg(self, "setDefaultA", "defaultA", a, _FORCE)
+%}
+%pythonprepend DPDPlugin::MDPDForce::setDefaultB %{
+    b = _arg(self, "setDefaultB", "defaultB", b, _FORCE)
+%}
+%pythonprepend DPDPlugin::MDPDForce::setDefaultCutoff %{
+    cutoff = _arg(self, "setDefaultCutoff", "defaultCutoff", cutoff, _NM)
+%}
+%pythonprepend DPDPlugin::MDPDForce::setDensityCutoff %{
+    cutoff = _arg(self, "setDensityCutoff", "densityCutoff", cutoff, _NM)
+%}
+%pythonprepend DPDPlugin::MDPDForce::setTypeB %{
+    b = _arg(self, "setTypeB", "b", b, _FORCE)
+%}
+%pythonprepend DPDPlugin::MDPDForce::addTypePair %{
+    a = _arg(self, "addTypePair", "a", a, _FORCE)
+    cutoff = _arg(self, "addTypePair", "cutoff", cutoff, _NM)
+%}
+%pythonprepend DPDPlugin::MDPDForce::setTypePairParameters %{
+    a = _arg(self, "setTypePairParameters", "a", a, _FORCE)
+    cutoff = _arg(self, "setTypePairParameters", "cutoff", cutoff, _NM)
+%}
+%pythonappend DPDPlugin::MDPDForce::getDefaultA %{
+    val = _unit.Quantity(val, _unit.kilojoule_per_mole / _unit.nanometer)
+%}
+%pythonappend DPDPlugin::MDPDForce::getDefaultB %{
+    val = _unit.Quantity(val, _unit.kilojoule_per_mole / _unit.nanometer)
+%}
+%pythonappend DPDPlugin::MDPDForce::getTypeB %{
+    val = _unit.Quantity(val, _unit.kilojoule_per_mole / _unit.nanometer)
+%}
+%pythonappend DPDPlugin::MDPDForce::getDefaultCutoff %{
+    val = _unit.Quantity(val, _unit.nanometer)
+%}
+%pythonappend DPDPlugin::MDPDForce::getDensityCutoff %{
+    val = _unit.Quantity(val, _unit.nanometer)
+%}
+%pythonappend DPDPlugin::MDPDForce::getTypePairParameters %{
+    val = [val[0], val[1], _unit.Quantity(val[2], _unit.kilojoule_per_mole / _unit.nanometer), _unit.Quantity(val[3], _unit.nanometer)]
+%}
 %pythonprepend DPDPlugin::DPDThermostatIntegrator::setTemperature %{
     temp = _arg(self, "setTemperature", "temperature", temp, _K)
 %}
@@ -270,6 +318,8 @@ def _arg(self, method, name, value, target_unit):
 %ignore DPDPlugin::BOLTZMANN_KJ_PER_MOL_K;
 %ignore DPDPlugin::StaggeredDPDIntegrator::validate;
 %ignore DPDPlugin::DPDSoftRepulsionForce::getTypeTable;
+%ignore DPDPlugin::MDPDForce::getTypeTable;
+%ignore DPDPlugin::MDPDForce::getTypeBs;
 
 %include "openmmdpd/DPDThermostatIntegrator.h"
 %include "openmmdpd/DPDVVIntegrator.h"
@@ -279,6 +329,7 @@ def _arg(self, method, name, value, target_unit):
 %include "openmmdpd/DenOtterClarkeIntegrator.h"
 %include "openmmdpd/StaggeredDPDIntegrator.h"
 %include "openmmdpd/DPDSoftRepulsionForce.h"
+%include "openmmdpd/MDPDForce.h"
 
 %clear int& type1, int& type2, int& particle1, int& particle2;
 %clear double& friction, double& cutoff, double& a;
@@ -331,6 +382,7 @@ DPD_EXTRAS(EDPDIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(DenOtterClarkeIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(StaggeredDPDIntegrator, OpenMM::Integrator)
 DPD_EXTRAS(DPDSoftRepulsionForce, OpenMM::Force)
+DPD_EXTRAS(MDPDForce, OpenMM::Force)
 
 // openmmdpd.load_checkpoint's C++ side: the checkpoint as Python bytes.
 %inline %{

@@ -6,6 +6,7 @@
 #include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
+#include "openmmdpd/MDPDForce.h"
 #include "openmmdpd/ShardlowIntegrator.h"
 #include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/KernelImpl.h"
@@ -109,6 +110,19 @@ public:
      * The force's pair virial at the Context's positions: the sum over pairs of r_ij,a F_ij,b
      * (kJ/mol, F_ij the force on i, r_ij = r_i - r_j the nearest image) as (xx, yy, zz, xy, xz, yz).
      */
+    virtual std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) = 0;
+};
+
+/** Computes the forces and energy of an MDPDForce: the local densities first, then the pair forces. */
+class CalcMDPDForceKernel : public OpenMM::KernelImpl {
+public:
+    static std::string Name() { return "CalcMDPDForce"; }
+    CalcMDPDForceKernel(std::string name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {}
+    virtual void initialize(const OpenMM::System& system, const MDPDForce& force) = 0;
+    /** Add the forces to the Context's, if includeForces; return the energy (kJ/mol) if includeEnergy. */
+    virtual double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) = 0;
+    virtual void copyParametersToContext(OpenMM::ContextImpl& context, const MDPDForce& force) = 0;
+    /** The pair virial at the Context's positions, as CalcDPDSoftRepulsionForceKernel::computeVirial's. */
     virtual std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) = 0;
 };
 

@@ -24,9 +24,10 @@ public:
      * @param owner      the class name that error messages start with, e.g. "DPDVVIntegrator"
      * @param valueName  the parameter's name in error messages, e.g. "friction"
      * @param valueUnit  its unit in error messages, e.g. "/ps"
+     * @param signedValues  whether values may be negative (an attraction), not only >= 0
      */
-    ParticleTypeTable(const std::string& owner, const std::string& valueName, const std::string& valueUnit) :
-            owner(owner), valueName(valueName), valueUnit(valueUnit) {}
+    ParticleTypeTable(const std::string& owner, const std::string& valueName, const std::string& valueUnit, bool signedValues = false) :
+            owner(owner), valueName(valueName), valueUnit(valueUnit), signedValues(signedValues) {}
     int getParticleType(int index) const;
     void setParticleType(int index, int type);
     /** Every particle type that was set explicitly, by particle index. */
@@ -45,6 +46,7 @@ private:
     void checkTypePair(int type1, int type2, double value, double cutoff, int replacing) const;
     void checkPairIndex(int pairIndex) const;
     std::string owner, valueName, valueUnit;
+    bool signedValues;
     std::map<int, int> particleType;
     std::vector<TypePair> typePairs;
 };

@@ -102,6 +102,22 @@ void DPDPlugin::uploadInts(ComputeContext& cc, ComputeArray& array, const std::v
     uploadResized(cc, array, values.empty() ? std::vector<int>(1, 0) : values, name);
 }
 
+void DPDPlugin::uploadPartnerLists(ComputeContext& cc, int numAtoms, const std::vector<std::pair<int, int>>& pairs, ComputeArray& start,
+                                   ComputeArray& partners, const std::string& name) {
+    std::vector<std::vector<int>> partnersOf(numAtoms);
+    for (const std::pair<int, int>& p : pairs) {
+        partnersOf[p.first].push_back(p.second);
+        partnersOf[p.second].push_back(p.first);
+    }
+    std::vector<int> first(1, 0), list;
+    for (const std::vector<int>& p : partnersOf) {
+        list.insert(list.end(), p.begin(), p.end());
+        first.push_back((int) list.size());
+    }
+    uploadInts(cc, start, first, name + "Start");
+    uploadInts(cc, partners, list, name);
+}
+
 void DPDPlugin::uploadMixed4(ComputeContext& cc, ComputeArray& array, const std::vector<double>& rows, const std::string& name) {
     const size_t n = std::max((size_t) 1, rows.size() / 4);
     if (mixedIsDouble(cc)) {

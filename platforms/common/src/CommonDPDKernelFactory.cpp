@@ -1,5 +1,6 @@
 #include "openmmdpd/CommonDPDKernelFactory.h"
 #include "openmmdpd/CommonDPDKernels.h"
+#include "openmmdpd/CommonMDPDKernel.h"
 #include "openmm/Platform.h"
 
 using namespace DPDPlugin;
@@ -15,6 +16,8 @@ KernelImpl* CommonDPDKernelFactory::createKernelImpl(std::string name, const Pla
         return new CommonIntegrateLoweAndersenStepKernel(name, platform, cc);
     if (name == CalcDPDSoftRepulsionForceKernel::Name())
         return new CommonSoftRepulsionKernel(name, platform, cc);
+    if (name == CalcMDPDForceKernel::Name())
+        return new CommonMDPDKernel(name, platform, cc);
     throw OpenMMException(plugin + ": unknown kernel '" + name + "'");
 }
 
@@ -28,6 +31,7 @@ void CommonDPDKernelFactory::registerWith(const std::string& platformName, const
     }
     KernelFactory* factory = new CommonDPDKernelFactory(plugin, find);
     for (const std::string& name : {IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(),
-                                    IntegrateLoweAndersenStepKernel::Name(), CalcDPDSoftRepulsionForceKernel::Name()})
+                                    IntegrateLoweAndersenStepKernel::Name(), CalcDPDSoftRepulsionForceKernel::Name(),
+                                    CalcMDPDForceKernel::Name()})
         platform->registerKernelFactory(name, factory);
 }

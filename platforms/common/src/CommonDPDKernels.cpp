@@ -55,24 +55,10 @@ void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRe
 }
 
 void CommonSoftRepulsionKernel::uploadExclusions(const DPDSoftRepulsionForce& force) {
-    const int n = cc.getNumAtoms();
-    std::vector<std::vector<int>> partners(n);
-    for (int k = 0; k < force.getNumExclusions(); k++) {
-        int i, j;
-        force.getExclusionParticles(k, i, j);
-        partners[i].push_back(j);
-        partners[j].push_back(i);
-    }
-    std::vector<int> start(1, 0), list;
-    for (const std::vector<int>& p : partners) {
-        list.insert(list.end(), p.begin(), p.end());
-        start.push_back((int) list.size());
-    }
-    list.push_back(-1);  // no array is empty
-    exclusionStart.initialize<int>(cc, start.size(), "dpdSoftExclusionStart");
-    exclusionStart.upload(start);
-    exclusions.initialize<int>(cc, list.size(), "dpdSoftExclusions");
-    exclusions.upload(list);
+    std::vector<std::pair<int, int>> pairs(force.getNumExclusions());
+    for (int k = 0; k < force.getNumExclusions(); k++)
+        force.getExclusionParticles(k, pairs[k].first, pairs[k].second);
+    uploadPartnerLists(cc, cc.getNumAtoms(), pairs, exclusionStart, exclusions, "dpdSoftExclusions");
 }
 
 void CommonSoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force) {

@@ -4,6 +4,7 @@
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/MDPDForce.h"
 #include "openmmdpd/LeesEdwardsBoundary.h"
 #include "openmmdpd/internal/ForceTerms.h"
 #include "openmm/CustomBondForce.h"
@@ -37,15 +38,15 @@ double largestCutoff(const System& system, const DPDThermostatIntegrator& integr
 /**
  * OpenMM's own device kernels take the box as the Context was made, rectangular: a periodic
  * force of its own would ignore the tilt of a sheared box, or of the pressure tensor's
- * strains.  (An empty CustomBondForce, which only makes a System periodic, has nothing to
- * compute.)
+ * strains.  (Our own pair forces take the box's tilt; an empty CustomBondForce, which only
+ * makes a System periodic, has nothing to compute.)
  */
 void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform) {
     for (int k = 0; k < system.getNumForces(); k++) {
         const Force& force = system.getForce(k);
         const CustomBondForce* bonds = dynamic_cast<const CustomBondForce*>(&force);
         if (!force.usesPeriodicBoundaryConditions() || dynamic_cast<const DPDSoftRepulsionForce*>(&force) != nullptr ||
-            (bonds != nullptr && bonds->getNumBonds() == 0))
+            dynamic_cast<const MDPDForce*>(&force) != nullptr || (bonds != nullptr && bonds->getNumBonds() == 0))
             continue;
         refuse(integrator, platform, "Lees-Edwards shear or the pressure tensor with OpenMM's periodic " + force.getName() +
                " (force " + std::to_string(k) + ": its device kernels take a rectangular box)");

@@ -1,6 +1,6 @@
 #include "openmmdpd/PressureTensor.h"
 #include "openmmdpd/DPDKernels.h"
-#include "openmmdpd/internal/DPDSoftRepulsionForceImpl.h"
+#include "openmmdpd/internal/PairVirialForceImpl.h"
 #include "openmm/OpenMMException.h"
 
 using namespace DPDPlugin;
@@ -112,47 +112,45 @@ SymmetricTensor PressureTensorSampler::kineticTerm(OpenMM::ContextImpl& context,
 
 namespace {
 
-/** Leaves the soft forces out of the Context's force evaluations while it lives (DPDSoftRepulsionForceImpl::setLeftOut). */
-class SoftForcesLeftOut {
+/** Leaves the pair-virial forces out of the Context's force evaluations while it lives (PairVirialForceImpl::setLeftOut). */
+class PairVirialForcesLeftOut {
 public:
-    explicit SoftForcesLeftOut(const std::vector<DPDSoftRepulsionForceImpl*>& forces) : forces(forces) {
-        for (DPDSoftRepulsionForceImpl* soft : forces)
-            soft->setLeftOut(true);
+    explicit PairVirialForcesLeftOut(const std::vector<PairVirialForceImpl*>& forces) : forces(forces) {
+        for (PairVirialForceImpl* force : forces)
+            force->setLeftOut(true);
     }
-    ~SoftForcesLeftOut() {
-        for (DPDSoftRepulsionForceImpl* soft : forces)
-            soft->setLeftOut(false);
+    ~PairVirialForcesLeftOut() {
+        for (PairVirialForceImpl* force : forces)
+            force->setLeftOut(false);
     }
 
 private:
-    const std::vector<DPDSoftRepulsionForceImpl*>& forces;
+    const std::vector<PairVirialForceImpl*>& forces;
 };
 
 } // namespace
 
 SymmetricTensor PressureTensorSampler::conservativeVirial(OpenMM::ContextImpl& context, int forceGroups,
                                                          PositionStrain& strain) const {
-    const OpenMM::System& system = context.getSystem();
-    int otherGroups = 0;
-    for (int k = 0; k < system.getNumForces(); k++) {
-        const OpenMM::Force& force = system.getForce(k);
-        const int group = 1 << force.getForceGroup();
-        if ((forceGroups & group) != 0 && dynamic_cast<const DPDSoftRepulsionForce*>(&force) == nullptr)
-            otherGroups |= group;
-    }
-    // Every soft force gives its exact pair virial, and is left out of the strain of the
-    // other forces of its group.
+    // Every force with an exact pair virial (the soft repulsion, MDPD) gives it, and is left
+    // out of the strain of the other forces of its group.
     SymmetricTensor virial{};
-    std::vector<DPDSoftRepulsionForceImpl*> softForces;
+    std::vector<PairVirialForceImpl*> pairForces;
+    int otherGroups = 0;
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
-        DPDSoftRepulsionForceImpl* soft = dynamic_cast<DPDSoftRepulsionForceImpl*>(impl);
-        if (soft != nullptr && (forceGroups & (1 << soft->getOwner().getForceGroup())) != 0) {
-            addTensor(virial, soft->getKernel().getAs<CalcDPDSoftRepulsionForceKernel>().computeVirial(context));
-            softForces.push_back(soft);
+        const int group = 1 << impl->getOwner().getForceGroup();
+        if ((forceGroups & group) == 0)
+            continue;
+        PairVirialForceImpl* pairForce = dynamic_cast<PairVirialForceImpl*>(impl);
+        if (pairForce == nullptr) {
+            otherGroups |= group;
+            continue;
         }
+        addTensor(virial, pairForce->computeVirial(context));
+        pairForces.push_back(pairForce);
     }
     if (otherGroups != 0) {
-        SoftForcesLeftOut leftOut(softForces);
+        PairVirialForcesLeftOut leftOut(pairForces);
         addTensor(virial, strainDerivative(context, otherGroups, strain));
     }
     return virial;

@@ -1,4 +1,5 @@
 #include "openmmdpd/CpuDPDKernels.h"
+#include "openmmdpd/MDPDKernel.h"
 #include "openmmdpd/SoftRepulsionKernel.h"
 #include "CpuPlatform.h"
 #include "openmmdpd/OpenMMVersionCheck.h"
@@ -14,7 +15,7 @@ namespace {
 const std::vector<std::string> kernelNames = {
     IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(), IntegrateLoweAndersenStepKernel::Name(),
     IntegrateEDPDStepKernel::Name(), IntegrateStaggeredDPDStepKernel::Name(), IntegrateDenOtterClarkeStepKernel::Name(),
-    CalcDPDSoftRepulsionForceKernel::Name()};
+    CalcDPDSoftRepulsionForceKernel::Name(), CalcMDPDForceKernel::Name()};
 
 class CpuDPDKernelFactory : public KernelFactory {
 public:
@@ -34,6 +35,8 @@ public:
             return new CpuIntegrateDenOtterClarkeStepKernel(name, platform, threads);
         if (name == CalcDPDSoftRepulsionForceKernel::Name())
             return new SoftRepulsionKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(threads)));
+        if (name == CalcMDPDForceKernel::Name())
+            return new MDPDKernel(name, platform, std::unique_ptr<ParallelExecutor>(new ThreadPoolExecutor(threads)));
         throw OpenMMException("openmm-dpd CPU plugin: unknown kernel '" + name + "'");
     }
 };

@@ -1,4 +1,5 @@
 #include "openmmdpd/ReferenceDPDKernels.h"
+#include "openmmdpd/ReferenceMDPDKernel.h"
 #include "openmmdpd/ReferenceSoftRepulsionKernel.h"
 #include "openmmdpd/OpenMMVersionCheck.h"
 #include "openmm/KernelFactory.h"
@@ -14,7 +15,7 @@ namespace {
 const std::vector<std::string> kernelNames = {
     IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(), IntegrateLoweAndersenStepKernel::Name(),
     IntegrateEDPDStepKernel::Name(), IntegrateStaggeredDPDStepKernel::Name(), IntegrateDenOtterClarkeStepKernel::Name(),
-    CalcDPDSoftRepulsionForceKernel::Name()};
+    CalcDPDSoftRepulsionForceKernel::Name(), CalcMDPDForceKernel::Name()};
 
 class ReferenceDPDKernelFactory : public KernelFactory {
 public:
@@ -33,6 +34,8 @@ public:
             return new ReferenceIntegrateDenOtterClarkeStepKernel(name, platform);
         if (name == CalcDPDSoftRepulsionForceKernel::Name())
             return new ReferenceSoftRepulsionKernel(name, platform);
+        if (name == CalcMDPDForceKernel::Name())
+            return new ReferenceMDPDKernel(name, platform);
         throw OpenMMException("openmm-dpd Reference plugin: unknown kernel '" + name + "'");
     }
 };

@@ -87,6 +87,14 @@ public:
     void* deserialize(const OpenMM::SerializationNode& node) const override;
 };
 
+/** XML serialization of MDPDForce (types, type pairs, per-type B and exclusions included). */
+class MDPDForceProxy : public OpenMM::SerializationProxy {
+public:
+    MDPDForceProxy();
+    void serialize(const void* object, OpenMM::SerializationNode& node) const override;
+    void* deserialize(const OpenMM::SerializationNode& node) const override;
+};
+
 } // namespace DPDPlugin
 
 #endif

@@ -36,7 +36,7 @@ _check_openmm_version(_build.openmm_version, _openmm.Platform.getOpenMMVersion()
 _load_openmm_plugins(_build.openmm_plugin_dir)
 
 from .dpdplugin import (DenOtterClarkeIntegrator, DPDSoftRepulsionForce, DPDThermostatIntegrator,  # noqa: E402
-                        DPDVVIntegrator, EDPDIntegrator, LoweAndersenIntegrator, ShardlowIntegrator,
+                        DPDVVIntegrator, EDPDIntegrator, LoweAndersenIntegrator, MDPDForce, ShardlowIntegrator,
                         StaggeredDPDIntegrator)
 from .units import DPDUnits, KT_TEMPERATURE, kT_from_temperature, reduced_temperature, strip_units  # noqa: E402
 from .flory_huggins import a_from_chi, chi_from_a  # noqa: E402
@@ -47,13 +47,13 @@ _INTEGRATORS = (DPDVVIntegrator, ShardlowIntegrator, LoweAndersenIntegrator, EDP
                 DenOtterClarkeIntegrator, StaggeredDPDIntegrator)
 # XmlSerializer.deserialize / clone, System.getForce(s) and CompoundIntegrator.getIntegrator
 # give our integrators and forces back as their own classes, not as base Integrator / Force.
-_downcast.install(_INTEGRATORS, (DPDSoftRepulsionForce,))
+_downcast.install(_INTEGRATORS, (DPDSoftRepulsionForce, MDPDForce))
 # A temperature of 0-10 K given to an integrator is almost surely a reduced kT read as kelvin.
 _low_temperature.install(DPDThermostatIntegrator, _INTEGRATORS)
 
 __version__ = _build.version
 
-__all__ = ["DPDSoftRepulsionForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
+__all__ = ["DPDSoftRepulsionForce", "MDPDForce", "DPDThermostatIntegrator", "DPDVVIntegrator", "ShardlowIntegrator",
            "LoweAndersenIntegrator", "EDPDIntegrator", "StaggeredDPDIntegrator", "DenOtterClarkeIntegrator",
            "calibrate_den_otter_clarke", "load_checkpoint", "KT_TEMPERATURE", "kT_from_temperature",
            "reduced_temperature", "strip_units", "DPDUnits", "LowTemperatureWarning", "a_from_chi", "chi_from_a",

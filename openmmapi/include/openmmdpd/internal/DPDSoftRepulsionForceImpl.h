@@ -3,11 +3,11 @@
 
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmm/Kernel.h"
-#include "openmm/internal/ForceImpl.h"
+#include "openmmdpd/internal/PairVirialForceImpl.h"
 
 namespace DPDPlugin {
 
-class DPDSoftRepulsionForceImpl : public OpenMM::ForceImpl {
+class DPDSoftRepulsionForceImpl : public PairVirialForceImpl {
 public:
     explicit DPDSoftRepulsionForceImpl(const DPDSoftRepulsionForce& owner) : owner(owner) {}
     void initialize(OpenMM::ContextImpl& context) override;
@@ -23,18 +23,13 @@ public:
     void updateParametersInContext(OpenMM::ContextImpl& context);
     /** The platform's kernel (integrators that evaluate this force from their own pair list use it). */
     OpenMM::Kernel& getKernel() { return kernel; }
-    /**
-     * While left out, the force adds no force or energy: the pressure tensor takes its exact
-     * virial and strains the rest of its force group (PressureTensorSampler).
-     */
-    void setLeftOut(bool out) { leftOut = out; }
+    std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
     /** Throw unless the force is consistent with the System (particle indices, box). */
     static void validate(const DPDSoftRepulsionForce& force, const OpenMM::System& system);
 
 private:
     const DPDSoftRepulsionForce& owner;
     OpenMM::Kernel kernel;
-    bool leftOut = false;
 };
 
 } // namespace DPDPlugin

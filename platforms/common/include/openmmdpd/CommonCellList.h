@@ -70,6 +70,12 @@ void setMixed4Arg(OpenMM::ComputeContext& cc, OpenMM::ComputeKernel& kernel, int
 /** Fill a `mixed` array, or an int array, from values (one 0 if there are none: an array is never empty). */
 void uploadMixed(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<double>& values, const std::string& name);
 void uploadInts(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<int>& values, const std::string& name);
+/**
+ * Fill start (numAtoms + 1 ints) and partners with each atom's partners in `pairs` (both
+ * ways, by atom index): atom a's are partners[start[a], start[a+1]).
+ */
+void uploadPartnerLists(OpenMM::ComputeContext& cc, int numAtoms, const std::vector<std::pair<int, int>>& pairs, OpenMM::ComputeArray& start,
+                        OpenMM::ComputeArray& partners, const std::string& name);
 /** Fill a `mixed4` array from (x, y, z, w) rows. */
 void uploadMixed4(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<double>& rows, const std::string& name);
 /** The values of a `mixed` array, as doubles. */

@@ -130,6 +130,22 @@ OPENMMDPD_FORMULA softRepulsionEnergy(Real r, Scalar a, Scalar cutoff) {
     return 0.5f * a * cutoff * x * x;
 }
 
+/* Many-body DPD's density weight norm (1 - r/rd)^2, norm = 15/(2 pi rd^3), for r < rd (docs/theory/mdpd.md). */
+OPENMMDPD_FORMULA mdpdDensityWeight(Real r, Scalar norm, Scalar inverseDensityCutoff) {
+    const Real x = 1 - r * inverseDensityCutoff;
+    return norm * x * x;
+}
+
+/* Many-body DPD's density repulsion on i along e, (B_i rho_i + B_j rho_j)(1 - r/rd), for r < rd. */
+OPENMMDPD_FORMULA mdpdRepulsionAlongE(Real r, Real densityRepulsion, Scalar inverseDensityCutoff) {
+    return densityRepulsion * (1 - r * inverseDensityCutoff);
+}
+
+/* Many-body DPD's energy of one particle, pi rd^4 B rho^2 / 30 = energyFactor B rho^2. */
+OPENMMDPD_FORMULA mdpdDensityEnergy(Real density, Scalar b, Scalar energyFactor) {
+    return energyFactor * b * density * density;
+}
+
 #ifdef OPENMMDPD_DEVICE_CODE
 #undef Real
 #undef Scalar

@@ -93,11 +93,12 @@ public:
         size_t first, count, slots;
         bool contains(size_t k) const { return (k >= first ? k - first : k + slots - first) < count; }
         /** buffer[k] = 0 for the slots k of the reach. */
-        void zero(std::vector<OpenMM::Vec3>& buffer) const {
+        template <class T>
+        void zero(std::vector<T>& buffer) const {
             const size_t end = first + count;
-            std::fill(buffer.begin() + first, buffer.begin() + std::min(end, slots), OpenMM::Vec3());
+            std::fill(buffer.begin() + first, buffer.begin() + std::min(end, slots), T());
             if (end > slots)
-                std::fill(buffer.begin(), buffer.begin() + (end - slots), OpenMM::Vec3());
+                std::fill(buffer.begin(), buffer.begin() + (end - slots), T());
         }
     };
     /**

@@ -90,9 +90,9 @@ void accumulateBySlot(const PairSearch& search, int w, int workers, Evaluator& e
  * reach (where accumulateBySlot zeroed and wrote it): the same bits as summing them all, as
  * a sum from +0 is unchanged by adding the +0 found elsewhere.
  */
-inline OpenMM::Vec3 sumWithinReach(const std::vector<std::vector<OpenMM::Vec3>>& buffers,
-                                   const std::vector<PairSearch::SlotReach>& reach, size_t k) {
-    OpenMM::Vec3 f;
+template <class T>
+inline T sumWithinReach(const std::vector<std::vector<T>>& buffers, const std::vector<PairSearch::SlotReach>& reach, size_t k) {
+    T f = T();
     for (size_t v = 0; v < buffers.size(); v++)
         if (reach[v].contains(k))
             f += buffers[v][k];

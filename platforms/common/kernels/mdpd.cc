@@ -1,0 +1,100 @@
+/*
+ * MDPDForce (docs/theory/mdpd.md) in two gathers per particle slot over the cell list, as
+ * softRepulsion.cc: mdpdDensity sums each slot's local density over its pairs within rd;
+ * mdpdForce then gives each pair F = [A (1 - r/rc) + (B_lo rho_lo + B_hi rho_hi)(1 - r/rd)] e,
+ * computed in lo/hi order so that both particles of a pair add the exact opposite fixed-point
+ * value.  Each particle's density energy, and each pair's A energy (by its lo particle), go to
+ * the energy buffer of the thread.  typeParams: (A, rc, 1/rc, rc^2) per type pair; typeB: B
+ * per type; densityParams: (norm, 1/rd, rd^2, energyFactor).
+ */
+inline DEVICE bool mdpdExcluded(int a, int b, GLOBAL const int* RESTRICT exclusionStart, GLOBAL const int* RESTRICT exclusions) {
+    bool excluded = false;
+    for (int e = exclusionStart[a]; e < exclusionStart[a+1]; e++)
+        excluded = excluded || (exclusions[e] == b);
+    return excluded;
+}
+
+KERNEL void mdpdDensity(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
+        GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT exclusionStart, GLOBAL const int* RESTRICT exclusions,
+        mixed4 densityParams, GLOBAL mixed* RESTRICT density, mixed4 boxSize, mixed4 invBoxSize, int4 numCells,
+        GLOBAL const int* RESTRICT atomCell, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
+        const int a = atomIndex[k];
+        const mixed4 ra = loadPosition(posq, posqCorrection, k);
+        mixed rho = 0;
+        for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
+            const int cell = neighbourCell(atomCell[k], n, numCells, boxSize);
+            if (cell < 0)
+                continue;
+            for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
+                const int k2 = cellAtoms[s];
+                if (k2 == k)
+                    continue;
+                const mixed4 d = nearestDisplacement(ra, loadPosition(posq, posqCorrection, k2), boxSize, invBoxSize);
+                const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
+                if (r2 < densityParams.z && !mdpdExcluded(a, atomIndex[k2], exclusionStart, exclusions))
+                    rho += mdpdDensityWeight(sqrt(r2), densityParams.x, densityParams.y);
+            }
+        }
+        density[k] = rho;
+    }
+}
+
+KERNEL void mdpdForce(int numAtoms, int paddedNumAtoms, int energyThreads, GLOBAL const real4* RESTRICT posq,
+        GLOBAL const real4* RESTRICT posqCorrection, GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT atomType,
+        int numTypes, GLOBAL const mixed4* RESTRICT typeParams, GLOBAL const mixed* RESTRICT typeB, mixed4 densityParams,
+        GLOBAL const mixed* RESTRICT density, GLOBAL const int* RESTRICT exclusionStart, GLOBAL const int* RESTRICT exclusions,
+        GLOBAL mm_long* RESTRICT forceBuffer, GLOBAL mixed* RESTRICT energyBuffer, mixed4 boxSize, mixed4 invBoxSize,
+        int4 numCells, GLOBAL const int* RESTRICT atomCell, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms,
+        int virialOnly, GLOBAL mixed* RESTRICT virial) {
+    const int threads = min((int) GLOBAL_SIZE, energyThreads);
+    if (GLOBAL_ID >= threads)
+        return;
+    mixed energy = 0;
+    mixed w[6] = {0, 0, 0, 0, 0, 0};
+    for (int k = GLOBAL_ID; k < numAtoms; k += threads) {
+        const int a = atomIndex[k];
+        const mixed4 ra = loadPosition(posq, posqCorrection, k);
+        const mixed repulsionA = typeB[atomType[a]]*density[k];
+        energy += mdpdDensityEnergy(density[k], typeB[atomType[a]], densityParams.w);
+        mm_long f[3] = {0, 0, 0};
+        for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
+            const int cell = neighbourCell(atomCell[k], n, numCells, boxSize);
+            if (cell < 0)
+                continue;
+            for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
+                const int k2 = cellAtoms[s];
+                const int b = atomIndex[k2];
+                if (k2 == k)
+                    continue;
+                const mixed4 rb = loadPosition(posq, posqCorrection, k2);
+                const bool aIsLo = (a < b);
+                const mixed4 d = (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize) : nearestDisplacement(rb, ra, boxSize, invBoxSize));
+                const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
+                const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
+                if (r2 >= p.w || r2 == 0 || mdpdExcluded(a, b, exclusionStart, exclusions))
+                    continue;
+                const mixed r = sqrt(r2);
+                const mixed repulsionB = typeB[atomType[b]]*density[k2];
+                mixed along = softRepulsionAlongE(r, p.x, p.z);
+                if (r2 < densityParams.z)
+                    along += mdpdRepulsionAlongE(r, aIsLo ? repulsionA+repulsionB : repulsionB+repulsionA, densityParams.y);
+                const mixed scale = along/r;
+                const mm_long sign = (aIsLo ? 1 : -1);
+                f[0] += sign*toFixed(d.x*scale);
+                f[1] += sign*toFixed(d.y*scale);
+                f[2] += sign*toFixed(d.z*scale);
+                if (aIsLo) {
+                    energy += softRepulsionEnergy(r, p.x, p.y);
+                    addVirialAlong(w, d.x, d.y, d.z, scale);
+                }
+            }
+        }
+        for (int c = 0; c < 3 && !virialOnly; c++)
+            forceBuffer[k+c*paddedNumAtoms] += f[c];
+    }
+    if (virialOnly)
+        addVirialRow(virial, GLOBAL_ID, energyThreads, w);
+    else
+        energyBuffer[GLOBAL_ID] += energy;
+}

@@ -1,0 +1,162 @@
+#include "openmmdpd/MDPDKernel.h"
+#include "openmmdpd/PressureTensor.h"
+#include "openmmdpd/SlotAccumulation.h"
+#include "openmm/internal/ContextImpl.h"
+#include "ReferencePlatform.h"
+#include <algorithm>
+
+using namespace DPDPlugin;
+using OpenMM::Vec3;
+
+void MDPDKernel::initialize(const OpenMM::System& system, const MDPDForce& force) {
+    numParticles = system.getNumParticles();
+    periodic = force.usesPeriodicBoundaryConditions();
+    exclusions.assign(numParticles, std::vector<int>());
+    for (int k = 0; k < force.getNumExclusions(); k++) {
+        int p1, p2;
+        force.getExclusionParticles(k, p1, p2);
+        exclusions[p1].push_back(p2);
+        exclusions[p2].push_back(p1);
+    }
+    for (auto& partners : exclusions)
+        std::sort(partners.begin(), partners.end());
+    hasExclusions = (force.getNumExclusions() > 0);
+    const int workers = executor->getNumWorkers();
+    workerEnergy.assign(workers, 0.0);
+    workerDensity.assign(workers, std::vector<double>(numParticles));
+    workerForces.assign(workers, std::vector<Vec3>(numParticles));
+    slotRepulsion.assign(numParticles, 0.0);
+    setParameters(force);
+}
+
+void MDPDKernel::copyParametersToContext(OpenMM::ContextImpl&, const MDPDForce& force) {
+    setParameters(force);
+}
+
+void MDPDKernel::setParameters(const MDPDForce& force) {
+    parameters.reset(new MDPDParameters(numParticles, force));
+    pairSearch.reset(new PairSearch(std::vector<bool>(numParticles, true), parameters->getTable().getMaxCutoff(), periodic));
+}
+
+bool MDPDKernel::actsOn(int p, int q, double r2, int& t) const {
+    const TypePairTable& table = parameters->getTable();
+    t = table.indexOfTypes(sortedType[p], sortedType[q]);
+    const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
+    return r2 < table.cutoff2(t) && !(hasExclusions && excluded(sortedIndex[p], sortedIndex[q]));
+}
+
+void MDPDKernel::sumDensities(int w, int workers) {
+    std::vector<double>& density = workerDensity[w];
+    pairSearch->workerSlotReach(w, workers).zero(density);
+    const double densityCutoff2 = parameters->getDensityCutoff() * parameters->getDensityCutoff();
+    size_t begin, end;
+    pairSearch->workerCells(w, workers, begin, end);
+    pairSearch->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+        double densityP = 0;  // summed here, then added: the same order as the Reference's loop over p's pairs
+        for (int k = 0; k < count; k++) {
+            const double r2 = d[k].dot(d[k]);
+            int t;
+            if (r2 < densityCutoff2 && actsOn(p, q[k], r2, t)) {
+                const double weight = parameters->densityWeight(std::sqrt(r2));
+                densityP += weight;
+                density[q[k]] += weight;
+            }
+        }
+        density[p] += densityP;
+    });
+}
+
+void MDPDKernel::searchAndSumDensities(OpenMM::ContextImpl& context, bool includeEnergy) {
+    OpenMM::ReferencePlatform::PlatformData& data = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    pairSearch->build(*data.positions, box, executor.get());
+    const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
+    const size_t slots = sortedIndex.size();
+    sortedType.resize(slots);
+    for (size_t k = 0; k < slots; k++)
+        sortedType[k] = parameters->getTable().typeOf(sortedIndex[k]);
+    const int workers = executor->getNumWorkers();
+    executor->execute([&](int w) { sumDensities(w, workers); });
+    const std::vector<PairSearch::SlotReach> reach = pairSearch->workerSlotReaches(workers);
+    executor->execute([&](int w) {
+        size_t begin, end;
+        executor->range(w, slots, begin, end);
+        double energy = 0;
+        for (size_t k = begin; k < end; k++) {
+            const double rho = sumWithinReach(workerDensity, reach, k);
+            slotRepulsion[k] = parameters->typeB(sortedType[k]) * rho;
+            if (includeEnergy)
+                energy += parameters->particleEnergy(sortedType[k], rho);
+        }
+        workerEnergy[w] = energy;
+    });
+}
+
+double MDPDKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+    searchAndSumDensities(context, includeEnergy);
+    const int workers = executor->getNumWorkers();
+    executor->execute([&](int w) {
+        double energy = 0;
+        auto evaluate = [&](int p, const int* q, const Vec3* d, int count, int* slots, Vec3* pairForces) {
+            int n = 0;
+            for (int k = 0; k < count; k++) {
+                const double r2 = d[k].dot(d[k]);
+                int t;
+                if (!actsOn(p, q[k], r2, t))
+                    continue;
+                const double r = std::sqrt(r2);
+                if (includeEnergy)
+                    energy += parameters->pairEnergy(t, r);
+                if (r2 > 0) {
+                    slots[n] = q[k];
+                    pairForces[n++] = d[k] * (pairForce(p, q[k], t, r) / r);
+                }
+            }
+            return n;
+        };
+        accumulateBySlot(*pairSearch, w, workers, evaluate, workerForces[w]);
+        workerEnergy[w] += energy;
+    });
+    if (includeForces) {
+        std::vector<Vec3>& forces = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData())->forces;
+        const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
+        const std::vector<PairSearch::SlotReach> reach = pairSearch->workerSlotReaches(workers);
+        executor->execute([&](int w) {
+            size_t begin, end;
+            executor->range(w, sortedIndex.size(), begin, end);
+            for (size_t k = begin; k < end; k++)
+                forces[sortedIndex[k]] += sumWithinReach(workerForces, reach, k);
+        });
+    }
+    double energy = 0;
+    for (double e : workerEnergy)
+        energy += e;
+    return includeEnergy ? energy : 0.0;
+}
+
+std::array<double, 6> MDPDKernel::computeVirial(OpenMM::ContextImpl& context) {
+    searchAndSumDensities(context, false);
+    const int workers = executor->getNumWorkers();
+    std::vector<SymmetricTensor> workerVirial(workers, SymmetricTensor{});
+    executor->execute([&](int w) {
+        size_t begin, end;
+        pairSearch->workerCells(w, workers, begin, end);
+        SymmetricTensor sum{};  // a local: the workers' tensors share cache lines
+        pairSearch->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+            for (int k = 0; k < count; k++) {
+                const double r2 = d[k].dot(d[k]);
+                int t;
+                if (r2 > 0 && actsOn(p, q[k], r2, t)) {
+                    const double r = std::sqrt(r2);
+                    addAlong(sum, d[k] / r, r * pairForce(p, q[k], t, r));
+                }
+            }
+        });
+        workerVirial[w] = sum;
+    });
+    SymmetricTensor virial{};
+    for (const SymmetricTensor& v : workerVirial)
+        addTensor(virial, v);
+    return virial;
+}
