@@ -19,7 +19,7 @@ TypePairTable attractionTable(int numParticles, const MDPDForce& force) {
 
 MDPDParameters::MDPDParameters(int numParticles, const MDPDForce& force) :
         table(attractionTable(numParticles, force)), bOfType(table.getNumTypes(), force.getDefaultB()),
-        densityCutoff(force.getDensityCutoff()) {
+        densityCutoff(force.getDensityCutoff()), inverseDensityCutoff(1 / force.getDensityCutoff()) {
     for (int i = 0; i < numParticles; i++)
         bOfType[table.typeOf(i)] = force.getTypeB(force.getParticleType(i));
     const double rd = densityCutoff;

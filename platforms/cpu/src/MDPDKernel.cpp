@@ -23,6 +23,7 @@ void MDPDKernel::initialize(const OpenMM::System& system, const MDPDForce& force
     hasExclusions = (force.getNumExclusions() > 0);
     const int workers = executor->getNumWorkers();
     workerEnergy.assign(workers, 0.0);
+    workerPairs.assign(workers, std::vector<Pair>());
     workerDensity.assign(workers, std::vector<double>(numParticles));
     workerForces.assign(workers, std::vector<Vec3>(numParticles));
     slotRepulsion.assign(numParticles, 0.0);
@@ -45,10 +46,12 @@ bool MDPDKernel::actsOn(int p, int q, double r2, int& t) const {
     return r2 < table.cutoff2(t) && !(hasExclusions && excluded(sortedIndex[p], sortedIndex[q]));
 }
 
-void MDPDKernel::sumDensities(int w, int workers) {
+void MDPDKernel::listPairs(int w, int workers) {
     std::vector<double>& density = workerDensity[w];
+    std::vector<Pair>& pairs = workerPairs[w];
+    pairs.clear();
     pairSearch->workerSlotReach(w, workers).zero(density);
-    const double densityCutoff2 = parameters->getDensityCutoff() * parameters->getDensityCutoff();
+    const double densityCutoff = parameters->getDensityCutoff();
     size_t begin, end;
     pairSearch->workerCells(w, workers, begin, end);
     pairSearch->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
@@ -56,14 +59,34 @@ void MDPDKernel::sumDensities(int w, int workers) {
         for (int k = 0; k < count; k++) {
             const double r2 = d[k].dot(d[k]);
             int t;
-            if (r2 < densityCutoff2 && actsOn(p, q[k], r2, t)) {
-                const double weight = parameters->densityWeight(std::sqrt(r2));
+            if (!actsOn(p, q[k], r2, t))
+                continue;
+            const double r = std::sqrt(r2);
+            pairs.push_back({p, q[k], t, r, d[k]});
+            if (r < densityCutoff) {
+                const double weight = parameters->densityWeight(r);
                 densityP += weight;
                 density[q[k]] += weight;
             }
         }
         density[p] += densityP;
     });
+}
+
+double MDPDKernel::sumPairForces(int w, int workers, bool includeEnergy) {
+    std::vector<Vec3>& force = workerForces[w];
+    pairSearch->workerSlotReach(w, workers).zero(force);
+    double energy = 0;
+    for (const Pair& pair : workerPairs[w]) {
+        if (includeEnergy)
+            energy += parameters->pairEnergy(pair.t, pair.r);
+        if (pair.r > 0) {
+            const Vec3 f = pair.d * (pairForce(pair.p, pair.q, pair.t, pair.r) / pair.r);
+            force[pair.p] += f;
+            force[pair.q] -= f;
+        }
+    }
+    return energy;
 }
 
 void MDPDKernel::searchAndSumDensities(OpenMM::ContextImpl& context, bool includeEnergy) {
@@ -77,7 +100,7 @@ void MDPDKernel::searchAndSumDensities(OpenMM::ContextImpl& context, bool includ
     for (size_t k = 0; k < slots; k++)
         sortedType[k] = parameters->getTable().typeOf(sortedIndex[k]);
     const int workers = executor->getNumWorkers();
-    executor->execute([&](int w) { sumDensities(w, workers); });
+    executor->execute([&](int w) { listPairs(w, workers); });
     const std::vector<PairSearch::SlotReach> reach = pairSearch->workerSlotReaches(workers);
     executor->execute([&](int w) {
         size_t begin, end;
@@ -96,28 +119,7 @@ void MDPDKernel::searchAndSumDensities(OpenMM::ContextImpl& context, bool includ
 double MDPDKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
     searchAndSumDensities(context, includeEnergy);
     const int workers = executor->getNumWorkers();
-    executor->execute([&](int w) {
-        double energy = 0;
-        auto evaluate = [&](int p, const int* q, const Vec3* d, int count, int* slots, Vec3* pairForces) {
-            int n = 0;
-            for (int k = 0; k < count; k++) {
-                const double r2 = d[k].dot(d[k]);
-                int t;
-                if (!actsOn(p, q[k], r2, t))
-                    continue;
-                const double r = std::sqrt(r2);
-                if (includeEnergy)
-                    energy += parameters->pairEnergy(t, r);
-                if (r2 > 0) {
-                    slots[n] = q[k];
-                    pairForces[n++] = d[k] * (pairForce(p, q[k], t, r) / r);
-                }
-            }
-            return n;
-        };
-        accumulateBySlot(*pairSearch, w, workers, evaluate, workerForces[w]);
-        workerEnergy[w] += energy;
-    });
+    executor->execute([&](int w) { workerEnergy[w] += sumPairForces(w, workers, includeEnergy); });
     if (includeForces) {
         std::vector<Vec3>& forces = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData())->forces;
         const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
@@ -140,19 +142,10 @@ std::array<double, 6> MDPDKernel::computeVirial(OpenMM::ContextImpl& context) {
     const int workers = executor->getNumWorkers();
     std::vector<SymmetricTensor> workerVirial(workers, SymmetricTensor{});
     executor->execute([&](int w) {
-        size_t begin, end;
-        pairSearch->workerCells(w, workers, begin, end);
         SymmetricTensor sum{};  // a local: the workers' tensors share cache lines
-        pairSearch->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
-            for (int k = 0; k < count; k++) {
-                const double r2 = d[k].dot(d[k]);
-                int t;
-                if (r2 > 0 && actsOn(p, q[k], r2, t)) {
-                    const double r = std::sqrt(r2);
-                    addAlong(sum, d[k] / r, r * pairForce(p, q[k], t, r));
-                }
-            }
-        });
+        for (const Pair& pair : workerPairs[w])
+            if (pair.r > 0)
+                addAlong(sum, pair.d / pair.r, pair.r * pairForce(pair.p, pair.q, pair.t, pair.r));
         workerVirial[w] = sum;
     });
     SymmetricTensor virial{};

@@ -58,7 +58,7 @@ __all__ = ["DPDSoftRepulsionForce", "MDPDForce", "DPDThermostatIntegrator", "DPD
            "calibrate_den_otter_clarke", "load_checkpoint", "KT_TEMPERATURE", "kT_from_temperature",
            "reduced_temperature", "strip_units", "DPDUnits", "LowTemperatureWarning", "a_from_chi", "chi_from_a",
            "apply_thermostat_parameters", "loaded_plugins", "skipped_plugins", "scenes", "forcefield", "packer",
-           "__version__"]
+           "electrostatics", "add_smeared_electrostatics", "__version__"]
 
 
 def _load_kernel_plugins():
@@ -90,6 +90,8 @@ loaded_plugins, skipped_plugins = _load_kernel_plugins()
 from . import scenes  # noqa: E402
 # Registers the DPD tags with app.ForceField: a DPD force field read before this would lose them.
 from . import forcefield, packer  # noqa: E402
+from . import electrostatics  # noqa: E402
+from .electrostatics import add_smeared_electrostatics  # noqa: E402
 from .forcefield import apply_thermostat_parameters  # noqa: E402
 from .calibration import calibrate_den_otter_clarke  # noqa: E402
 from .checkpoints import load_checkpoint  # noqa: E402

@@ -1,5 +1,6 @@
 """What an option costs an integrator's step: the instability sentinel, Lees-Edwards shear, a
-thermostat weight exponent other than 2, thermostat exceptions, transverse friction.
+thermostat weight exponent other than 2, thermostat exceptions, transverse friction, and
+MDPDForce in place of the soft repulsion.
 
 Scene soft on the CPU platform (or --platform's); each integrator as is and with the option,
 alternated --repeats times, medians side by side (the two may differ by less than the noise).
@@ -10,18 +11,25 @@ alternated --repeats times, medians side by side (the two may differ by less tha
     python3 -m openmmdpd.bench weight-exponent --exponent 1 --integrators GW S1 --sizes 32000 --threads 1
     python3 -m openmmdpd.bench exceptions --chain-length 10 --integrators GW S1 --sizes 32000 --threads 1
     python3 -m openmmdpd.bench transverse --friction 4.5 --integrators GW S1 --sizes 32000 --threads 1
+    python3 -m openmmdpd.bench mdpd --integrators GW S1 --sizes 32000 256000 --threads 1 2
 
 The exceptions mode excludes the 1-2 pairs of chains of --chain-length consecutive particles
 (createThermostatExceptionsFromBonds), as in a polymer melt; the scene's particles are not
 moved into chains, which changes which excluded pairs are in range but not the per-pair cost
 of looking the exceptions up, which is what the option costs.
 
+The mdpd mode swaps the scene's DPDSoftRepulsionForce (a 25) for Warren's MDPDForce (A -40,
+B 25, rd 0.75, rc 1) on the same particles at the same positions: the same pairs within rc,
+and the same integrator.
+
 Shear takes only the integrators that have a shear rate (every one of this plugin's; not
 OpenMM's Langevin), by default those of the rates mode.
 """
 import statistics
 
-from . import DPDVVIntegrator, LoweAndersenIntegrator, ShardlowIntegrator
+import openmm
+
+from . import DPDSoftRepulsionForce, DPDVVIntegrator, LoweAndersenIntegrator, MDPDForce, ShardlowIntegrator
 from .bench_rates import DEFAULT_INTEGRATORS
 from .bench_timing import (add_integrators_argument, add_mode, add_platform_argument, add_round_arguments,
                            add_system_arguments, make_context, steps_per_second, timed_steps, waiter, warm_up)
@@ -37,6 +45,8 @@ EXCEPTIONS_SUMMARY = ("thermostat exceptions' cost to each integrator's step (th
                       "excluded, 8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
 TRANSVERSE_SUMMARY = ("transverse friction's cost to each integrator's step (gamma_perp 4.5, the integrators with it, "
                       "N 4000 32000, 1 and 2 threads, medians of 3: about 4 minutes)")
+MDPD_SUMMARY = ("MDPDForce's step against DPDSoftRepulsionForce's, same System and integrator (8 integrators, "
+                "N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
 SHEAR_SUMMARY = ("Lees-Edwards shear's cost to each integrator's step (rate 0.1, 8 integrators, N 4000 32000, "
                  "1 and 2 threads, medians of 3: about 5 minutes)")
 # Estimates: about 1 s per integrator, size, thread count, round and setting (as is and changed),
@@ -94,6 +104,10 @@ def add_parsers(modes):
     capable = transverse_integrators()
     add_integrators_argument(transverse, [name for name in DEFAULT_INTEGRATORS if name in capable], names=capable)
     add_cost_arguments(transverse)
+    mdpd = add_mode(modes, "mdpd", MDPD_SUMMARY, f"Each of --integrators with the soft repulsion and with MDPDForce "
+                    f"in its place, alternated. {SHEAR_DURATION}", run_mdpd)
+    add_integrators_argument(mdpd, ours, names=sheared)
+    add_cost_arguments(mdpd)
 
 
 def add_cost_arguments(parser):
@@ -140,26 +154,44 @@ def run_transverse(args):
                  ("steps/s", "steps/s perp."), lambda i, n: i.setDefaultTransverseFriction(args.friction))
 
 
-def print_paired(args, title, names, columns, change):
+def with_mdpd(system):
+    """A copy of `system` with its DPDSoftRepulsionForce replaced by Warren's MDPDForce."""
+    copy = openmm.XmlSerializer.clone(system)
+    soft = [k for k, force in enumerate(copy.getForces()) if isinstance(force, DPDSoftRepulsionForce)]
+    copy.removeForce(soft[0])
+    copy.addForce(MDPDForce(-40.0, 25.0, 1.0, 0.75))
+    return copy
+
+
+def run_mdpd(args):
+    print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; DPDSoftRepulsionForce (a 25) and MDPDForce "
+                 f"(A -40, B 25, rd 0.75) alternated, medians of {args.repeats}", args.integrators,
+                 ("steps/s soft", "steps/s MDPD"), lambda i, n: None, with_mdpd)
+
+
+def print_paired(args, title, names, columns, change, change_system=None):
     print(title)
     print(f"{'integrator':>10} {'N':>6} {'threads':>7}  {columns[0]:>14} {columns[1]:>14}  {'cost':>8}")
     for name in names:
         for n in args.sizes:
             for threads in args.threads:
-                plain, changed, cost = measure_paired(n, threads, args, name, change)
+                plain, changed, cost = measure_paired(n, threads, args, name, change, change_system)
                 print(f"{name:>10} {n:>6} {threads:>7}  {plain:>14.2f} {changed:>14.2f}  {100 * cost:>+7.2f}%")
 
 
-def measure_paired(n, threads, args, name, change):
-    """Integrator `name` as is and with change(integrator, n) applied, alternated: (median
-    steps/s as is, median changed, median of the per-round cost changed/as-is - 1)."""
+def measure_paired(n, threads, args, name, change, change_system=None):
+    """Integrator `name` as is and with change(integrator, n) applied (and the System replaced
+    by change_system(system), if given), alternated: (median steps/s as is, median changed,
+    median of the per-round cost changed/as-is - 1)."""
     scene = soft_scene(num_particles=n)
     runs = []
     for changed in (False, True):
         integrator = integrators("soft")[name](args.dt)  # the scene's catalog: OC has its averages
+        system = scene.system
         if changed:
             change(integrator, n)
-        context = make_context(scene.system, integrator, threads, args)
+            system = change_system(system) if change_system else system
+        context = make_context(system, integrator, threads, args)
         context.setPositions(scene.positions)
         context.setVelocitiesToTemperature(KT_TEMPERATURE, 1)
         wait = waiter(context, args)

@@ -57,7 +57,7 @@ def test_sentinel_cost_is_measured(capsys):
 
 
 @pytest.mark.parametrize("mode, option", [("weight-exponent", ["--exponent", "1"]), ("exceptions", ["--chain-length", "10"]),
-                                          ("transverse", ["--friction", "4.5"])])
+                                          ("transverse", ["--friction", "4.5"]), ("mdpd", [])])
 def test_thermostat_option_costs_are_measured(mode, option, capsys):
     bench.main([mode, *option, "--integrators", "GW", "S1", "--sizes", "500", "--threads", "1", "--seconds", "0.02",
                 "--repeats", "1", "--warmup", "2"])

@@ -20,19 +20,19 @@ public:
     double typeB(int denseType) const { return bOfType[denseType]; }
     const std::vector<double>& getTypeBs() const { return bOfType; }
     double getDensityCutoff() const { return densityCutoff; }
-    double getInverseDensityCutoff() const { return 1 / densityCutoff; }
+    double getInverseDensityCutoff() const { return inverseDensityCutoff; }
     /** 15/(2 pi rd^3): the density weight's normalisation (its integral over space is 1). */
     double getDensityNorm() const { return densityNorm; }
     /** pi rd^4 / 30: a particle's energy is this B rho^2. */
     double getEnergyFactor() const { return energyFactor; }
     /** The density weight of a pair at distance r (0 beyond rd). */
     double densityWeight(double r) const {
-        return r < densityCutoff ? mdpdDensityWeight(r, densityNorm, 1 / densityCutoff) : 0.0;
+        return r < densityCutoff ? mdpdDensityWeight(r, densityNorm, inverseDensityCutoff) : 0.0;
     }
     /** The force on i along e of a pair of type pair t at r < rc, given B_i rho_i + B_j rho_j (kJ/mol/nm). */
     double pairForce(int t, double r, double densityRepulsion) const {
         const double attraction = softRepulsionAlongE(r, table.value(t), table.inverseCutoff(t));
-        return r < densityCutoff ? attraction + mdpdRepulsionAlongE(r, densityRepulsion, 1 / densityCutoff) : attraction;
+        return r < densityCutoff ? attraction + mdpdRepulsionAlongE(r, densityRepulsion, inverseDensityCutoff) : attraction;
     }
     /** The energy of the A term of a pair of type pair t at r < rc (kJ/mol). */
     double pairEnergy(int t, double r) const { return softRepulsionEnergy(r, table.value(t), table.cutoff(t)); }
@@ -42,7 +42,7 @@ public:
 private:
     TypePairTable table;
     std::vector<double> bOfType;
-    double densityCutoff, densityNorm, energyFactor;
+    double densityCutoff, inverseDensityCutoff, densityNorm, energyFactor;
 };
 
 } // namespace DPDPlugin

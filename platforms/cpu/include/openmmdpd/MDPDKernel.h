@@ -11,10 +11,11 @@
 namespace DPDPlugin {
 
 /**
- * MDPDForce on the CPU platform, in two passes over the pairs of the thermostats' cell
- * search: the local densities, summed by sorted slot into one buffer per worker and added
- * in worker order, then the pair forces, accumulated as SoftRepulsionKernel's are.  Double
- * precision throughout; the result does not depend on scheduling.
+ * MDPDForce on the CPU platform, in two passes: each worker finds the pairs of its cells
+ * with the thermostats' cell search, keeps them in a list and sums their density weights by
+ * sorted slot into its own buffer; the buffers are added in worker order; then each worker
+ * adds its listed pairs' forces by slot, and those buffers are added in worker order too.
+ * Double precision throughout; the result does not depend on scheduling.
  */
 class MDPDKernel : public CalcMDPDForceKernel {
 public:
@@ -27,9 +28,18 @@ public:
 
 private:
     void setParameters(const MDPDForce& force);
-    /** Sort the particles into cells and sum every sorted slot's B rho (slotRepulsion) and density energy (workerEnergy). */
+    /** A pair the force acts on, by sorted slots: d = r_p - r_q, r = |d|, t its type pair. */
+    struct Pair {
+        int p, q, t;
+        double r;
+        OpenMM::Vec3 d;
+    };
+    /** Sort the particles into cells, list the pairs, and sum every sorted slot's B rho (slotRepulsion) and density energy (workerEnergy). */
     void searchAndSumDensities(OpenMM::ContextImpl& context, bool includeEnergy);
-    void sumDensities(int w, int workers);
+    /** Worker w's pairs (workerPairs) and its density sums by slot (workerDensity). */
+    void listPairs(int w, int workers);
+    /** Worker w's pair forces by slot into workerForces; returns their energy. */
+    double sumPairForces(int w, int workers, bool includeEnergy);
     /** Whether the force acts on sorted slots (p, q) at squared distance r2; t is its type pair. */
     bool actsOn(int p, int q, double r2, int& t) const;
     bool excluded(int i, int j) const {
@@ -44,6 +54,7 @@ private:
     bool periodic = false, hasExclusions = false;
     int numParticles = 0;
     std::vector<std::vector<int>> exclusions;           // sorted partners of each particle
+    std::vector<std::vector<Pair>> workerPairs;
     std::vector<std::vector<double>> workerDensity;     // by sorted slot
     std::vector<std::vector<OpenMM::Vec3>> workerForces;  // by sorted slot
     std::vector<int> sortedType;                        // the dense type of each sorted slot
