@@ -186,3 +186,14 @@ def test_micelles_quick(tmp_path, capsys):
     assert "aggregation numbers (size: count)" in capsys.readouterr().out
     for name in ("log.csv", "end.pdb"):
         assert os.path.getsize(os.path.join(out, name)) > 0
+
+
+def test_mdpd_slab_quick(tmp_path):
+    # docs/results/mdpd-slab: a film of liquid at density ~6 beside a vapour of ~0.  Here (480
+    # particles, 4 time units) the film holds together: its core is many times denser than
+    # the gas beside it, and its surfaces pull (positive tension).
+    out = str(tmp_path / "slab")
+    (liquid, _), (vapour, _), (tension, _) = example("mdpd_slab").main(["--quick", "--out", out])
+    assert 4.0 < liquid < 7.5 and vapour < 1.0 and tension > 0
+    for name in ("mdpd-slab.csv", "report.md"):
+        assert os.path.getsize(os.path.join(out, name)) > 0
