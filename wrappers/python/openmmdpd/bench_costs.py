@@ -1,6 +1,6 @@
 """What an option costs an integrator's step: the instability sentinel, Lees-Edwards shear, a
-thermostat weight exponent other than 2, thermostat exceptions, transverse friction, and
-MDPDForce in place of the soft repulsion.
+thermostat weight exponent other than 2, thermostat exceptions, transverse friction,
+MDPDForce in place of the soft repulsion, and smeared charges.
 
 Scene soft on the CPU platform (or --platform's); each integrator as is and with the option,
 alternated --repeats times, medians side by side (the two may differ by less than the noise).
@@ -12,6 +12,7 @@ alternated --repeats times, medians side by side (the two may differ by less tha
     python3 -m openmmdpd.bench exceptions --chain-length 10 --integrators GW S1 --sizes 32000 --threads 1
     python3 -m openmmdpd.bench transverse --friction 4.5 --integrators GW S1 --sizes 32000 --threads 1
     python3 -m openmmdpd.bench mdpd --integrators GW S1 --sizes 32000 256000 --threads 1 2
+    python3 -m openmmdpd.bench charges --integrators GW --sizes 32000 --threads 1 2
 
 The exceptions mode excludes the 1-2 pairs of chains of --chain-length consecutive particles
 (createThermostatExceptionsFromBonds), as in a polymer melt; the scene's particles are not
@@ -21,6 +22,11 @@ of looking the exceptions up, which is what the option costs.
 The mdpd mode swaps the scene's DPDSoftRepulsionForce (a 25) for Warren's MDPDForce (A -40,
 B 25, rd 0.75, rc 1) on the same particles at the same positions: the same pairs within rc,
 and the same integrator.
+
+The charges mode gives a tenth of the beads valences +1 and -1 (alternating) with Slater
+smearing (Bjerrum length 1.1, smearing length 0.25; add_smeared_electrostatics), and times
+the step with OpenMM's PME for the point charges alone and with the smearing correction
+added, each against the uncharged System: PME's share and the correction's.
 
 Shear takes only the integrators that have a shear rate (every one of this plugin's; not
 OpenMM's Langevin), by default those of the rates mode.
@@ -34,6 +40,7 @@ from .bench_rates import DEFAULT_INTEGRATORS
 from .bench_timing import (add_integrators_argument, add_mode, add_platform_argument, add_round_arguments,
                            add_system_arguments, make_context, steps_per_second, timed_steps, waiter, warm_up)
 from .catalog import INSTABILITY_THRESHOLD, integrators
+from .electrostatics import add_smeared_electrostatics
 from .scenes import soft_scene
 from .units import KT_TEMPERATURE
 
@@ -47,6 +54,9 @@ TRANSVERSE_SUMMARY = ("transverse friction's cost to each integrator's step (gam
                       "N 4000 32000, 1 and 2 threads, medians of 3: about 4 minutes)")
 MDPD_SUMMARY = ("MDPDForce's step against DPDSoftRepulsionForce's, same System and integrator (8 integrators, "
                 "N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
+CHARGES_SUMMARY = ("smeared charges' cost to each integrator's step: PME alone, then PME and the smearing "
+                   "correction (10 % of the beads charged, 8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: "
+                   "about 10 minutes)")
 SHEAR_SUMMARY = ("Lees-Edwards shear's cost to each integrator's step (rate 0.1, 8 integrators, N 4000 32000, "
                  "1 and 2 threads, medians of 3: about 5 minutes)")
 # Estimates: about 1 s per integrator, size, thread count, round and setting (as is and changed),
@@ -108,6 +118,10 @@ def add_parsers(modes):
                     f"in its place, alternated. {SHEAR_DURATION}", run_mdpd)
     add_integrators_argument(mdpd, ours, names=sheared)
     add_cost_arguments(mdpd)
+    charges = add_mode(modes, "charges", CHARGES_SUMMARY, f"Each of --integrators without charges and with them, "
+                       f"alternated; PME alone, then with the correction. {SHEAR_DURATION}", run_charges)
+    add_integrators_argument(charges, ours, names=sheared)
+    add_cost_arguments(charges)
 
 
 def add_cost_arguments(parser):
@@ -167,6 +181,27 @@ def run_mdpd(args):
     print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; DPDSoftRepulsionForce (a 25) and MDPDForce "
                  f"(A -40, B 25, rd 0.75) alternated, medians of {args.repeats}", args.integrators,
                  ("steps/s soft", "steps/s MDPD"), lambda i, n: None, with_mdpd)
+
+
+def with_charges(correction):
+    """A function giving a copy of a System a tenth of its beads charged +1/-1 (Slater smearing),
+    with the smearing correction or with PME's point charges alone."""
+    def charged(system):
+        copy = openmm.XmlSerializer.clone(system)
+        valences = [(1 if k % 20 == 0 else -1) if k % 10 == 0 else 0 for k in range(copy.getNumParticles())]
+        added = add_smeared_electrostatics(copy, valences, 1.1, 0.25)
+        if not correction:
+            copy.removeForce([k for k, f in enumerate(copy.getForces()) if isinstance(f, openmm.CustomNonbondedForce)][-1])
+        del added
+        return copy
+    return charged
+
+
+def run_charges(args):
+    for correction, what in ((False, "PME's point charges"), (True, "PME and the smearing correction")):
+        print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; uncharged and {what} (10 % of the beads, "
+                     f"Slater, l_B 1.1, lambda 0.25) alternated, medians of {args.repeats}", args.integrators,
+                     ("steps/s", "steps/s charged"), lambda i, n: None, with_charges(correction))
 
 
 def print_paired(args, title, names, columns, change, change_system=None):

@@ -66,6 +66,15 @@ def test_thermostat_option_costs_are_measured(mode, option, capsys):
     assert all(float(row[3]) > 0 and float(row[4]) > 0 for row in rows)
 
 
+def test_charges_cost_is_measured_for_pme_alone_and_with_the_correction(capsys):
+    bench.main(["charges", "--integrators", "GW", "--sizes", "500", "--threads", "1", "--seconds", "0.02",
+                "--repeats", "1", "--warmup", "2"])
+    lines = capsys.readouterr().out.splitlines()
+    assert "PME's point charges" in lines[0] and "PME and the smearing correction" in lines[3]
+    for row in (lines[2].split(), lines[5].split()):
+        assert row[:3] == ["GW", "500", "1"] and float(row[3]) > 0 and float(row[4]) > 0
+
+
 def test_scale_table_ratios_agree_with_its_rates(capsys):
     bench.main(["scale", "--integrators", "GW", "S1", "Langevin", "--sizes", "500", "1000",
                 "--seconds", "0.02", "--repeats", "1", "--warmup", "2"])
