@@ -4,7 +4,8 @@
 # scripts/test.sh finds it) into build-cuda/, runs the GPU tests on CUDA (TestDPDCUDA: the
 # body of TestDPDOpenCL), then prints particle-steps/s at 32 000, 256 000 and a million
 # particles of model B for GW, S1, Lowe, LangevinMiddleIntegrator and OpenMM's DPDIntegrator,
-# and GW unsheared against sheared with the pressure tensor sampled.
+# GW unsheared against sheared with the pressure tensor sampled, and GW with MDPDForce in
+# place of the soft force.
 #
 #     bash scripts/gpu-check.sh
 set -euo pipefail
@@ -29,3 +30,4 @@ echo "=== particle-steps/s on CUDA ==="
 /usr/bin/python3 -m openmmdpd.bench scale --platform CUDA --repeats 3
 /usr/bin/python3 -m openmmdpd.bench shear --pressure-tensor --rate 0.1 --integrators GW --sizes 32000 1000000 \
     --threads 1 --repeats 3 --platform CUDA
+/usr/bin/python3 -m openmmdpd.bench mdpd --integrators GW --sizes 32000 256000 --threads 1 --repeats 3 --platform CUDA
