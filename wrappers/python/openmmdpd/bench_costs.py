@@ -55,7 +55,7 @@ TRANSVERSE_SUMMARY = ("transverse friction's cost to each integrator's step (gam
 MDPD_SUMMARY = ("MDPDForce's step against DPDSoftRepulsionForce's, same System and integrator (8 integrators, "
                 "N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
 CHARGES_SUMMARY = ("smeared charges' cost to each integrator's step: PME alone, then PME and the smearing "
-                   "correction (10 % of the beads charged, 8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: "
+                   "correction (a tenth of the beads charged, 8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: "
                    "about 10 minutes)")
 SHEAR_SUMMARY = ("Lees-Edwards shear's cost to each integrator's step (rate 0.1, 8 integrators, N 4000 32000, "
                  "1 and 2 threads, medians of 3: about 5 minutes)")
