@@ -6,6 +6,7 @@
 #include "TestHelpers.h"
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/MDPDForce.h"
+#include "openmmdpd/ShardlowIntegrator.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmm/serialization/XmlSerializer.h"
 #include <sstream>
@@ -101,6 +102,27 @@ TEST(MDPDForce, CpuFollowsTheReferenceThroughDPDSteps) {
         final.push_back(context->getState(State::Positions).getPositions());
     }
     EXPECT_LT(relativeDifference(final[0], final[1]), 1e-10);
+}
+
+/** Under Lees-Edwards shear the box is tilted: S1 with the pressure tensor, CPU against the Reference. */
+TEST(MDPDForce, ShearedCpuFollowsTheReference) {
+    std::vector<std::vector<Vec3>> final;
+    std::vector<std::vector<double>> pressure;
+    for (const std::string& platform : {"Reference", "CPU"}) {
+        std::vector<Vec3> positions;
+        std::unique_ptr<System> system(makeMDPDLiquid(positions));
+        ShardlowIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01);
+        integrator.setRandomNumberSeed(5);
+        integrator.setShearRate(0.5);
+        integrator.setPressureTensorEnabled(true);
+        std::unique_ptr<Context> context = makeContext(*system, integrator, platform, positions, 2);
+        integrator.step(20);
+        final.push_back(context->getState(State::Positions).getPositions());
+        pressure.push_back(integrator.getAveragePressureTensor(DPDThermostatIntegrator::PressureTotal));
+    }
+    EXPECT_LT(relativeDifference(final[0], final[1]), 1e-10);
+    for (int k = 0; k < 6; k++)
+        EXPECT_NEAR(pressure[1][k], pressure[0][k], 1e-9 * std::max(1.0, std::fabs(pressure[0][k]))) << "component " << k;
 }
 #endif
 
