@@ -39,7 +39,7 @@ from scipy import integrate
 import openmmdpd
 from openmmdpd import scenes
 from openmmdpd.analysis import block_average, kinetic_temperature, standard_error
-from openmmdpd.electrostatics import add_smeared_electrostatics
+from openmmdpd.electrostatics import add_smeared_electrostatics, fast_pme_grid
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "..", "docs", "results", "charged-electrolyte")
@@ -56,27 +56,6 @@ RDF_BIN = 0.05
 # salt: ion pairs in the box, one run each; time: the sampling time of each run
 FULL = dict(particles=3000, dt=0.02, equilibrate=10.0, salt=[5, 15, 45, 150], time=[250.0, 130.0, 90.0, 50.0])
 QUICK = dict(particles=648, dt=0.02, equilibrate=2.0, salt=[6, 30], time=[8.0, 6.0])
-
-
-def fast_pme_grid(nonbonded, box_length):
-    """Sets OpenMM's own Ewald parameter and grid (its formula for the force's tolerance), the
-    grid rounded up to a size with no prime factor above 5: where the CPU platform has no PME
-    plugin, PME runs the reference FFT, several times slower on other sizes (41 against 45)."""
-    tolerance = nonbonded.getEwaldErrorTolerance()
-    alpha = math.sqrt(-math.log(2 * tolerance)) / nonbonded.getCutoffDistance()._value
-    size = max(6, math.ceil(2 * alpha * box_length / (3 * tolerance ** 0.2)))
-    while not _smooth(size):
-        size += 1
-    nonbonded.setPMEParameters(alpha, size, size, size)
-    return size
-
-
-def _smooth(n):
-    """Whether n has no prime factor above 5."""
-    for p in (2, 3, 5):
-        while n % p == 0:
-            n //= p
-    return n == 1
 
 
 def inverse_debye_length(ions, volume):

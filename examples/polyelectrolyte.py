@@ -32,7 +32,7 @@ import openmm
 import openmmdpd
 from openmmdpd import scenes
 from openmmdpd.analysis import block_average, kinetic_temperature, standard_error
-from openmmdpd.electrostatics import add_smeared_electrostatics
+from openmmdpd.electrostatics import add_smeared_electrostatics, fast_pme_grid
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "..", "docs", "results", "polyelectrolyte")
@@ -49,27 +49,6 @@ SAMPLE = 0.5  # time between samples of the chain's shape
 FULL = dict(particles=5184, chain=30, dt=0.04, salt=[0, 100, 300, None], equilibrate=[40.0, 20.0, 20.0, 20.0],
             time=[200.0, 140.0, 120.0, 400.0])
 QUICK = dict(particles=648, chain=10, dt=0.04, salt=[0, 60, None], equilibrate=[3.0, 3.0, 3.0], time=[30.0, 30.0, 30.0])
-
-
-def fast_pme_grid(nonbonded, box_length):
-    """Sets OpenMM's own Ewald parameter and grid (its formula for the force's tolerance), the
-    grid rounded up to a size with no prime factor above 5: where the CPU platform has no PME
-    plugin, PME runs the reference FFT, several times slower on other sizes (41 against 45)."""
-    tolerance = nonbonded.getEwaldErrorTolerance()
-    alpha = math.sqrt(-math.log(2 * tolerance)) / nonbonded.getCutoffDistance()._value
-    size = max(6, math.ceil(2 * alpha * box_length / (3 * tolerance ** 0.2)))
-    while not _smooth(size):
-        size += 1
-    nonbonded.setPMEParameters(alpha, size, size, size)
-    return size
-
-
-def _smooth(n):
-    """Whether n has no prime factor above 5."""
-    for p in (2, 3, 5):
-        while n % p == 0:
-            n //= p
-    return n == 1
 
 
 def valences(args, salt):

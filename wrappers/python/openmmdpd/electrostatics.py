@@ -23,7 +23,7 @@ from openmm import unit
 from .units import DPDUnits
 
 __all__ = ["ONE_4PI_EPS0", "SMEARING_FORMS", "SmearedElectrostatics", "add_smeared_electrostatics",
-           "smeared_pair_energy", "smeared_pair_limit", "correction_cutoff"]
+           "fast_pme_grid", "smeared_pair_energy", "smeared_pair_limit", "correction_cutoff"]
 
 #: 1/(4 pi eps0) in kJ/mol nm/e^2, computed as OpenMM computes it (SI 2019 constants).
 ONE_4PI_EPS0 = 138.93545764438198
@@ -224,6 +224,28 @@ def add_smeared_electrostatics(system, charges, bjerrum_length, smearing_length,
     shape = SMEARING_FORMS[shape_name]
     tail = bjerrum * largest ** 2 * shape.deficit(reach, length) / reach
     return SmearedElectrostatics(nonbonded, correction, shape_name, scale, real_space, reach, tail)
+
+
+def fast_pme_grid(nonbonded, box_length):
+    """Sets OpenMM's own Ewald parameter and grid for a cubic box of edge box_length (nm) (its
+    formula for the force's tolerance), the grid rounded up to a size with no prime factor
+    above 5: where the CPU platform has no PME plugin, PME runs the reference FFT, several
+    times slower on other sizes (41 against 45).  Returns the grid size."""
+    tolerance = nonbonded.getEwaldErrorTolerance()
+    alpha = math.sqrt(-math.log(2 * tolerance)) / nonbonded.getCutoffDistance()._value
+    size = max(6, math.ceil(2 * alpha * box_length / (3 * tolerance ** 0.2)))
+    while not _is_5_smooth(size):
+        size += 1
+    nonbonded.setPMEParameters(alpha, size, size, size)
+    return size
+
+
+def _is_5_smooth(n):
+    """Whether n has no prime factor above 5."""
+    for p in (2, 3, 5):
+        while n % p == 0:
+            n //= p
+    return n == 1
 
 
 def _point_charge_force(charges, pairs, cutoff, ewald_tolerance):
