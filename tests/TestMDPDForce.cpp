@@ -7,6 +7,8 @@
 #include "openmmdpd/DPDVVIntegrator.h"
 #include "openmmdpd/MDPDForce.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
+#include "openmm/HarmonicBondForce.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmm/serialization/XmlSerializer.h"
 #include <sstream>
@@ -90,12 +92,43 @@ TEST(MDPDForce, DensityTermMatchesWarrensNormalisation) {
 }
 
 #if OPENMMDPD_HAVE_CPU
+/**
+ * The thermostat cutoffs of the CPU's two ways of adding the force in a DPD step: 1.0, below
+ * the force's largest cutoff (1.1), leaves it to its own pair pass; 1.1 lets the thermostat's
+ * pair pass add it, from the densities of a pass over r_d alone.
+ */
+const double THERMOSTAT_CUTOFFS[] = {1.0, 1.1};
+
 TEST(MDPDForce, CpuFollowsTheReferenceThroughDPDSteps) {
+    for (double cutoff : THERMOSTAT_CUTOFFS) {
+        std::vector<std::vector<Vec3>> final;
+        for (std::string platform : {"Reference", "CPU"}) {
+            std::vector<Vec3> positions;
+            std::unique_ptr<System> system(makeMDPDLiquid(positions));
+            DPDVVIntegrator integrator(KT_KELVIN, 4.5, cutoff, 0.01);
+            integrator.setRandomNumberSeed(5);
+            std::unique_ptr<Context> context = makeContext(*system, integrator, platform, positions, 2);
+            integrator.step(20);
+            final.push_back(context->getState(State::Positions).getPositions());
+        }
+        EXPECT_LT(relativeDifference(final[0], final[1]), 1e-10) << "thermostat cutoff " << cutoff;
+    }
+}
+
+/** The staggered scheme's slow forces without the MDPDForce, which the thermostat pass adds. */
+TEST(MDPDForce, StaggeredCpuFollowsTheReference) {
     std::vector<std::vector<Vec3>> final;
-    for (const std::string& platform : {"Reference", "CPU"}) {
+    for (std::string platform : {"Reference", "CPU"}) {
         std::vector<Vec3> positions;
         std::unique_ptr<System> system(makeMDPDLiquid(positions));
-        DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01);
+        HarmonicBondForce* bonds = new HarmonicBondForce();
+        for (int i = 0; i + 1 < 40; i += 2)
+            bonds->addBond(i, i + 1, 0.5, 50.0);
+        bonds->setUsesPeriodicBoundaryConditions(true);
+        bonds->setForceGroup(1);
+        system->addForce(bonds);
+        StaggeredDPDIntegrator integrator(KT_KELVIN, 4.5, 1.1, 0.01, 2);
+        integrator.setFastForceGroups(1 << 1);
         integrator.setRandomNumberSeed(5);
         std::unique_ptr<Context> context = makeContext(*system, integrator, platform, positions, 2);
         integrator.step(20);
@@ -104,25 +137,33 @@ TEST(MDPDForce, CpuFollowsTheReferenceThroughDPDSteps) {
     EXPECT_LT(relativeDifference(final[0], final[1]), 1e-10);
 }
 
-/** Under Lees-Edwards shear the box is tilted: S1 with the pressure tensor, CPU against the Reference. */
-TEST(MDPDForce, ShearedCpuFollowsTheReference) {
-    std::vector<std::vector<Vec3>> final;
-    std::vector<std::vector<double>> pressure;
-    for (const std::string& platform : {"Reference", "CPU"}) {
-        std::vector<Vec3> positions;
-        std::unique_ptr<System> system(makeMDPDLiquid(positions));
-        ShardlowIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.01);
-        integrator.setRandomNumberSeed(5);
-        integrator.setShearRate(0.5);
-        integrator.setPressureTensorEnabled(true);
-        std::unique_ptr<Context> context = makeContext(*system, integrator, platform, positions, 2);
-        integrator.step(20);
-        final.push_back(context->getState(State::Positions).getPositions());
-        pressure.push_back(integrator.getAveragePressureTensor(DPDThermostatIntegrator::PressureTotal));
-    }
-    EXPECT_LT(relativeDifference(final[0], final[1]), 1e-10);
-    for (int k = 0; k < 6; k++)
-        EXPECT_NEAR(pressure[1][k], pressure[0][k], 1e-9 * std::max(1.0, std::fabs(pressure[0][k]))) << "component " << k;
+/**
+ * S1 with the pressure tensor, CPU against the Reference, still (the pairs found four at a
+ * time) and under Lees-Edwards shear (the box tilted, the pairs found one by one).
+ */
+TEST(MDPDForce, ShardlowCpuFollowsTheReference) {
+    for (double rate : {0.0, 0.5})
+        for (double cutoff : THERMOSTAT_CUTOFFS) {
+            std::vector<std::vector<Vec3>> final;
+            std::vector<std::vector<double>> pressure;
+            for (std::string platform : {"Reference", "CPU"}) {
+                std::vector<Vec3> positions;
+                std::unique_ptr<System> system(makeMDPDLiquid(positions));
+                ShardlowIntegrator integrator(KT_KELVIN, 4.5, cutoff, 0.01);
+                integrator.setRandomNumberSeed(5);
+                integrator.setShearRate(rate);
+                integrator.setPressureTensorEnabled(true);
+                std::unique_ptr<Context> context = makeContext(*system, integrator, platform, positions, 2);
+                integrator.step(20);
+                final.push_back(context->getState(State::Positions).getPositions());
+                pressure.push_back(integrator.getAveragePressureTensor(DPDThermostatIntegrator::PressureTotal));
+            }
+            const std::string where = "shear rate " + std::to_string(rate) + ", thermostat cutoff " + std::to_string(cutoff);
+            EXPECT_LT(relativeDifference(final[0], final[1]), 1e-10) << where;
+            for (int k = 0; k < 6; k++)
+                EXPECT_NEAR(pressure[1][k], pressure[0][k], 1e-9 * std::max(1.0, std::fabs(pressure[0][k])))
+                        << "component " << k << ", " << where;
+        }
 }
 #endif
 

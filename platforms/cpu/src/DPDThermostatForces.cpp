@@ -2,7 +2,7 @@
 #include "openmmdpd/DPDPairRows.h"
 #include "openmmdpd/PairRandomBatch.h"
 #include "openmmdpd/SlotAccumulation.h"
-#include "openmmdpd/SoftRepulsionKernel.h"
+#include "openmmdpd/FusedPairForce.h"
 #include "openmmdpd/UniformPairBlock.h"
 #include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/OpenMMException.h"
@@ -51,8 +51,8 @@ void DPDThermostatForces::checkCutoffFitsBox(const Vec3* box) const {
         requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), box);
 }
 
-void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box, const SoftRepulsionKernel* soft,
-                                      std::vector<Vec3>* softOut, bool bySlot) {
+void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const Vec3* box, const FusedPairForce* fused,
+                                      std::vector<Vec3>* fusedOut, bool bySlot) {
     checkCutoffFitsBox(box);
     pairsBySlot = bySlot;
     search.build(positions, box, &executor);
@@ -61,24 +61,25 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
     searchedHeight = box[1][1];
     cellPairStart.resize(search.getNumCells() + 1);
     cellPairs.resize(search.getNumCells());
-    pairsUniform = (bySlot && canRunUniformPairBlock() && uniformRule(soft, listRule));
+    pairsUniform = (bySlot && canRunUniformPairBlock() && (uniformRule(fused, listRule) || uniformRule(nullptr, listRule)));
     cellUniformPairs.resize(search.getNumCells());
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const bool sheared = (parameters.getShearRate() != 0);
     sortedTypes.resize(sortedIndex.size());
     sortedHeights.resize(sheared ? sortedIndex.size() : 0);
-    sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : sortedSoftTypes.size());
+    sortedFusedTypes.resize(fused != nullptr ? sortedIndex.size() : sortedFusedTypes.size());
+    sortedFusedValues.resize(fused != nullptr && fused->getParticleValues() != nullptr ? sortedIndex.size() : sortedFusedValues.size());
     slotsSorted = true;
-    softSorted = (soft != nullptr);
-    sortedSoft = soft;
-    if (soft != nullptr && sortedIndex.size() < softOut->size())
-        std::fill(softOut->begin(), softOut->end(), Vec3());
+    fusedSorted = (fused != nullptr);
+    sortedFused = fused;
+    if (fused != nullptr && sortedIndex.size() < fusedOut->size())
+        std::fill(fusedOut->begin(), fusedOut->end(), Vec3());
     // Cell ranges in order, concatenated in order: the same pairs in the same order for any
     // number of workers.  Worker 0 writes the start of the list itself; by particle, the
     // other workers' parts are copied in after it, every worker copying an equal share (the
     // list is ~15 MB at N = 32000: copied by one thread it would be a serial part of every
     // step); by slot they stay apart, for the sweeps, which take each cell's pairs from
-    // where they lie.  The soft force is summed by slot, as in sumBySlot.  One dispatch.
+    // where they lie.  The fused force is summed by slot, as in sumBySlot.  One dispatch.
     const int workers = executor.getNumWorkers();
     pairsInParts = (bySlot && workers > 1);
     executor.executePhases(4, [&](int w, int phase) {
@@ -86,11 +87,11 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
         executor.range(w, sortedIndex.size(), begin, end);
         if (phase == 0) {
             sortTypes(begin, end, sheared);
-            if (soft != nullptr)
-                sortSoftTypes(begin, end, *soft);
+            if (fused != nullptr)
+                sortFusedTypes(begin, end, *fused);
         }
         else if (phase == 1)
-            findWorkerPairs(w, soft);
+            findWorkerPairs(w, fused);
         else if (phase == 2 && w == 0 && !pairsInParts) {
             if (pairsUniform)
                 sizeForWorkerLists(uniformPairs);
@@ -104,9 +105,9 @@ void DPDThermostatForces::updatePairs(const std::vector<Vec3>& positions, const 
                 copyWorkerLists(w, workerPairParticles, pairParticles);
             }
             placeWorkerCells(w);
-            for (size_t k = begin; soft != nullptr && k < end; k++) {
-                prefetchSlotParticle(softOut->data(), sortedIndex, k);
-                (*softOut)[sortedIndex[k]] = sumWithinReach(workerDissipative, workerReach, k);
+            for (size_t k = begin; fused != nullptr && k < end; k++) {
+                prefetchSlotParticle(fusedOut->data(), sortedIndex, k);
+                (*fusedOut)[sortedIndex[k]] = sumWithinReach(workerDissipative, workerReach, k);
             }
         }
     });
@@ -119,27 +120,29 @@ const std::vector<PairGeometry>& DPDThermostatForces::getPairs() const {
     return pairs;
 }
 
-void DPDThermostatForces::findWorkerPairs(int w, const SoftRepulsionKernel* soft) {
+void DPDThermostatForces::findWorkerPairs(int w, const FusedPairForce* fused) {
     if (pairsUniform) {
-        fillWorkerList(w, soft, uniformPairs, workerUniformPairs,
+        fillWorkerList(w, fused, uniformPairs, workerUniformPairs,
                        [&](int p, const int* qs, const Vec3* ds, int hits, std::vector<UniformPair>& out,
-                           std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& softForce) {
-                           appendUniformPairs(listRule, p, qs, ds, hits, out, outParticles, count, softForce);
+                           std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& fusedForce) {
+                           appendUniformPairs(listRule, p, qs, ds, hits, out, outParticles, count, fusedForce,
+                                              listRule.soft ? nullptr : fused);
                        });
         return;
     }
     UniformPairRule rule;
-    const bool uniform = uniformRule(soft, rule);
-    fillWorkerList(w, soft, pairs, workerPairs,
+    const bool uniform = uniformRule(fused, rule) || uniformRule(nullptr, rule);
+    const FusedPairForce* fusedAfter = (rule.soft ? nullptr : fused);  // where the rows do not make it
+    fillWorkerList(w, fused, pairs, workerPairs,
                    [&](int p, const int* qs, const Vec3* ds, int hits, std::vector<PairGeometry>& out,
-                       std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& softForce) {
-                       if (!(uniform && appendUniformPairs(rule, p, qs, ds, hits, out, outParticles, count, softForce)))
-                           appendPairsOneByOne(p, qs, ds, hits, out, outParticles, count, softForce, soft);
+                       std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& fusedForce) {
+                       if (!(uniform && appendUniformPairs(rule, p, qs, ds, hits, out, outParticles, count, fusedForce, fusedAfter)))
+                           appendPairsOneByOne(p, qs, ds, hits, out, outParticles, count, fusedForce, fused);
                    });
 }
 
 template <class Entry, class AppendBlock>
-void DPDThermostatForces::fillWorkerList(int w, const SoftRepulsionKernel* soft, std::vector<Entry>& firstPart,
+void DPDThermostatForces::fillWorkerList(int w, const FusedPairForce* fused, std::vector<Entry>& firstPart,
                                          std::vector<std::vector<Entry>>& otherParts, AppendBlock appendBlock) {
     size_t begin, end;
     search.workerCells(w, executor.getNumWorkers(), begin, end);
@@ -159,13 +162,13 @@ void DPDThermostatForces::fillWorkerList(int w, const SoftRepulsionKernel* soft,
     out.swap(list);
     outParticles.swap(listParticles);
     size_t count = 0;
-    std::vector<Vec3>& softForce = workerDissipative[w];
-    if (soft != nullptr)
-        workerReach[w].zero(softForce);
+    std::vector<Vec3>& fusedForce = workerDissipative[w];
+    if (fused != nullptr)
+        workerReach[w].zero(fusedForce);
     // Each cell's pairs start at a local offset, made global (and pointed to) by placeWorkerCells.
     const auto startCell = [&](int cell) { cellPairStart[cell] = (int) count; };
     search.forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* qs, const Vec3* ds, int hits) {
-        appendBlock(p, qs, ds, hits, out, outParticles, count, softForce);
+        appendBlock(p, qs, ds, hits, out, outParticles, count, fusedForce);
     }, startCell);
     workerListSize[w] = count;
     out.swap(list);
@@ -173,8 +176,8 @@ void DPDThermostatForces::fillWorkerList(int w, const SoftRepulsionKernel* soft,
 }
 
 void DPDThermostatForces::appendPairsOneByOne(int p, const int* qs, const Vec3* ds, int hits, std::vector<PairGeometry>& out,
-                                              std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& softForce,
-                                              const SoftRepulsionKernel* soft) const {
+                                              std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& fusedForce,
+                                              const FusedPairForce* fused) const {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const TypePairTable& table = parameters.getTable();
     for (int k = 0; k < hits; k++) {
@@ -197,11 +200,15 @@ void DPDThermostatForces::appendPairsOneByOne(int p, const int* qs, const Vec3* 
             g.i = p;
             g.j = q;
         }
-        if (soft != nullptr) {
-            const int softType = soft->getTable().indexOfTypes(sortedSoftTypes[p], sortedSoftTypes[q]);
-            const Vec3 f = g.e * soft->pairForce(i, j, softType, table.cutoff(t) * (1 - g.wR));
-            softForce[p] += f;
-            softForce[q] -= f;
+        if (fused != nullptr) {
+            const int fusedType = fused->getTable().indexOfTypes(sortedFusedTypes[p], sortedFusedTypes[q]);
+            const double r = table.cutoff(t) * (1 - g.wR);
+            const double valueSum = (fused->getParticleValues() != nullptr ? sortedFusedValues[p] + sortedFusedValues[q] : 0.0);
+            double along;
+            fused->pairForces(1, &i, &j, &fusedType, &r, &valueSum, &along);
+            const Vec3 f = g.e * along;
+            fusedForce[p] += f;
+            fusedForce[q] -= f;
         }
     }
 }
@@ -209,13 +216,15 @@ void DPDThermostatForces::appendPairsOneByOne(int p, const int* qs, const Vec3* 
 template <class Entry>
 bool DPDThermostatForces::appendUniformPairs(const UniformPairRule& rule, int p, const int* qs, const Vec3* ds, int hits,
                                              std::vector<Entry>& out, std::vector<PairParticles>& outParticles, size_t& count,
-                                             std::vector<Vec3>& softForce) const {
+                                             std::vector<Vec3>& fusedForce, const FusedPairForce* fused) const {
     if (count + hits > out.size()) {
         out.resize(count + hits);
         outParticles.resize(count + hits);
     }
     int acceptedQ[PairSearch::MAX_BLOCK];
-    const int n = uniformPairBlock(rule, p, qs, ds, hits, acceptedQ, &out[count], softForce.data());
+    const int n = uniformPairBlock(rule, p, qs, ds, hits, acceptedQ, &out[count], fusedForce.data());
+    if (n > 0 && fused != nullptr)
+        addFusedForces(*fused, rule.cutoff, p, acceptedQ, &out[count], n, fusedForce);
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     for (int k = 0; k < n; k++, count++) {
         const int q = acceptedQ[k], i = sortedIndex[p], j = sortedIndex[q];
@@ -226,15 +235,39 @@ bool DPDThermostatForces::appendUniformPairs(const UniformPairRule& rule, int p,
     return n >= 0;
 }
 
-bool DPDThermostatForces::uniformRule(const SoftRepulsionKernel* soft, UniformPairRule& rule) const {
+template <class Entry>
+void DPDThermostatForces::addFusedForces(const FusedPairForce& fused, double cutoff, int p, const int* acceptedQ, const Entry* accepted,
+                                         int n, std::vector<Vec3>& fusedForce) const {
+    const std::vector<int>& sortedIndex = search.getSortedIndex();
+    const TypePairTable& table = fused.getTable();
+    const bool values = (fused.getParticleValues() != nullptr);
+    int first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK], types[PairSearch::MAX_BLOCK];
+    double r[PairSearch::MAX_BLOCK], valueSums[PairSearch::MAX_BLOCK], along[PairSearch::MAX_BLOCK];
+    for (int k = 0; k < n; k++) {
+        const int q = acceptedQ[k];
+        first[k] = sortedIndex[p];
+        second[k] = sortedIndex[q];
+        types[k] = table.indexOfTypes(sortedFusedTypes[p], sortedFusedTypes[q]);
+        r[k] = cutoff * (1 - accepted[k].wR);
+        valueSums[k] = (values ? sortedFusedValues[p] + sortedFusedValues[q] : 0.0);
+    }
+    fused.pairForces(n, first, second, types, r, values ? valueSums : nullptr, along);
+    for (int k = 0; k < n; k++) {
+        const Vec3 f = accepted[k].e * along[k];
+        fusedForce[p] += f;
+        fusedForce[acceptedQ[k]] -= f;
+    }
+}
+
+bool DPDThermostatForces::uniformRule(const FusedPairForce* fused, UniformPairRule& rule) const {
     const TypePairTable& table = parameters.getTable();
     if (table.getNumTypes() != 1 || !table.hasStandardWeights() || parameters.hasExceptions() || !parameters.hasUniformMass() ||
         parameters.getShearRate() != 0 || parameters.hasTransverse())
         return false;
-    if (soft != nullptr && (soft->getTable().getNumTypes() != 1 || soft->hasExcludedPairs()))
+    if (fused != nullptr && !fused->isUniformSoftRepulsion())
         return false;
-    rule = {table.cutoff(0), table.cutoff2(0), parameters.uniformGamma(0), parameters.uniformSigma(0), table.value(0), soft != nullptr,
-            soft ? soft->getTable().value(0) : 0.0, soft ? soft->getTable().inverseCutoff(0) : 0.0, soft ? soft->getTable().cutoff(0) : 0.0};
+    rule = {table.cutoff(0), table.cutoff2(0), parameters.uniformGamma(0), parameters.uniformSigma(0), table.value(0), fused != nullptr,
+            fused ? fused->getTable().value(0) : 0.0, fused ? fused->getTable().inverseCutoff(0) : 0.0, fused ? fused->getTable().cutoff(0) : 0.0};
     return true;
 }
 
@@ -361,10 +394,10 @@ void DPDThermostatForces::sumAlongPairs(const std::vector<double>& c, std::vecto
 }
 
 void DPDThermostatForces::computeInOnePass(const std::vector<Vec3>& positions, const Vec3* box, const std::vector<Vec3>& velocities,
-                                           long long step, double dt, const SoftRepulsionKernel* soft,
+                                           long long step, double dt, const FusedPairForce* fused,
                                            const std::vector<Vec3>* base, std::vector<Vec3>& out) {
     searchSlots(positions, box);
-    sumBySlot(DissipativeTerm | RandomTerm, velocities, step, dt, soft, base, out);
+    sumBySlot(DissipativeTerm | RandomTerm, velocities, step, dt, fused, base, out);
 }
 
 void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const Vec3* box) {
@@ -373,25 +406,26 @@ void DPDThermostatForces::searchSlots(const std::vector<Vec3>& positions, const 
     workerReach = search.workerSlotReaches(executor.getNumWorkers());
     searched = &positions;
     searchedHeight = box[1][1];
-    slotsSorted = softSorted = false;
+    slotsSorted = fusedSorted = false;
 }
 
 void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velocities, long long step, double dt,
-                                    const SoftRepulsionKernel* soft, const std::vector<Vec3>* base, std::vector<Vec3>& out,
+                                    const FusedPairForce* fused, const std::vector<Vec3>* base, std::vector<Vec3>& out,
                                     std::vector<Vec3>* dissipativeOut, PairSource source, Indexing velocityIndexing, Indexing outputIndexing) {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const bool velocitiesBySlot = (velocityIndexing == BySlot), bySlot = (outputIndexing == BySlot);
     const bool sheared = (parameters.getShearRate() != 0), sortTypesNow = !slotsSorted;
-    const SoftRepulsionKernel* sortSoft = (soft != nullptr && (!softSorted || soft != sortedSoft) ? soft : nullptr);
+    const FusedPairForce* sortFused = (fused != nullptr && (!fusedSorted || fused != sortedFused) ? fused : nullptr);
     if (!velocitiesBySlot)
         sortedVelocities.resize(sortedIndex.size());
     slotVelocities = (velocitiesBySlot ? &velocities : &sortedVelocities);
     sortedHeights.resize(sheared ? sortedIndex.size() : 0);
     sortedTypes.resize(sortedIndex.size());
-    sortedSoftTypes.resize(soft != nullptr ? sortedIndex.size() : sortedSoftTypes.size());
+    sortedFusedTypes.resize(fused != nullptr ? sortedIndex.size() : sortedFusedTypes.size());
+    sortedFusedValues.resize(fused != nullptr && fused->getParticleValues() != nullptr ? sortedIndex.size() : sortedFusedValues.size());
     slotsSorted = true;
-    softSorted = softSorted || soft != nullptr;
-    sortedSoft = (soft != nullptr ? soft : sortedSoft);
+    fusedSorted = fusedSorted || fused != nullptr;
+    sortedFused = (fused != nullptr ? fused : sortedFused);
     if (dissipativeOut != nullptr) {
         workerRandom.resize(executor.getNumWorkers());
         for (std::vector<Vec3>& buffer : workerRandom)
@@ -418,13 +452,13 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
                 }
             if (sortTypesNow)
                 sortTypes(begin, end, sheared);
-            if (sortSoft != nullptr)
-                sortSoftTypes(begin, end, *sortSoft);
+            if (sortFused != nullptr)
+                sortFusedTypes(begin, end, *sortFused);
         }
         else if (phase == 1 && source == KeptPairs)
             sumKeptDissipative(w);
         else if (phase == 1)
-            sumPairForcesBySlot(w, terms, dissipativeOut != nullptr, soft, step, dt, source == FindAndKeepPairs);
+            sumPairForcesBySlot(w, terms, dissipativeOut != nullptr, fused, step, dt, source == FindAndKeepPairs);
         else
             for (size_t k = begin; k < end; k++) {
                 if (!bySlot)
@@ -440,10 +474,15 @@ void DPDThermostatForces::sumBySlot(int terms, const std::vector<Vec3>& velociti
     });
 }
 
-void DPDThermostatForces::sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft) {
+void DPDThermostatForces::sortFusedTypes(size_t begin, size_t end, const FusedPairForce& fused) {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     for (size_t k = begin; k < end; k++)
-        sortedSoftTypes[k] = soft.getTable().typeOf(sortedIndex[k]);
+        sortedFusedTypes[k] = fused.getTable().typeOf(sortedIndex[k]);
+    const double* values = fused.getParticleValues();
+    for (size_t k = begin; values != nullptr && k < end; k++) {
+        prefetchSlotParticle(values, sortedIndex, k);
+        sortedFusedValues[k] = values[sortedIndex[k]];
+    }
 }
 
 void DPDThermostatForces::sortTypes(size_t begin, size_t end, bool heights) {
@@ -458,7 +497,7 @@ void DPDThermostatForces::sortTypes(size_t begin, size_t end, bool heights) {
 namespace {
 
 /**
- * FD(v) and/or FR (per `terms`; + the soft force, if given) of the pairs within their
+ * FD(v) and/or FR (per `terms`; + the fused force, if given) of the pairs within their
  * thermostat cutoff, summed, or with FD as a second output (separate).  The pairs are kept
  * block by block and their forces made for the whole batch (accumulateBySlot), so that the
  * random numbers are drawn many at a time.  One per worker: its scratch arrays are set up
@@ -470,10 +509,11 @@ struct DPDSlotForces {
     const std::vector<int>& sortedIndex;
     const std::vector<Vec3>& sortedVelocities;
     const std::vector<int>& sortedTypes;      // the thermostat's type of each slot's particle
-    const std::vector<int>& sortedSoftTypes;  // the soft force's (with soft only)
+    const std::vector<int>& sortedFusedTypes;  // the fused force's (with fused only)
+    const double* sortedFusedValues;           // its particle values by slot (null where it has none)
     const double* sortedHeights;  // null without shear
     double boxHeight;
-    const SoftRepulsionKernel* soft;
+    const FusedPairForce* fused;
     std::vector<DPDThermostatForces::KeptPair>* keep;  // where the accepted pairs go (null: nowhere)
     std::vector<double>* keepImageVx;                  // and their image velocities (null: nowhere)
     std::vector<double>* keepTransverse;               // and their transverse gamma wD (null: nowhere)
@@ -488,9 +528,11 @@ struct DPDSlotForces {
     int slotP[PairSearch::MAX_BLOCK], first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK];
     double xi[PairSearch::MAX_BLOCK], cutoff[PairSearch::MAX_BLOCK];
     double zeta[3 * PairSearch::MAX_BLOCK];  // transverse friction's noise vectors
-    double softOnPair[PairSearch::MAX_BLOCK];  // the soft force along e (from the rows, where they make it: their softPairForce)
+    double fusedOnPair[PairSearch::MAX_BLOCK];  // the fused force along e (from the rows, where they make it: their softPairForce)
+    int fusedTypes[PairSearch::MAX_BLOCK];     // the fused force's type pair and distance of each pair
+    double distance[PairSearch::MAX_BLOCK], valueSums[PairSearch::MAX_BLOCK];
 
-    // Every pair's parameters where they are shared, else null; the soft force's too where
+    // Every pair's parameters where they are shared, else null; the fused force's too where
     // uniform->soft (the rows then make its pair forces), else it is looked up pair by pair.
     // Set only where the rows run (canRunUniformPairBlock), so every block comes from them.
     const UniformPairRule* uniform = nullptr;
@@ -499,7 +541,7 @@ struct DPDSlotForces {
         const int i = sortedIndex[p], start = batchSize;
         const TypePairTable& table = parameters.getTable();
         const int n = (uniform ? uniformPairBlock(*uniform, p, q, d, count, slots, &g[batchSize], nullptr,
-                                                  uniform->soft ? &softOnPair[batchSize] : nullptr)
+                                                  uniform->soft ? &fusedOnPair[batchSize] : nullptr)
                                : -1);
         if (n >= 0) {
             for (int k = 0; k < n; k++, batchSize++) {
@@ -533,12 +575,12 @@ struct DPDSlotForces {
         if ((terms & RandomTerm) && transverse)
             PairRandomBatch::normalVectors(random, PairRandom::TransverseNoise, step, first, second, n, zeta);
         Vec3* dissipative = forces + (separate ? PairSearch::MAX_BLOCK : 0);
-        if (soft != nullptr && !(uniform != nullptr && uniform->soft))  // else the rows made them
-            softForcesAlongE(n, slots);
+        if (fused != nullptr && !(uniform != nullptr && uniform->soft))  // else the rows made them
+            fusedForcesAlongE(n, slots);
         DPDThermostatForces::KeptPair* kept = (keep != nullptr ? keptSpace(n) : nullptr);
         int k = 0;
         if (terms == (DissipativeTerm | RandomTerm) && !transverse) {
-            const DPDBatchPairs pairs{g, slotP, slots, xi, soft != nullptr ? softOnPair : nullptr, sortedHeights != nullptr, kept};
+            const DPDBatchPairs pairs{g, slotP, slots, xi, fused != nullptr ? fusedOnPair : nullptr, sortedHeights != nullptr, kept};
             k = dpdPairForceRows(pairs, n, sortedVelocities.data(), invSqrtDt, forces, separate ? dissipative : nullptr);
         }
         if (kept != nullptr)
@@ -549,8 +591,8 @@ struct DPDSlotForces {
             if (terms & DissipativeTerm)
                 fd = DPDPairForce::dissipative(g[k], g[k].relativeVelocity(sortedVelocities[slotP[k]], sortedVelocities[slots[k]]));
             dissipative[k] = (separate ? fd : fd + forces[k]);
-            if (soft != nullptr)
-                forces[k] += g[k].e * softOnPair[k];
+            if (fused != nullptr)
+                forces[k] += g[k].e * fusedOnPair[k];
         }
         batchSize = 0;
     }
@@ -561,12 +603,17 @@ struct DPDSlotForces {
         return g[k].hasTransverse() ? along + DPDPairForce::transverseRandom(g[k], zeta + 3 * k, invSqrtDt) : along;
     }
 
-    /** softOnPair[0, n) pair by pair, from the soft force's table. */
-    void softForcesAlongE(int n, const int* slots) {
+    /** fusedOnPair[0, n) from the fused force, given each pair's type pair in its table and distance. */
+    void fusedForcesAlongE(int n, const int* slots) {
+        const TypePairTable& table = fused->getTable();
         for (int k = 0; k < n; k++) {
-            const int t = soft->getTable().indexOfTypes(sortedSoftTypes[slotP[k]], sortedSoftTypes[slots[k]]);
-            softOnPair[k] = soft->pairForce(first[k], second[k], t, cutoff[k] * (1 - g[k].wR));
+            fusedTypes[k] = table.indexOfTypes(sortedFusedTypes[slotP[k]], sortedFusedTypes[slots[k]]);
+            distance[k] = cutoff[k] * (1 - g[k].wR);
         }
+        if (sortedFusedValues != nullptr)
+            for (int k = 0; k < n; k++)
+                valueSums[k] = sortedFusedValues[slotP[k]] + sortedFusedValues[slots[k]];
+        fused->pairForces(n, first, second, fusedTypes, distance, valueSums, fusedOnPair);
     }
 
     /** Pairs [from, n) of the batch to kept[from, n) (the rows copy those before), and every pair's image velocity. */
@@ -605,7 +652,7 @@ struct DPDSlotForces {
 
 } // namespace
 
-void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step,
+void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, const FusedPairForce* fused, long long step,
                                               double dt, bool keep) {
     // Kept in a vector of this worker's own, as in findWorkerPairs.
     std::vector<KeptPair> kept;
@@ -615,12 +662,13 @@ void DPDThermostatForces::sumPairForcesBySlot(int w, int terms, bool separate, c
     keptTransverse.swap(keptTransverseGammaWD[w]);
     const bool sheared = !sortedHeights.empty(), transverse = parameters.hasTransverse();
     std::unique_ptr<DPDSlotForces> evaluate(
-            new DPDSlotForces{parameters, random, search.getSortedIndex(), *slotVelocities, sortedTypes, sortedSoftTypes,
-                              sheared ? sortedHeights.data() : nullptr, searchedHeight, soft, keep ? &kept : nullptr,
+            new DPDSlotForces{parameters, random, search.getSortedIndex(), *slotVelocities, sortedTypes, sortedFusedTypes,
+                              fused != nullptr && fused->getParticleValues() != nullptr ? sortedFusedValues.data() : nullptr,
+                              sheared ? sortedHeights.data() : nullptr, searchedHeight, fused, keep ? &kept : nullptr,
                               keep && sheared ? &keptVx : nullptr, keep && transverse ? &keptTransverse : nullptr, terms, separate,
                               step, 1 / std::sqrt(dt), transverse});
     UniformPairRule rule;
-    if (canRunUniformPairBlock() && ((soft != nullptr && uniformRule(soft, rule)) || uniformRule(nullptr, rule)))
+    if (canRunUniformPairBlock() && ((fused != nullptr && uniformRule(fused, rule)) || uniformRule(nullptr, rule)))
         evaluate->uniform = &rule;
     std::vector<Vec3>* out[2] = {&workerDissipative[w], separate ? &workerRandom[w] : nullptr};
     accumulateBySlot(search, w, executor.getNumWorkers(), *evaluate, out, separate ? 2 : 1);

@@ -72,10 +72,10 @@ void DPDVVDynamics::dpdvvStep(OpenMM::ContextImpl& context, const DPDVVIntegrato
     });
     // (3) FC(r), FD(r, v), FR(r) with the half-step v: FC + FR and FD in one pass over
     // the pairs, which keeps them for (5), each FD at new velocities.
-    const SoftRepulsionKernel* soft;
-    const std::vector<Vec3>* base = prepareSlotPasses(context, integrator.getIntegrationForceGroups(), next, soft);
+    const FusedPairForce* fused;
+    const std::vector<Vec3>* base = prepareSlotPasses(context, integrator.getIntegrationForceGroups(), next, fused);
     const bool bySlot = canStayInSlotOrder();
-    thermostat.sumBySlot(DissipativeTerm | RandomTerm, v, next, dt, soft, base, conservativeAndRandom, &dissipative,
+    thermostat.sumBySlot(DissipativeTerm | RandomTerm, v, next, dt, fused, base, conservativeAndRandom, &dissipative,
                          DPDThermostatForces::FindAndKeepPairs, DPDThermostatForces::ByParticle,
                          bySlot ? DPDThermostatForces::BySlot : DPDThermostatForces::ByParticle);
     const std::vector<Vec3>& u = updateVelocities(context, integrator, bySlot);

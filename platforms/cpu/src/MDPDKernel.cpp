@@ -27,6 +27,7 @@ void MDPDKernel::initialize(const OpenMM::System& system, const MDPDForce& force
     workerDensity.assign(workers, std::vector<double>(numParticles));
     workerForces.assign(workers, std::vector<Vec3>(numParticles));
     slotRepulsion.assign(numParticles, 0.0);
+    particleRepulsion.assign(numParticles, 0.0);
     setParameters(force);
 }
 
@@ -37,6 +38,56 @@ void MDPDKernel::copyParametersToContext(OpenMM::ContextImpl&, const MDPDForce& 
 void MDPDKernel::setParameters(const MDPDForce& force) {
     parameters.reset(new MDPDParameters(numParticles, force));
     pairSearch.reset(new PairSearch(std::vector<bool>(numParticles, true), parameters->getTable().getMaxCutoff(), periodic));
+    densitySearch.reset(new PairSearch(std::vector<bool>(numParticles, true), parameters->getDensityCutoff(), periodic));
+    version++;
+}
+
+void MDPDKernel::pairForces(int n, const int* first, const int* second, const int* types, const double* r, const double* valueSums,
+                            double* out) const {
+    const TypePairTable& table = parameters->getTable();
+    for (int k = 0; k < n; k++) {
+        const bool acts = r[k] < table.cutoff(types[k]) && !(hasExclusions && excluded(first[k], second[k]));
+        out[k] = (acts ? parameters->pairForce(types[k], r[k], valueSums[k]) : 0.0);
+    }
+}
+
+void MDPDKernel::sumWorkerDensities(int w, int workers) {
+    std::vector<double>& density = workerDensity[w];
+    densitySearch->workerSlotReach(w, workers).zero(density);
+    const std::vector<int>& sortedIndex = densitySearch->getSortedIndex();
+    size_t begin, end;
+    densitySearch->workerCells(w, workers, begin, end);
+    densitySearch->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
+        double densityP = 0;
+        for (int k = 0; k < count; k++) {
+            if (hasExclusions && excluded(sortedIndex[p], sortedIndex[q[k]]))
+                continue;
+            const double weight = parameters->densityWeight(std::sqrt(d[k].dot(d[k])));
+            densityP += weight;
+            density[q[k]] += weight;
+        }
+        density[p] += densityP;
+    });
+}
+
+void MDPDKernel::sumDensities(OpenMM::ContextImpl& context) {
+    OpenMM::ReferencePlatform::PlatformData& data = *static_cast<OpenMM::ReferencePlatform::PlatformData*>(context.getPlatformData());
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    densitySearch->build(*data.positions, box, executor.get());
+    const int workers = executor->getNumWorkers();
+    executor->execute([&](int w) { sumWorkerDensities(w, workers); });
+    const std::vector<int>& sortedIndex = densitySearch->getSortedIndex();
+    const std::vector<PairSearch::SlotReach> reach = densitySearch->workerSlotReaches(workers);
+    const TypePairTable& table = parameters->getTable();
+    executor->execute([&](int w) {
+        size_t begin, end;
+        executor->range(w, sortedIndex.size(), begin, end);
+        for (size_t k = begin; k < end; k++) {
+            const int i = sortedIndex[k];
+            particleRepulsion[i] = parameters->typeB(table.typeOf(i)) * sumWithinReach(workerDensity, reach, k);
+        }
+    });
 }
 
 bool MDPDKernel::actsOn(int p, int q, double r2, int& t) const {
@@ -117,6 +168,10 @@ void MDPDKernel::searchAndSumDensities(OpenMM::ContextImpl& context, bool includ
 }
 
 double MDPDKernel::execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+    if (deferred) {
+        sumDensities(context);
+        return 0.0;
+    }
     searchAndSumDensities(context, includeEnergy);
     const int workers = executor->getNumWorkers();
     executor->execute([&](int w) { workerEnergy[w] += sumPairForces(w, workers, includeEnergy); });

@@ -1,6 +1,7 @@
 #include "openmmdpd/PairDynamics.h"
-#include "openmmdpd/SoftRepulsionKernel.h"
+#include "openmmdpd/FusedPairForce.h"
 #include "openmmdpd/internal/DPDSoftRepulsionForceImpl.h"
+#include "openmmdpd/internal/MDPDForceImpl.h"
 #include "openmm/OpenMMException.h"
 #include "ReferencePlatform.h"
 #include <cmath>
@@ -49,7 +50,7 @@ void PairDynamics::checkMoves(long long step) const {
 
 void PairDynamics::updateParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator) {
     thermostat.setParameters(system, integrator);
-    fusedVersion = -1;  // whether the soft force can be fused depends on the thermostat cutoffs
+    fusedVersion = -1;  // whether the fused force can be fused depends on the thermostat cutoffs
     parametersChanged();
 }
 
@@ -72,22 +73,39 @@ double PairDynamics::computeKineticEnergy(OpenMM::ContextImpl& context) const {
     return 0.5 * sumMV2(*platformData(context).velocities, thermostat.getParameters().getMasses());
 }
 
-SoftRepulsionKernel* PairDynamics::softForceToFuse(OpenMM::ContextImpl& context, int forceGroups) {
+namespace {
+
+/** The kernel of a force that a thermostat pass can add (DPDSoftRepulsionForce, MDPDForce); null for any other force. */
+FusedPairForce* fusableKernel(OpenMM::ForceImpl* impl) {
+    if (DPDSoftRepulsionForceImpl* soft = dynamic_cast<DPDSoftRepulsionForceImpl*>(impl))
+        return dynamic_cast<FusedPairForce*>(&soft->getKernel().getImpl());
+    if (MDPDForceImpl* mdpd = dynamic_cast<MDPDForceImpl*>(impl))
+        return dynamic_cast<FusedPairForce*>(&mdpd->getKernel().getImpl());
+    return nullptr;
+}
+
+} // namespace
+
+FusedPairForce* PairDynamics::pairForceToFuse(OpenMM::ContextImpl& context, int forceGroups) {
     // Checked again only when the force's parameters or the force groups change.
-    if (fusedVersion >= 0 && forceGroups == fusedForceGroups && fusedSoftForce->getParametersVersion() == fusedVersion)
-        return fusedSoftForce;
+    if (fusedVersion >= 0 && forceGroups == fusedForceGroups && fusedForce->getParametersVersion() == fusedVersion)
+        return fusedForce;
     fusedVersion = -1;
     fusedIsAlone = false;
-    SoftRepulsionKernel* found = nullptr;
-    int count = 0;
+    FusedPairForce* found = nullptr;
+    int count = 0, othersInGroups = 0;
     for (OpenMM::ForceImpl* impl : context.getForceImpls()) {
-        DPDSoftRepulsionForceImpl* soft = dynamic_cast<DPDSoftRepulsionForceImpl*>(impl);
-        if (soft != nullptr && (forceGroups & (1 << soft->getOwner().getForceGroup())) != 0) {
-            found = dynamic_cast<SoftRepulsionKernel*>(&soft->getKernel().getImpl());
+        if ((forceGroups & (1 << impl->getOwner().getForceGroup())) == 0)
+            continue;
+        FusedPairForce* kernel = fusableKernel(impl);
+        if (kernel != nullptr) {
+            found = kernel;
             count++;
         }
+        else
+            othersInGroups++;
     }
-    if (count != 1 || found == nullptr || found->isPeriodic() != thermostat.getSearch().isPeriodic())
+    if (count != 1 || found->isPeriodic() != thermostat.getSearch().isPeriodic())
         return nullptr;
     // Every pair the force acts on must be in the thermostat's list: every particle takes
     // part in the thermostat, and no force cutoff exceeds the thermostat cutoff of the same
@@ -95,10 +113,6 @@ SoftRepulsionKernel* PairDynamics::softForceToFuse(OpenMM::ContextImpl& context,
     const DPDPairParameters& parameters = thermostat.getParameters();
     const TypePairTable& forceTable = found->getTable();
     const TypePairTable& thermostatTable = parameters.getTable();
-    int othersInGroups = 0;
-    for (OpenMM::ForceImpl* impl : context.getForceImpls())
-        if ((forceGroups & (1 << impl->getOwner().getForceGroup())) != 0 && dynamic_cast<DPDSoftRepulsionForceImpl*>(impl) == nullptr)
-            othersInGroups++;
     std::vector<std::pair<int, int>> classes;
     for (int i = 0; i < parameters.getNumParticles(); i++) {
         if (!parameters.getActive()[i])
@@ -112,7 +126,7 @@ SoftRepulsionKernel* PairDynamics::softForceToFuse(OpenMM::ContextImpl& context,
             if (forceTable.cutoff(forceTable.indexOfTypes(a.first, b.first)) >
                 thermostatTable.cutoff(thermostatTable.indexOfTypes(a.second, b.second)))
                 return nullptr;
-    fusedSoftForce = found;
+    fusedForce = found;
     fusedIsAlone = (othersInGroups == 0);
     fusedForceGroups = forceGroups;
     fusedVersion = found->getParametersVersion();
@@ -121,30 +135,30 @@ SoftRepulsionKernel* PairDynamics::softForceToFuse(OpenMM::ContextImpl& context,
 
 void PairDynamics::computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step) {
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
-    softForceFromPairs = nullptr;
+    forceFromPairs = nullptr;
     conservativeIsZero = false;
     computeConservative(context, forceGroups);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    // The soft force alone is the whole conservative force: its pair sums go straight there.
-    std::vector<Vec3>& softOut = (conservativeIsZero ? conservative : softForce);
-    softOut.resize(conservative.size());
-    thermostat.updatePairs(*data.positions, box, softForceFromPairs, &softOut, wantsPairsBySlot());
-    if (softForceFromPairs != nullptr && !conservativeIsZero)
-        forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += softForce[i]; });
+    // The fused force alone is the whole conservative force: its pair sums go straight there.
+    std::vector<Vec3>& fusedOut = (conservativeIsZero ? conservative : fusedForceSum);
+    fusedOut.resize(conservative.size());
+    thermostat.updatePairs(*data.positions, box, forceFromPairs, &fusedOut, wantsPairsBySlot());
+    if (forceFromPairs != nullptr && !conservativeIsZero)
+        forEachParticle(conservative.size(), [&](size_t i) { conservative[i] += fusedForceSum[i]; });
     checkFinite(conservative, "conservative force", step);
 }
 
 void PairDynamics::computeForceInOnePass(OpenMM::ContextImpl& context, int forceGroups, const std::vector<Vec3>& velocities,
                                          long long step, double dt, std::vector<Vec3>& out) {
-    const SoftRepulsionKernel* soft;
-    const std::vector<Vec3>* base = prepareSlotPasses(context, forceGroups, step, soft);
-    thermostat.sumBySlot(DissipativeTerm | RandomTerm, velocities, step, dt, soft, base, out);
+    const FusedPairForce* fused;
+    const std::vector<Vec3>* base = prepareSlotPasses(context, forceGroups, step, fused);
+    thermostat.sumBySlot(DissipativeTerm | RandomTerm, velocities, step, dt, fused, base, out);
 }
 
 const std::vector<Vec3>* PairDynamics::prepareSlotPasses(OpenMM::ContextImpl& context, int forceGroups, long long step,
-                                                         const SoftRepulsionKernel*& soft) {
-    softForceFromPairs = nullptr;
+                                                         const FusedPairForce*& fused) {
+    forceFromPairs = nullptr;
     conservativeIsZero = false;
     computeConservative(context, forceGroups);
     if (!conservativeIsZero)
@@ -152,31 +166,31 @@ const std::vector<Vec3>* PairDynamics::prepareSlotPasses(OpenMM::ContextImpl& co
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     thermostat.searchSlots(*platformData(context).positions, box);
-    soft = softForceFromPairs;
+    fused = forceFromPairs;
     return conservativeIsZero ? nullptr : &conservative;
 }
 
 void PairDynamics::computeConservative(OpenMM::ContextImpl& context, int forceGroups) {
-    SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
-    if (soft != nullptr && fusedIsAlone) {
+    FusedPairForce* fused = pairForceToFuse(context, forceGroups);
+    if (fused != nullptr && fusedIsAlone) {
         // Nothing else to evaluate: skip the Context's force evaluation (zeroing and summing
         // its buffers cost 5 % of a GW step at N = 32000), and leave `conservative` unset:
-        // the pair pass writes the soft force over all of it, or it is not read.
+        // the pair pass writes the fused force over all of it, or it is not read.
         conservativeIsZero = true;
-        softForceFromPairs = soft;
+        addForceFromPairs(context, fused);
         return;
     }
-    if (soft != nullptr) {
-        soft->setDeferred(true);
+    if (fused != nullptr) {
+        fused->setDeferred(true);
         try {
             context.calcForcesAndEnergy(true, false, forceGroups);
         }
         catch (...) {
-            soft->setDeferred(false);
+            fused->setDeferred(false);
             throw;
         }
-        soft->setDeferred(false);
-        softForceFromPairs = soft;
+        fused->setDeferred(false);
+        forceFromPairs = fused;
     }
     else
         context.calcForcesAndEnergy(true, false, forceGroups);

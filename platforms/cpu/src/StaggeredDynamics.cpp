@@ -2,6 +2,7 @@
 #include "openmmdpd/StaggeredDynamics.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmmdpd/MDPDForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/Platform.h"
 #include "openmm/State.h"
@@ -49,16 +50,21 @@ std::map<std::string, std::string> contextProperties(OpenMM::ContextImpl& contex
     return properties;
 }
 
+/** Whether a thermostat pass can add this kind of force (PairDynamics::pairForceToFuse). */
+bool isFusable(const OpenMM::Force& force) {
+    return dynamic_cast<const DPDSoftRepulsionForce*>(&force) != nullptr || dynamic_cast<const MDPDForce*>(&force) != nullptr;
+}
+
 } // namespace
 
 void StaggeredDynamics::makeSlowContext(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
     std::unique_ptr<OpenMM::System> system(OpenMM::XmlSerializer::clone<OpenMM::System>(context.getSystem()));
-    // A soft force that the thermostat pairs can carry is added from them (as at K = 1), not
+    // A fused force that the thermostat pairs can carry is added from them (as at K = 1), not
     // searched again here.
-    slowOmitsSoftForce = (softForceToFuse(context, slowGroups(integrator)) != nullptr);
+    slowOmitsFusedForce = (pairForceToFuse(context, slowGroups(integrator)) != nullptr);
     for (int f = system->getNumForces() - 1; f >= 0; f--)
         if ((integrator.getFastForceGroups() & (1 << system->getForce(f).getForceGroup())) != 0 ||
-            (slowOmitsSoftForce && dynamic_cast<const DPDSoftRepulsionForce*>(&system->getForce(f)) != nullptr))
+            (slowOmitsFusedForce && isFusable(system->getForce(f))))
             system->removeForce(f);
     slowContext.reset();
     if (system->getNumForces() == 0)
@@ -74,15 +80,15 @@ void StaggeredDynamics::computeConservative(OpenMM::ContextImpl& context, int fo
         PairDynamics::computeConservative(context, forceGroups);
         return;
     }
-    if (slowOmitsSoftForce) {
-        SoftRepulsionKernel* soft = softForceToFuse(context, forceGroups);
-        if (soft == nullptr) {
+    if (slowOmitsFusedForce) {
+        FusedPairForce* fused = pairForceToFuse(context, forceGroups);
+        if (fused == nullptr) {
             // Its parameters changed so that the pairs no longer carry it: the main Context
             // evaluates every slow force (slower, not wrong).
             PairDynamics::computeConservative(context, forceGroups);
             return;
         }
-        addSoftForceFromPairs(soft);
+        addForceFromPairs(context, fused);
     }
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);

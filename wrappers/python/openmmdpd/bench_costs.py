@@ -20,8 +20,10 @@ moved into chains, which changes which excluded pairs are in range but not the p
 of looking the exceptions up, which is what the option costs.
 
 The mdpd mode swaps the scene's DPDSoftRepulsionForce (a 25) for Warren's MDPDForce (A -40,
-B 25, rd 0.75, rc 1) on the same particles at the same positions: the same pairs within rc,
-and the same integrator.
+B 25, rd 0.75, rc 1) on the same particles at the same positions, with the same integrator, at
+--density 6 (about the MDPD liquid's own) and dt 0.01 by default: at the soft scene's
+density 4 the MDPD fluid separates into liquid and voids, and its step would then be timed
+with about a third more pairs within rc than the soft fluid's (at density 6, about 8 % fewer).
 
 The charges mode gives a tenth of the beads valences +1 and -1 (alternating) with Slater
 smearing (Bjerrum length 1.1, smearing length 0.25; add_smeared_electrostatics), and times
@@ -52,8 +54,8 @@ EXCEPTIONS_SUMMARY = ("thermostat exceptions' cost to each integrator's step (th
                       "excluded, 8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
 TRANSVERSE_SUMMARY = ("transverse friction's cost to each integrator's step (gamma_perp 4.5, the integrators with it, "
                       "N 4000 32000, 1 and 2 threads, medians of 3: about 4 minutes)")
-MDPD_SUMMARY = ("MDPDForce's step against DPDSoftRepulsionForce's, same System and integrator (8 integrators, "
-                "N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
+MDPD_SUMMARY = ("MDPDForce's step against DPDSoftRepulsionForce's, same System and integrator at the MDPD liquid's "
+                "density (8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: about 5 minutes)")
 CHARGES_SUMMARY = ("smeared charges' cost to each integrator's step: PME alone, then PME and the smearing "
                    "correction (a tenth of the beads charged, 8 integrators, N 4000 32000, 1 and 2 threads, medians of 3: "
                    "about 10 minutes)")
@@ -117,15 +119,16 @@ def add_parsers(modes):
     mdpd = add_mode(modes, "mdpd", MDPD_SUMMARY, f"Each of --integrators with the soft repulsion and with MDPDForce "
                     f"in its place, alternated. {SHEAR_DURATION}", run_mdpd)
     add_integrators_argument(mdpd, ours, names=sheared)
-    add_cost_arguments(mdpd)
+    add_cost_arguments(mdpd, dt=0.01)
+    mdpd.add_argument("--density", type=float, default=6.0, help="the scene's number density")
     charges = add_mode(modes, "charges", CHARGES_SUMMARY, f"Each of --integrators without charges and with them, "
                        f"alternated; PME alone, then with the correction. {SHEAR_DURATION}", run_charges)
     add_integrators_argument(charges, ours, names=sheared)
     add_cost_arguments(charges)
 
 
-def add_cost_arguments(parser):
-    add_system_arguments(parser, [4000, 32000], [1, 2], 0.04)
+def add_cost_arguments(parser, dt=0.04):
+    add_system_arguments(parser, [4000, 32000], [1, 2], dt)
     add_round_arguments(parser, 1.0, "alternated measurements; medians kept")
     add_platform_argument(parser)
 
@@ -178,9 +181,9 @@ def with_mdpd(system):
 
 
 def run_mdpd(args):
-    print_paired(args, f"scene soft, {args.platform} platform, dt={args.dt:g}; DPDSoftRepulsionForce (a 25) and MDPDForce "
-                 f"(A -40, B 25, rd 0.75) alternated, medians of {args.repeats}", args.integrators,
-                 ("steps/s soft", "steps/s MDPD"), lambda i, n: None, with_mdpd)
+    print_paired(args, f"scene soft at density {args.density:g}, {args.platform} platform, dt={args.dt:g}; "
+                 f"DPDSoftRepulsionForce (a 25) and MDPDForce (A -40, B 25, rd 0.75) alternated, medians of {args.repeats}",
+                 args.integrators, ("steps/s soft", "steps/s MDPD"), lambda i, n: None, with_mdpd, args.density)
 
 
 def with_charges(correction):
@@ -204,21 +207,21 @@ def run_charges(args):
                      ("steps/s", "steps/s charged"), lambda i, n: None, with_charges(correction))
 
 
-def print_paired(args, title, names, columns, change, change_system=None):
+def print_paired(args, title, names, columns, change, change_system=None, density=4.0):
     print(title)
     print(f"{'integrator':>10} {'N':>6} {'threads':>7}  {columns[0]:>14} {columns[1]:>14}  {'cost':>8}")
     for name in names:
         for n in args.sizes:
             for threads in args.threads:
-                plain, changed, cost = measure_paired(n, threads, args, name, change, change_system)
+                plain, changed, cost = measure_paired(n, threads, args, name, change, change_system, density)
                 print(f"{name:>10} {n:>6} {threads:>7}  {plain:>14.2f} {changed:>14.2f}  {100 * cost:>+7.2f}%")
 
 
-def measure_paired(n, threads, args, name, change, change_system=None):
-    """Integrator `name` as is and with change(integrator, n) applied (and the System replaced
-    by change_system(system), if given), alternated: (median steps/s as is, median changed,
-    median of the per-round cost changed/as-is - 1)."""
-    scene = soft_scene(num_particles=n)
+def measure_paired(n, threads, args, name, change, change_system=None, density=4.0):
+    """Integrator `name` on scene soft at `density` as is and with change(integrator, n) applied
+    (and the System replaced by change_system(system), if given), alternated: (median steps/s as
+    is, median changed, median of the per-round cost changed/as-is - 1)."""
+    scene = soft_scene(num_particles=n, density=density)
     runs = []
     for changed in (False, True):
         integrator = integrators("soft")[name](args.dt)  # the scene's catalog: OC has its averages

@@ -18,6 +18,8 @@ public:
     std::map<std::string, double> getDefaultParameters() override { return {}; }
     std::vector<std::string> getKernelNames() override;
     std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
+    /** The platform's kernel (integrators that add this force in their own pair pass use it). */
+    OpenMM::Kernel& getKernel() { return kernel; }
     void updateParametersInContext(OpenMM::ContextImpl& context);
     /** Throw unless the force is consistent with the System (particle indices, types, box). */
     static void validate(const MDPDForce& force, const OpenMM::System& system);

@@ -31,8 +31,11 @@ public:
     }
     /** The force on i along e of a pair of type pair t at r < rc, given B_i rho_i + B_j rho_j (kJ/mol/nm). */
     double pairForce(int t, double r, double densityRepulsion) const {
+        // The repulsion times 1 or 0 (the sum, or exactly the attraction): a branch on r < rd
+        // would be mispredicted often.
         const double attraction = softRepulsionAlongE(r, table.value(t), table.inverseCutoff(t));
-        return r < densityCutoff ? attraction + mdpdRepulsionAlongE(r, densityRepulsion, inverseDensityCutoff) : attraction;
+        const double inRange = (r < densityCutoff ? 1.0 : 0.0);
+        return attraction + inRange * mdpdRepulsionAlongE(r, densityRepulsion, inverseDensityCutoff);
     }
     /** The energy of the A term of a pair of type pair t at r < rc (kJ/mol). */
     double pairEnergy(int t, double r) const { return softRepulsionEnergy(r, table.value(t), table.cutoff(t)); }

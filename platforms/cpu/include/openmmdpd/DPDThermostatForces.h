@@ -17,7 +17,7 @@ namespace DPDPlugin {
  * ParallelExecutor.  Integrators with a pair-force update rule (DPD-VV family, the
  * staggered scheme) call this; pairwise-sequential rules use the same pair list.
  */
-class SoftRepulsionKernel;
+class FusedPairForce;
 
 class DPDThermostatForces {
 public:
@@ -30,13 +30,13 @@ public:
     /** New thermostat parameters (a live change): the pairs are found anew from the next search. */
     void setParameters(const OpenMM::System& system, const DPDThermostatIntegrator& integrator);
     /**
-     * Find the pairs within their cutoffs at these positions; given soft (whose pairs must
-     * all lie within the thermostat's), softOut = its forces, summed in the same pass.
+     * Find the pairs within their cutoffs at these positions; given fused (whose pairs must
+     * all lie within the thermostat's), fusedOut = its forces, summed in the same pass.
      * bySlot: the pairs' i and j are their cell-sorted slots (see arePairsBySlot), and
      * each worker's part of the list stays where the worker wrote it (see getCellPairs).
      */
     void updatePairs(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
-                     const SoftRepulsionKernel* soft = nullptr, std::vector<OpenMM::Vec3>* softOut = nullptr,
+                     const FusedPairForce* fused = nullptr, std::vector<OpenMM::Vec3>* fusedOut = nullptr,
                      bool bySlot = false);
     /** The pair list, in one piece: after updatePairs by particle (by slot it may be in parts, or of UniformPair: see getCellPairs, getCellUniformPairs). */
     const std::vector<PairGeometry>& getPairs() const;
@@ -86,19 +86,19 @@ public:
      */
     void sumAlongPairs(const std::vector<double>& c, std::vector<OpenMM::Vec3>& out);
     /**
-     * out = base + FD(velocities) + FR at these positions, plus soft's pair forces when soft
+     * out = base + FD(velocities) + FR at these positions, plus fused's pair forces when fused
      * is given (its pairs must all lie within the thermostat's; base may be null): the same
      * pairs and numbers as updatePairs() and compute(), for update rules that use every
      * pair once per evaluation: searchSlots() and one sumBySlot().
      */
     void computeInOnePass(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
                           const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
-                          const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base,
+                          const FusedPairForce* fused, const std::vector<OpenMM::Vec3>* base,
                           std::vector<OpenMM::Vec3>& out);
     /**
      * Where a slot pass gets its pairs: found in the cells (FindPairs), found and kept by
      * each worker (FindAndKeepPairs), or those kept by the last FindAndKeepPairs pass since
-     * searchSlots() (KeptPairs: FD only, no soft force, no base), read back in order
+     * searchSlots() (KeptPairs: FD only, no fused force, no base), read back in order
      * (cheaper than finding them again, when the same pairs need FD at new velocities).
      */
     enum PairSource { FindPairs, FindAndKeepPairs, KeptPairs };
@@ -116,13 +116,13 @@ public:
      */
     enum Indexing { ByParticle, BySlot };
     /**
-     * out = base + the forces of `terms` at these velocities + soft's pair forces (if soft is
+     * out = base + the forces of `terms` at these velocities + fused's pair forces (if fused is
      * given; see computeInOnePass), or with dissipativeOut FD there and the rest in out (base,
      * by particle, may be null): the pairs of the last searchSlots() found and used in one
      * pass over the cell-sorted slots, so no pair list is written and read back.
      */
     void sumBySlot(int terms, const std::vector<OpenMM::Vec3>& velocities, long long step, double dt,
-                   const SoftRepulsionKernel* soft, const std::vector<OpenMM::Vec3>* base, std::vector<OpenMM::Vec3>& out,
+                   const FusedPairForce* fused, const std::vector<OpenMM::Vec3>* base, std::vector<OpenMM::Vec3>& out,
                    std::vector<OpenMM::Vec3>* dissipativeOut = nullptr, PairSource source = FindPairs,
                    Indexing velocityIndexing = ByParticle, Indexing outputIndexing = ByParticle);
     /** The velocities the last sumBySlot() used, by slot. */
@@ -198,26 +198,38 @@ private:
      * itself; by particle, the list sized for all workers', and w's share of the other
      * workers' parts copied in.
      */
-    void findWorkerPairs(int w, const SoftRepulsionKernel* soft);
+    void findWorkerPairs(int w, const FusedPairForce* fused);
     /**
      * findWorkerPairs' frame for a list of either entry: worker w's part of it (and of the
      * pairs' particles) grown in place by appendBlock(p, qs, ds, hits, out, outParticles,
-     * count, softForce) for each block of hits of its cells.
+     * count, fusedForce) for each block of hits of its cells.
      */
     template <class Entry, class AppendBlock>
-    void fillWorkerList(int w, const SoftRepulsionKernel* soft, std::vector<Entry>& firstPart, std::vector<std::vector<Entry>>& otherParts,
+    void fillWorkerList(int w, const FusedPairForce* fused, std::vector<Entry>& firstPart, std::vector<std::vector<Entry>>& otherParts,
                         AppendBlock appendBlock);
     /** findWorkerPairs for one block of hits, pair by pair (what uniformPairBlock does four at a time). */
     void appendPairsOneByOne(int p, const int* qs, const OpenMM::Vec3* ds, int hits, std::vector<PairGeometry>& out,
-                             std::vector<PairParticles>& outParticles, size_t& count, std::vector<OpenMM::Vec3>& softForce,
-                             const SoftRepulsionKernel* soft) const;
+                             std::vector<PairParticles>& outParticles, size_t& count, std::vector<OpenMM::Vec3>& fusedForce,
+                             const FusedPairForce* fused) const;
     /** Whether every pair shares its parameters (UniformPairRule), and if so, those. */
-    bool uniformRule(const SoftRepulsionKernel* soft, UniformPairRule& rule) const;
-    /** findWorkerPairs for one block of p's hits through uniformPairBlock, appended at count; false where that cannot run. */
+    bool uniformRule(const FusedPairForce* fused, UniformPairRule& rule) const;
+    /**
+     * findWorkerPairs for one block of p's hits through uniformPairBlock, appended at count,
+     * and the forces of `fused` (where given: one the rule does not make) added to fusedForce;
+     * false where that cannot run.
+     */
     template <class Entry>
     bool appendUniformPairs(const UniformPairRule& rule, int p, const int* qs, const OpenMM::Vec3* ds, int hits,
                             std::vector<Entry>& out, std::vector<PairParticles>& outParticles, size_t& count,
-                            std::vector<OpenMM::Vec3>& softForce) const;
+                            std::vector<OpenMM::Vec3>& fusedForce, const FusedPairForce* fused) const;
+    /**
+     * The forces of `fused` on the n pairs (p, acceptedQ[k]) that uniformPairBlock accepted
+     * (thermostat cutoff `cutoff`) added to fusedForce by slot, pair by pair in order, as
+     * appendPairsOneByOne adds them.
+     */
+    template <class Entry>
+    void addFusedForces(const FusedPairForce& fused, double cutoff, int p, const int* acceptedQ, const Entry* accepted, int n,
+                        std::vector<OpenMM::Vec3>& fusedForce) const;
     size_t workerPairsBefore(int w) const;
     /** Worker w's cells: where their pairs lie (cellPairs), and their offsets into its own list made numbers in the whole list. */
     void placeWorkerCells(int w);
@@ -229,11 +241,11 @@ private:
     void sizeForWorkerLists(std::vector<Entry>& list) const;
     template <class Entry>
     void copyWorkerLists(int w, const std::vector<std::vector<Entry>>& workerLists, std::vector<Entry>& list) const;
-    /** sortedTypes (and sortedHeights if asked), or sortedSoftTypes, for the slots [begin, end) of the last search. */
+    /** sortedTypes (and sortedHeights if asked), or sortedFusedTypes (and sortedFusedValues), for the slots [begin, end) of the last search. */
     void sortTypes(size_t begin, size_t end, bool heights);
-    void sortSoftTypes(size_t begin, size_t end, const SoftRepulsionKernel& soft);
+    void sortFusedTypes(size_t begin, size_t end, const FusedPairForce& fused);
     /** sumBySlot's pair pass: worker w's cells' pair forces into its buffers (FD into the second if separate), by slot. */
-    void sumPairForcesBySlot(int w, int terms, bool separate, const SoftRepulsionKernel* soft, long long step, double dt,
+    void sumPairForcesBySlot(int w, int terms, bool separate, const FusedPairForce* fused, long long step, double dt,
                              bool keep);
     /** The KeptPairs pass: FD of worker w's kept pairs into its buffer, by slot. */
     void sumKeptDissipative(int w);
@@ -265,17 +277,18 @@ private:
     std::vector<OpenMM::Vec3> sortedVelocities;             // the velocities by particle, copied into slot order
     const std::vector<OpenMM::Vec3>* slotVelocities = nullptr;  // sortedVelocities, or those given by slot
     std::vector<double> sortedHeights;  // y of each slot's particle as stored (under shear only)
-    // Each slot's particle's type in the thermostat's table and in the soft force's: read
+    // Each slot's particle's type in the thermostat's table and in the fused force's: read
     // per pair, where a lookup by particle index would hit memory at random.
-    std::vector<int> sortedTypes, sortedSoftTypes;
+    std::vector<int> sortedTypes, sortedFusedTypes;
+    std::vector<double> sortedFusedValues;  // the fused force's particle values by slot, where it has them
     std::vector<std::vector<KeptPair>> keptPairs;  // each worker's, by its FindAndKeepPairs pass
     std::vector<std::vector<double>> keptImageVx;  // and their image velocities (read under shear only)
     std::vector<std::vector<double>> keptTransverseGammaWD;  // and their transverse gamma wD (with transverse friction only)
     std::vector<size_t> keptPairCount;             // how many of each worker's are kept (the vectors may be longer)
-    // Whether the sorted types (and heights) are those of the last search, and the soft
-    // force's too (of sortedSoft).
-    bool slotsSorted = false, softSorted = false;
-    const SoftRepulsionKernel* sortedSoft = nullptr;
+    // Whether the sorted types (and heights) are those of the last search, and the fused
+    // force's too (of sortedFused).
+    bool slotsSorted = false, fusedSorted = false;
+    const FusedPairForce* sortedFused = nullptr;
     const std::vector<OpenMM::Vec3>* searched = nullptr;  // the positions and box height of the last search
     double searchedHeight = 0;
 };

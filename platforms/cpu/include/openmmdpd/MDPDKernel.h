@@ -2,6 +2,7 @@
 #define OPENMMDPD_MDPDKERNEL_H_
 
 #include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/FusedPairForce.h"
 #include "openmmdpd/MDPDParameters.h"
 #include "openmmdpd/ParallelExecutor.h"
 #include "openmmdpd/PairSearch.h"
@@ -16,8 +17,11 @@ namespace DPDPlugin {
  * sorted slot into its own buffer; the buffers are added in worker order; then each worker
  * adds its listed pairs' forces by slot, and those buffers are added in worker order too.
  * Double precision throughout; the result does not depend on scheduling.
+ *
+ * Deferred (FusedPairForce), execute() sums only the densities, with a search of its own
+ * over the shorter density range, and the integrator's thermostat pass adds the pair forces.
  */
-class MDPDKernel : public CalcMDPDForceKernel {
+class MDPDKernel : public CalcMDPDForceKernel, public FusedPairForce {
 public:
     MDPDKernel(std::string name, const OpenMM::Platform& platform, std::unique_ptr<ParallelExecutor> executor) :
             CalcMDPDForceKernel(name, platform), executor(std::move(executor)) {}
@@ -25,6 +29,16 @@ public:
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) override;
     void copyParametersToContext(OpenMM::ContextImpl& context, const MDPDForce& force) override;
     std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
+
+    void setDeferred(bool value) override { deferred = value; }
+    void prepare(OpenMM::ContextImpl& context) override { sumDensities(context); }
+    int getParametersVersion() const override { return version; }
+    const TypePairTable& getTable() const override { return parameters->getTable(); }
+    bool isPeriodic() const override { return periodic; }
+    bool isUniformSoftRepulsion() const override { return false; }
+    const double* getParticleValues() const override { return particleRepulsion.data(); }
+    void pairForces(int n, const int* first, const int* second, const int* types, const double* r, const double* valueSums,
+                    double* out) const override;
 
 private:
     void setParameters(const MDPDForce& force);
@@ -36,6 +50,10 @@ private:
     };
     /** Sort the particles into cells, list the pairs, and sum every sorted slot's B rho (slotRepulsion) and density energy (workerEnergy). */
     void searchAndSumDensities(OpenMM::ContextImpl& context, bool includeEnergy);
+    /** particleRepulsion: each particle's B rho at the Context's positions, from the pairs within rd alone. */
+    void sumDensities(OpenMM::ContextImpl& context);
+    /** sumDensities' pass for worker w: its cells' density sums by slot of densitySearch (workerDensity). */
+    void sumWorkerDensities(int w, int workers);
     /** Worker w's pairs (workerPairs) and its density sums by slot (workerDensity). */
     void listPairs(int w, int workers);
     /** Worker w's pair forces by slot into workerForces; returns their energy. */
@@ -51,14 +69,16 @@ private:
     std::unique_ptr<ParallelExecutor> executor;
     std::unique_ptr<MDPDParameters> parameters;
     std::unique_ptr<PairSearch> pairSearch;
-    bool periodic = false, hasExclusions = false;
-    int numParticles = 0;
+    std::unique_ptr<PairSearch> densitySearch;          // over rd only: sumDensities'
+    bool periodic = false, hasExclusions = false, deferred = false;
+    int numParticles = 0, version = 0;
     std::vector<std::vector<int>> exclusions;           // sorted partners of each particle
     std::vector<std::vector<Pair>> workerPairs;
     std::vector<std::vector<double>> workerDensity;     // by sorted slot
     std::vector<std::vector<OpenMM::Vec3>> workerForces;  // by sorted slot
     std::vector<int> sortedType;                        // the dense type of each sorted slot
     std::vector<double> slotRepulsion;                  // B rho of each sorted slot
+    std::vector<double> particleRepulsion;              // B rho of each particle (sumDensities')
     std::vector<double> workerEnergy;
 };
 

@@ -4,6 +4,7 @@
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ConstrainedMotion.h"
 #include "openmmdpd/DPDThermostatForces.h"
+#include "openmmdpd/FusedPairForce.h"
 #include "openmmdpd/LeesEdwardsBoundary.h"
 #include "openmmdpd/PressureTensor.h"
 #include "openmmdpd/ReferencePositionStrain.h"
@@ -15,8 +16,6 @@
 #include <string>
 
 namespace DPDPlugin {
-
-class SoftRepulsionKernel;
 
 /**
  * What every DPD update rule shares, written once over the platform data that the
@@ -78,7 +77,7 @@ protected:
     void setCarriedForceValid() { carried.setValid(); }
     /**
      * conservative <- the integration force groups' forces; the thermostat pairs at the same
-     * positions.  A DPDSoftRepulsionForce whose pairs all lie within the thermostat's is
+     * positions.  A DPDSoftRepulsionForce or MDPDForce whose pairs all lie within the thermostat's is
      * evaluated from the thermostat pair list (one pair search per step instead of two).
      */
     void computeConservativeAndPairs(OpenMM::ContextImpl& context, int forceGroups, long long step);
@@ -92,14 +91,14 @@ protected:
     /**
      * The integration force groups' forces and the thermostat's search at the current
      * positions (of `step`), for passes over the pairs with thermostat.sumBySlot(); returns
-     * the base that one of those passes is to add (null: none), with the soft force `soft`
+     * the base that one of those passes is to add (null: none), with the fused force `fused`
      * (null: none) that the pairs carry.
      */
     const std::vector<OpenMM::Vec3>* prepareSlotPasses(OpenMM::ContextImpl& context, int forceGroups, long long step,
-                                                       const SoftRepulsionKernel*& soft);
+                                                       const FusedPairForce*& fused);
     /**
      * conservative <- the forces of these groups at the current positions (the Context's by
-     * default; there a soft force that can be is left to the thermostat pair list, see
+     * default; there a fused force that can be is left to the thermostat pair list, see
      * computeConservativeAndPairs).
      */
     virtual void computeConservative(OpenMM::ContextImpl& context, int forceGroups);
@@ -165,25 +164,28 @@ protected:
     LeesEdwardsBoundary shear;
 
     /**
-     * The DPDSoftRepulsionForce of these groups that the thermostat pairs can carry (one
-     * such force, every particle in the thermostat, no force cutoff beyond the thermostat
-     * cutoff of the same pair), or null.
+     * The DPDSoftRepulsionForce or MDPDForce of these groups that the thermostat pairs can
+     * carry (the one such force, every particle in the thermostat, no force cutoff beyond
+     * the thermostat cutoff of the same pair), or null.
      */
-    SoftRepulsionKernel* softForceToFuse(OpenMM::ContextImpl& context, int forceGroups);
+    FusedPairForce* pairForceToFuse(OpenMM::ContextImpl& context, int forceGroups);
     /**
      * For a computeConservative() that evaluates the other forces elsewhere: this step adds
-     * `soft` (from softForceToFuse) from the thermostat pairs.
+     * `fused` (from pairForceToFuse) from the thermostat pairs, prepared at the Context's positions.
      */
-    void addSoftForceFromPairs(SoftRepulsionKernel* soft) { softForceFromPairs = soft; }
+    void addForceFromPairs(OpenMM::ContextImpl& context, FusedPairForce* fused) {
+        fused->prepare(context);
+        forceFromPairs = fused;
+    }
 
 private:
     void checkMoves(long long step) const;
-    SoftRepulsionKernel* fusedSoftForce = nullptr;
-    SoftRepulsionKernel* softForceFromPairs = nullptr;  // deferred by this step's computeConservative
+    FusedPairForce* fusedForce = nullptr;
+    FusedPairForce* forceFromPairs = nullptr;  // deferred by this step's computeConservative
     int fusedForceGroups = 0, fusedVersion = -1;
     bool fusedIsAlone = false;        // the fused force is the only force in fusedForceGroups
     bool conservativeIsZero = false;  // this step's computeConservative had nothing to add (and left `conservative` unset)
-    std::vector<OpenMM::Vec3> softForce;
+    std::vector<OpenMM::Vec3> fusedForceSum;
 };
 
 template <class Displacement>

@@ -3,6 +3,7 @@
 
 #include "openmmdpd/DPDKernels.h"
 #include "openmmdpd/DPDPairCore.h"
+#include "openmmdpd/FusedPairForce.h"
 #include "openmmdpd/ParallelExecutor.h"
 #include "openmmdpd/PairSearch.h"
 #include <algorithm>
@@ -16,7 +17,7 @@ namespace DPDPlugin {
  * each worker sums a range of cells into its own buffer, and the buffers are added to the
  * Context's forces in worker order.  Double precision throughout.
  */
-class SoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel {
+class SoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel, public FusedPairForce {
 public:
     SoftRepulsionKernel(std::string name, const OpenMM::Platform& platform, std::unique_ptr<ParallelExecutor> executor) :
             CalcDPDSoftRepulsionForceKernel(name, platform), executor(std::move(executor)) {}
@@ -25,27 +26,27 @@ public:
     void copyParametersToContext(OpenMM::ContextImpl& context, const DPDSoftRepulsionForce& force) override;
     std::array<double, 6> computeVirial(OpenMM::ContextImpl& context) override;
 
-    /**
-     * While deferred, execute() adds nothing: an integrator whose thermostat pair list holds
-     * every pair of this force adds the force from that list instead (see pairForce), so
-     * the pairs are searched once per step, not twice.
-     */
-    void setDeferred(bool value) { deferred = value; }
-    /** Changes whenever the parameters do (for callers that cache checks on them). */
-    int getParametersVersion() const { return version; }
-    const TypePairTable& getTable() const { return *table; }
-    bool hasExcludedPairs() const { return hasExclusions; }
-    bool isPeriodic() const { return periodic; }
-    /** The force on i along e = (r_i - r_j)/r of a pair at distance r (kJ/mol/nm). */
-    double pairForce(int i, int j, double r) const { return pairForce(i, j, table->index(i, j), r); }
-    /** The same, given the pair's table index t = getTable().index(i, j). */
+    /** While deferred, execute() adds nothing: an integrator's thermostat pass adds the force (FusedPairForce). */
+    void setDeferred(bool value) override { deferred = value; }
+    void prepare(OpenMM::ContextImpl&) override {}
+    int getParametersVersion() const override { return version; }
+    const TypePairTable& getTable() const override { return *table; }
+    bool isPeriodic() const override { return periodic; }
+    bool isUniformSoftRepulsion() const override { return table->getNumTypes() == 1 && !hasExclusions; }
+    const double* getParticleValues() const override { return nullptr; }
+    void pairForces(int n, const int* first, const int* second, const int* types, const double* r, const double*,
+                    double* out) const override {
+        for (int k = 0; k < n; k++)
+            out[k] = pairForce(first[k], second[k], types[k], r[k]);
+    }
+
+private:
+    /** The force on i along e = (r_i - r_j)/r of a pair at distance r of table index t (kJ/mol/nm). */
     double pairForce(int i, int j, int t, double r) const {
         if (r >= table->cutoff(t) || (hasExclusions && excluded(i, j)))
             return 0;
         return SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r);
     }
-
-private:
     void setParameters(const DPDSoftRepulsionForce& force);
     /** Sort the particles into the search's cells at the Context's positions. */
     void search(OpenMM::ContextImpl& context);

@@ -91,7 +91,7 @@ private:
     std::unique_ptr<OpenMM::System> slowSystem;
     std::unique_ptr<OpenMM::VerletIntegrator> slowIntegrator;
     std::unique_ptr<OpenMM::Context> slowContext;
-    bool slowOmitsSoftForce = false;  // the slow Context leaves the soft force to the thermostat pairs
+    bool slowOmitsFusedForce = false;  // the slow Context leaves the fused force to the thermostat pairs
     int numSubSteps;
 };
 
