@@ -16,12 +16,7 @@ void DPDSoftRepulsionForceProxy::serialize(const void* object, SerializationNode
     node.setDoubleProperty("defaultCutoff", force.getDefaultCutoff());
     node.setIntProperty("method", force.getNonbondedMethod());
     serializeTypeTable(force, node, "a");
-    SerializationNode& exclusions = node.createChildNode("Exclusions");
-    for (int k = 0; k < force.getNumExclusions(); k++) {
-        int p1, p2;
-        force.getExclusionParticles(k, p1, p2);
-        exclusions.createChildNode("Exclusion").setIntProperty("p1", p1).setIntProperty("p2", p2);
-    }
+    serializeExclusions(force, node);
 }
 
 void* DPDSoftRepulsionForceProxy::deserialize(const SerializationNode& node) const {
@@ -34,8 +29,7 @@ void* DPDSoftRepulsionForceProxy::deserialize(const SerializationNode& node) con
         force->setForceGroup(xml.integer("forceGroup"));
         force->setNonbondedMethod((DPDSoftRepulsionForce::NonbondedMethod) xml.integer("method"));
         deserializeTypeTable(xml, *force, "a");
-        for (const XmlReader& e : xml.child("Exclusions").children())
-            force->addExclusion(e.integer("p1"), e.integer("p2"));
+        deserializeExclusions(xml, *force);
     }
     catch (...) {
         delete force;

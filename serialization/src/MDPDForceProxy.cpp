@@ -21,12 +21,7 @@ void MDPDForceProxy::serialize(const void* object, SerializationNode& node) cons
     SerializationNode& bs = node.createChildNode("TypeB");
     for (auto& entry : force.getTypeBs())
         bs.createChildNode("Type").setIntProperty("type", entry.first).setDoubleProperty("b", entry.second);
-    SerializationNode& exclusions = node.createChildNode("Exclusions");
-    for (int k = 0; k < force.getNumExclusions(); k++) {
-        int p1, p2;
-        force.getExclusionParticles(k, p1, p2);
-        exclusions.createChildNode("Exclusion").setIntProperty("p1", p1).setIntProperty("p2", p2);
-    }
+    serializeExclusions(force, node);
 }
 
 void* MDPDForceProxy::deserialize(const SerializationNode& node) const {
@@ -41,8 +36,7 @@ void* MDPDForceProxy::deserialize(const SerializationNode& node) const {
         deserializeTypeTable(xml, *force, "a");
         for (const XmlReader& t : xml.child("TypeB").children())
             force->setTypeB(t.integer("type"), t.number("b"));
-        for (const XmlReader& e : xml.child("Exclusions").children())
-            force->addExclusion(e.integer("p1"), e.integer("p2"));
+        deserializeExclusions(xml, *force);
     }
     catch (...) {
         delete force;

@@ -87,6 +87,15 @@ void DPDPlugin::uploadMixed(ComputeContext& cc, ComputeArray& array, const std::
         uploadResized(cc, array, std::vector<float>(padded.begin(), padded.end()), name);
 }
 
+std::array<double, 6> DPDPlugin::sumVirialRows(ComputeContext& cc, ComputeArray& rows, int threads) {
+    const std::vector<double> values = downloadMixed(cc, rows);
+    std::array<double, 6> virial{};
+    for (int c = 0; c < 6; c++)
+        for (int k = 0; k < threads; k++)
+            virial[c] += values[k + c * threads];
+    return virial;
+}
+
 std::vector<double> DPDPlugin::downloadMixed(ComputeContext& cc, ComputeArray& array) {
     if (mixedIsDouble(cc)) {
         std::vector<double> values;

@@ -1,4 +1,5 @@
 #include "openmmdpd/CommonDPDKernels.h"
+#include "openmmdpd/ExcludedPairs.h"
 #include "CommonDPDKernelSources.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
@@ -55,10 +56,7 @@ void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRe
 }
 
 void CommonSoftRepulsionKernel::uploadExclusions(const DPDSoftRepulsionForce& force) {
-    std::vector<std::pair<int, int>> pairs(force.getNumExclusions());
-    for (int k = 0; k < force.getNumExclusions(); k++)
-        force.getExclusionParticles(k, pairs[k].first, pairs[k].second);
-    uploadPartnerLists(cc, cc.getNumAtoms(), pairs, exclusionStart, exclusions, "dpdSoftExclusions");
+    uploadPartnerLists(cc, cc.getNumAtoms(), exclusionPairs(force), exclusionStart, exclusions, "dpdSoftExclusions");
 }
 
 void CommonSoftRepulsionKernel::setParameters(const DPDSoftRepulsionForce& force) {
@@ -114,11 +112,5 @@ void CommonSoftRepulsionKernel::copyParametersToContext(ContextImpl& context, co
 
 std::array<double, 6> CommonSoftRepulsionKernel::computeVirial(ContextImpl& context) {
     ContextSelector selector(cc);
-    const int threads = run(true);
-    std::array<double, 6> virial{};
-    const std::vector<double> rows = downloadMixed(cc, virialRows);
-    for (int c = 0; c < 6; c++)
-        for (int k = 0; k < threads; k++)
-            virial[c] += rows[k + c * threads];
-    return virial;
+    return sumVirialRows(cc, virialRows, run(true));
 }

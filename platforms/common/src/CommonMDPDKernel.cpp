@@ -1,4 +1,5 @@
 #include "openmmdpd/CommonMDPDKernel.h"
+#include "openmmdpd/ExcludedPairs.h"
 #include "openmmdpd/MDPDParameters.h"
 #include "CommonDPDKernelSources.h"
 #include "openmm/OpenMMException.h"
@@ -17,10 +18,7 @@ void CommonMDPDKernel::initialize(const System& system, const MDPDForce& force) 
     const int n = std::max(cc.getNumAtoms(), 1);
     atomType.initialize<int>(cc, n, "mdpdType");
     density.initialize(cc, n, mixedIsDouble(cc) ? sizeof(double) : sizeof(float), "mdpdDensity");
-    std::vector<std::pair<int, int>> pairs(force.getNumExclusions());
-    for (int k = 0; k < force.getNumExclusions(); k++)
-        force.getExclusionParticles(k, pairs[k].first, pairs[k].second);
-    uploadPartnerLists(cc, cc.getNumAtoms(), pairs, exclusionStart, exclusions, "mdpdExclusions");
+    uploadPartnerLists(cc, cc.getNumAtoms(), exclusionPairs(force), exclusionStart, exclusions, "mdpdExclusions");
     setParameters(force);
     ComputeProgram program = compileDPDProgram(cc, {CommonDPDKernelSources::cellList, CommonDPDKernelSources::mdpd});
     cells.reset(new CommonCellList(cc, program, owner));
@@ -108,11 +106,5 @@ void CommonMDPDKernel::copyParametersToContext(ContextImpl& context, const MDPDF
 
 std::array<double, 6> CommonMDPDKernel::computeVirial(ContextImpl& context) {
     ContextSelector selector(cc);
-    const int threads = run(true);
-    std::array<double, 6> virial{};
-    const std::vector<double> rows = downloadMixed(cc, virialRows);
-    for (int c = 0; c < 6; c++)
-        for (int k = 0; k < threads; k++)
-            virial[c] += rows[k + c * threads];
-    return virial;
+    return sumVirialRows(cc, virialRows, run(true));
 }

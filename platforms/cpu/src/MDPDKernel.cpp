@@ -11,16 +11,7 @@ using OpenMM::Vec3;
 void MDPDKernel::initialize(const OpenMM::System& system, const MDPDForce& force) {
     numParticles = system.getNumParticles();
     periodic = force.usesPeriodicBoundaryConditions();
-    exclusions.assign(numParticles, std::vector<int>());
-    for (int k = 0; k < force.getNumExclusions(); k++) {
-        int p1, p2;
-        force.getExclusionParticles(k, p1, p2);
-        exclusions[p1].push_back(p2);
-        exclusions[p2].push_back(p1);
-    }
-    for (auto& partners : exclusions)
-        std::sort(partners.begin(), partners.end());
-    hasExclusions = (force.getNumExclusions() > 0);
+    excludedPairs = ExcludedPairs(numParticles, exclusionPairs(force));
     const int workers = executor->getNumWorkers();
     workerEnergy.assign(workers, 0.0);
     workerPairs.assign(workers, std::vector<Pair>());
@@ -46,7 +37,7 @@ void MDPDKernel::pairForces(int n, const int* first, const int* second, const in
                             double* out) const {
     const TypePairTable& table = parameters->getTable();
     for (int k = 0; k < n; k++) {
-        const bool acts = r[k] < table.cutoff(types[k]) && !(hasExclusions && excluded(first[k], second[k]));
+        const bool acts = r[k] < table.cutoff(types[k]) && !excludedPairs.contains(first[k], second[k]);
         out[k] = (acts ? parameters->pairForce(types[k], r[k], valueSums[k]) : 0.0);
     }
 }
@@ -60,7 +51,7 @@ void MDPDKernel::sumWorkerDensities(int w, int workers) {
     densitySearch->forEachSortedPairBlock((int) begin, (int) end, [&](int p, const int* q, const Vec3* d, int count) {
         double densityP = 0;
         for (int k = 0; k < count; k++) {
-            if (hasExclusions && excluded(sortedIndex[p], sortedIndex[q[k]]))
+            if (excludedPairs.contains(sortedIndex[p], sortedIndex[q[k]]))
                 continue;
             const double weight = parameters->densityWeight(std::sqrt(d[k].dot(d[k])));
             densityP += weight;
@@ -94,7 +85,7 @@ bool MDPDKernel::actsOn(int p, int q, double r2, int& t) const {
     const TypePairTable& table = parameters->getTable();
     t = table.indexOfTypes(sortedType[p], sortedType[q]);
     const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
-    return r2 < table.cutoff2(t) && !(hasExclusions && excluded(sortedIndex[p], sortedIndex[q]));
+    return r2 < table.cutoff2(t) && !excludedPairs.contains(sortedIndex[p], sortedIndex[q]);
 }
 
 void MDPDKernel::listPairs(int w, int workers) {

@@ -11,16 +11,7 @@ using OpenMM::Vec3;
 void SoftRepulsionKernel::initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) {
     numParticles = system.getNumParticles();
     periodic = force.usesPeriodicBoundaryConditions();
-    exclusions.assign(numParticles, std::vector<int>());
-    for (int k = 0; k < force.getNumExclusions(); k++) {
-        int p1, p2;
-        force.getExclusionParticles(k, p1, p2);
-        exclusions[p1].push_back(p2);
-        exclusions[p2].push_back(p1);
-    }
-    for (auto& partners : exclusions)
-        std::sort(partners.begin(), partners.end());
-    hasExclusions = (force.getNumExclusions() > 0);
+    excludedPairs = ExcludedPairs(numParticles, exclusionPairs(force));
     const int workers = executor->getNumWorkers();
     workerEnergy.assign(workers, 0.0);
     workerForces.assign(workers, std::vector<Vec3>(numParticles));

@@ -1,4 +1,5 @@
 #include "openmmdpd/ReferenceMDPDKernel.h"
+#include "openmmdpd/ExcludedPairs.h"
 #include "openmmdpd/PressureTensor.h"
 #include "openmm/internal/ContextImpl.h"
 #include "ReferencePlatform.h"
@@ -10,11 +11,8 @@ using OpenMM::Vec3;
 void ReferenceMDPDKernel::initialize(const OpenMM::System& system, const MDPDForce& force) {
     numParticles = system.getNumParticles();
     periodic = force.usesPeriodicBoundaryConditions();
-    for (int k = 0; k < force.getNumExclusions(); k++) {
-        int i, j;
-        force.getExclusionParticles(k, i, j);
-        exclusions.insert(std::make_pair(std::min(i, j), std::max(i, j)));
-    }
+    for (const std::pair<int, int>& pair : exclusionPairs(force))
+        exclusions.insert(std::minmax(pair.first, pair.second));
     parameters.reset(new MDPDParameters(numParticles, force));
 }
 

@@ -1,4 +1,5 @@
 #include "openmmdpd/ReferenceSoftRepulsionKernel.h"
+#include "openmmdpd/ExcludedPairs.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/PressureTensor.h"
 #include "openmmdpd/ReferencePairList.h"
@@ -12,11 +13,8 @@ using OpenMM::Vec3;
 void ReferenceSoftRepulsionKernel::initialize(const OpenMM::System& system, const DPDSoftRepulsionForce& force) {
     numParticles = system.getNumParticles();
     periodic = force.usesPeriodicBoundaryConditions();
-    for (int k = 0; k < force.getNumExclusions(); k++) {
-        int i, j;
-        force.getExclusionParticles(k, i, j);
-        exclusions.insert(std::make_pair(std::min(i, j), std::max(i, j)));
-    }
+    for (const std::pair<int, int>& pair : exclusionPairs(force))
+        exclusions.insert(std::minmax(pair.first, pair.second));
     setParameters(force);
 }
 

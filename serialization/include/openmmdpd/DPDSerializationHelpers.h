@@ -62,6 +62,24 @@ void deserializeTypeTable(const XmlReader& xml, Owner& owner, const char* valueN
         owner.addTypePair(p.integer("type1"), p.integer("type2"), p.number(valueName), p.number("cutoff"));
 }
 
+/** A force's exclusions (getNumExclusions, getExclusionParticles) as an Exclusions child of node. */
+template <class Force>
+void serializeExclusions(const Force& force, OpenMM::SerializationNode& node) {
+    OpenMM::SerializationNode& exclusions = node.createChildNode("Exclusions");
+    for (int k = 0; k < force.getNumExclusions(); k++) {
+        int p1, p2;
+        force.getExclusionParticles(k, p1, p2);
+        exclusions.createChildNode("Exclusion").setIntProperty("p1", p1).setIntProperty("p2", p2);
+    }
+}
+
+/** The exclusions serializeExclusions wrote, added to force. */
+template <class Force>
+void deserializeExclusions(const XmlReader& xml, Force& force) {
+    for (const XmlReader& e : xml.child("Exclusions").children())
+        force.addExclusion(e.integer("p1"), e.integer("p2"));
+}
+
 /** The parameters every DPDThermostatIntegrator has, written into a proxy's node. */
 void serializeThermostatParameters(const DPDThermostatIntegrator& integrator, OpenMM::SerializationNode& node);
 /** Read them back (the constructor's arguments are read by each proxy). */

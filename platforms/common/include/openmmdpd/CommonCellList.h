@@ -5,6 +5,7 @@
 #include "openmm/common/ComputeContext.h"
 #include "openmm/common/ComputeKernel.h"
 #include "openmm/common/ComputeProgram.h"
+#include <array>
 #include <initializer_list>
 #include <string>
 #include <vector>
@@ -80,6 +81,8 @@ void uploadPartnerLists(OpenMM::ComputeContext& cc, int numAtoms, const std::vec
 void uploadMixed4(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array, const std::vector<double>& rows, const std::string& name);
 /** The values of a `mixed` array, as doubles. */
 std::vector<double> downloadMixed(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& array);
+/** The sum over `threads` work items of their virial rows (component c of item k at k + c threads), in double precision. */
+std::array<double, 6> sumVirialRows(OpenMM::ComputeContext& cc, OpenMM::ComputeArray& rows, int threads);
 /** The `mixed` type is double under double or mixed precision. */
 bool mixedIsDouble(OpenMM::ComputeContext& cc);
 /** Compile kernels/utilities.cc followed by `sources`, with this plugin's defines. */

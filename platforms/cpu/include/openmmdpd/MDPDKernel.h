@@ -2,6 +2,7 @@
 #define OPENMMDPD_MDPDKERNEL_H_
 
 #include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/ExcludedPairs.h"
 #include "openmmdpd/FusedPairForce.h"
 #include "openmmdpd/MDPDParameters.h"
 #include "openmmdpd/ParallelExecutor.h"
@@ -60,19 +61,15 @@ private:
     double sumPairForces(int w, int workers, bool includeEnergy);
     /** Whether the force acts on sorted slots (p, q) at squared distance r2; t is its type pair. */
     bool actsOn(int p, int q, double r2, int& t) const;
-    bool excluded(int i, int j) const {
-        const std::vector<int>& partners = exclusions[i];
-        return !partners.empty() && std::binary_search(partners.begin(), partners.end(), j);
-    }
     /** The force on slot p along e of an accepted pair (p, q) of type pair t at distance r. */
     double pairForce(int p, int q, int t, double r) const { return parameters->pairForce(t, r, slotRepulsion[p] + slotRepulsion[q]); }
     std::unique_ptr<ParallelExecutor> executor;
     std::unique_ptr<MDPDParameters> parameters;
     std::unique_ptr<PairSearch> pairSearch;
     std::unique_ptr<PairSearch> densitySearch;          // over rd only: sumDensities'
-    bool periodic = false, hasExclusions = false, deferred = false;
+    bool periodic = false, deferred = false;
     int numParticles = 0, version = 0;
-    std::vector<std::vector<int>> exclusions;           // sorted partners of each particle
+    ExcludedPairs excludedPairs;
     std::vector<std::vector<Pair>> workerPairs;
     std::vector<std::vector<double>> workerDensity;     // by sorted slot
     std::vector<std::vector<OpenMM::Vec3>> workerForces;  // by sorted slot

@@ -2,6 +2,7 @@
 #define OPENMMDPD_SOFTREPULSIONKERNEL_H_
 
 #include "openmmdpd/DPDKernels.h"
+#include "openmmdpd/ExcludedPairs.h"
 #include "openmmdpd/DPDPairCore.h"
 #include "openmmdpd/FusedPairForce.h"
 #include "openmmdpd/ParallelExecutor.h"
@@ -32,7 +33,7 @@ public:
     int getParametersVersion() const override { return version; }
     const TypePairTable& getTable() const override { return *table; }
     bool isPeriodic() const override { return periodic; }
-    bool isUniformSoftRepulsion() const override { return table->getNumTypes() == 1 && !hasExclusions; }
+    bool isUniformSoftRepulsion() const override { return table->getNumTypes() == 1 && excludedPairs.empty(); }
     const double* getParticleValues() const override { return nullptr; }
     void pairForces(int n, const int* first, const int* second, const int* types, const double* r, const double*,
                     double* out) const override {
@@ -43,7 +44,7 @@ public:
 private:
     /** The force on i along e = (r_i - r_j)/r of a pair at distance r of table index t (kJ/mol/nm). */
     double pairForce(int i, int j, int t, double r) const {
-        if (r >= table->cutoff(t) || (hasExclusions && excluded(i, j)))
+        if (r >= table->cutoff(t) || excludedPairs.contains(i, j))
             return 0;
         return SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r);
     }
@@ -54,18 +55,14 @@ private:
     bool actsOn(int p, int q, double r2, int& t) const {
         t = table->indexOfTypes(sortedType[p], sortedType[q]);
         const std::vector<int>& sortedIndex = pairSearch->getSortedIndex();
-        return r2 < table->cutoff2(t) && !(hasExclusions && excluded(sortedIndex[p], sortedIndex[q]));
-    }
-    bool excluded(int i, int j) const {
-        const std::vector<int>& partners = exclusions[i];
-        return !partners.empty() && std::binary_search(partners.begin(), partners.end(), j);
+        return r2 < table->cutoff2(t) && !excludedPairs.contains(sortedIndex[p], sortedIndex[q]);
     }
     std::unique_ptr<ParallelExecutor> executor;
     std::unique_ptr<TypePairTable> table;
     std::unique_ptr<PairSearch> pairSearch;
-    bool periodic = false, deferred = false, hasExclusions = false;
+    bool periodic = false, deferred = false;
     int numParticles = 0, version = 0;
-    std::vector<std::vector<int>> exclusions;  // sorted partners of each particle
+    ExcludedPairs excludedPairs;
     std::vector<std::vector<OpenMM::Vec3>> workerForces;  // by sorted slot
     std::vector<int> sortedType;                          // the type of each sorted slot
     std::vector<double> workerEnergy;
