@@ -15,6 +15,7 @@
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/MDPDForce.h"
 #include "openmmdpd/DPDVVIntegrator.h"
+#include "openmmdpd/DenOtterClarkeIntegrator.h"
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
@@ -22,6 +23,7 @@
 #include "openmm/CustomBondForce.h"
 #include "openmm/HarmonicBondForce.h"
 #include "openmm/internal/ContextImpl.h"
+#include <array>
 #if OPENMMDPD_TEST_CUDA
 #include "openmmdpd/CudaDPDKernelFactory.h"
 #else
@@ -359,6 +361,69 @@ TEST(GpuPlatform, MomentumSeedsAndCheckpoints) {
             EXPECT_EQ(after.getVelocities(), before.getVelocities()) << "byte " << offset;
         }
     }
+}
+
+namespace {
+
+// den Otter and Clarke's prefactors need one mass: the soft fluid with every mass 1, two
+// thermostat types as the DPD-VV tests' integrators have them, sheared or still.
+MakeIntegrator denOtterClarke(double shearRate) {
+    return [shearRate](int numParticles) {
+        std::unique_ptr<DenOtterClarkeIntegrator> integrator(new DenOtterClarkeIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
+        integrator->setRandomNumberSeed(1234);
+        integrator->setAverageFDDotV(-4.985245);  // model B (Nikunen et al. 2003, Table III)
+        integrator->setAverageFDDotFD(14.507340);
+        integrator->setAverageFRDotFR(9.976453);
+        for (int i = 0; i < numParticles; i += 3)
+            integrator->setParticleType(i, 1);
+        integrator->addTypePair(0, 1, 6.0, 0.9);
+        integrator->setShearRate(shearRate);
+        return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+    };
+}
+
+System* makeOneMassSoftSystem(int n, std::vector<Vec3>& positions) {
+    System* system = makeSoftSystem(n, positions);
+    for (int i = 0; i < n; i++)
+        system->setParticleMass(i, 1.0);
+    return system;
+}
+
+} // namespace
+
+TEST(GpuPlatform, DenOtterClarkeFollowsReference) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeOneMassSoftSystem(600, positions));
+    expectFollowsReference(*system, positions, denOtterClarke(0), "den Otter-Clarke");
+    expectFollowsReference(*system, positions, denOtterClarke(0.5), "den Otter-Clarke sheared");
+}
+
+// The measured sums (FD.v, FD.FD, FR.FR dt over particles and steps) agree with the
+// Reference's to float rounding; a checkpoint continues bit for bit; momentum is kept to the
+// float rounding of m v.
+TEST(GpuPlatform, DenOtterClarkeSumsMomentumAndCheckpoints) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeOneMassSoftSystem(600, positions));
+    std::vector<std::array<double, 3>> sums;
+    for (const std::string& platform : {std::string("Reference"), GPU}) {
+        std::unique_ptr<DPDThermostatIntegrator> integrator = denOtterClarke(0)(600);
+        std::unique_ptr<Context> context = makeContext(*system, *integrator, platform, positions);
+        const Vec3 p0 = momentum(*system, context->getState(State::Velocities));
+        integrator->step(5);
+        const Vec3 dp = momentum(*system, context->getState(State::Velocities)) - p0;
+        EXPECT_LT(std::sqrt(dp.dot(dp)), 1e-4) << platform;
+        double fdDotV, fdDotFD, frDotFR;
+        long long count;
+        static_cast<DenOtterClarkeIntegrator&>(*integrator).getMeasuredSums(fdDotV, fdDotFD, frDotFR, count);
+        EXPECT_EQ(count, 5 * 600) << platform;
+        sums.push_back({fdDotV, fdDotFD, frDotFR});
+        if (platform == GPU)
+            expectCheckpointContinuesBitForBit(*context, *integrator, GPU + " den Otter-Clarke");
+    }
+    for (int c = 0; c < 3; c++)
+        EXPECT_NEAR(sums[1][c], sums[0][c], 1e-4 * std::fabs(sums[0][c])) << "sum " << c;
 }
 
 TEST(GpuPlatform, RefusesWhatItDoesNotDo) {

@@ -14,6 +14,8 @@ KernelImpl* CommonDPDKernelFactory::createKernelImpl(std::string name, const Pla
         return new CommonIntegrateShardlowStepKernel(name, platform, cc);
     if (name == IntegrateLoweAndersenStepKernel::Name())
         return new CommonIntegrateLoweAndersenStepKernel(name, platform, cc);
+    if (name == IntegrateDenOtterClarkeStepKernel::Name())
+        return new CommonIntegrateDenOtterClarkeStepKernel(name, platform, cc);
     if (name == CalcDPDSoftRepulsionForceKernel::Name())
         return new CommonSoftRepulsionKernel(name, platform, cc);
     if (name == CalcMDPDForceKernel::Name())
@@ -31,7 +33,8 @@ void CommonDPDKernelFactory::registerWith(const std::string& platformName, const
     }
     KernelFactory* factory = new CommonDPDKernelFactory(plugin, find);
     for (const std::string& name : {IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(),
-                                    IntegrateLoweAndersenStepKernel::Name(), CalcDPDSoftRepulsionForceKernel::Name(),
+                                    IntegrateLoweAndersenStepKernel::Name(), IntegrateDenOtterClarkeStepKernel::Name(),
+                                    CalcDPDSoftRepulsionForceKernel::Name(),
                                     CalcMDPDForceKernel::Name()})
         platform->registerKernelFactory(name, factory);
 }

@@ -8,26 +8,6 @@
 using namespace DPDPlugin;
 using namespace OpenMM;
 
-void CommonIntegrateDPDVVStepKernel::initialize(const System& system, const DPDVVIntegrator& integrator) {
-    CommonDynamics::refuseUnsupported(system, integrator, getPlatform().getName());
-    // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do the
-    // same): until then the Context has no particle arrays.
-    cc.initializeContexts();
-    ContextSelector selector(cc);
-    DynamicsStepKernel::initialize(system, integrator);
-}
-
-void CommonIntegrateDPDVVStepKernel::execute(ContextImpl& context, const DPDVVIntegrator& integrator) {
-    Vec3 box[3];
-    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    CommonDynamics::refuseUnsupported(context.getSystem(), integrator, getPlatform().getName(), box);
-    DynamicsStepKernel::execute(context, integrator);
-}
-
-CommonDPDVVDynamics* CommonIntegrateDPDVVStepKernel::createDynamics(const System& system, const DPDVVIntegrator& integrator) {
-    return new CommonDPDVVDynamics(cc, system, integrator, getPlatform().getName());
-}
-
 void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRepulsionForce& force) {
     const std::string owner = "DPDSoftRepulsionForce on the " + getPlatform().getName() + " platform";
     if (!force.usesPeriodicBoundaryConditions())

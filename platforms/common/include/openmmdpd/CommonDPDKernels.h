@@ -3,6 +3,7 @@
 
 #include "openmmdpd/CommonCellList.h"
 #include "openmmdpd/CommonDPDVVDynamics.h"
+#include "openmmdpd/CommonDenOtterClarkeDynamics.h"
 #include "openmmdpd/CommonSweepDynamics.h"
 #include "openmmdpd/DPDKernels.h"
 #include "openmmdpd/DynamicsStepKernel.h"
@@ -13,37 +14,20 @@
 namespace DPDPlugin {
 
 /**
- * DPDVVIntegrator on a ComputeContext (OpenCL, CUDA): Groot-Warren, DPD-VV and SC-VV.  What
- * CommonDynamics::refuseUnsupported names raises an OpenMMException naming the platform before
- * anything changes.
- */
-class CommonIntegrateDPDVVStepKernel : public DynamicsStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, CommonDPDVVDynamics> {
-public:
-    CommonIntegrateDPDVVStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
-            DynamicsStepKernel(name, platform), cc(cc) {}
-    void initialize(const OpenMM::System& system, const DPDVVIntegrator& integrator) override;
-    void execute(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator) override;
-
-protected:
-    CommonDPDVVDynamics* createDynamics(const OpenMM::System& system, const DPDVVIntegrator& integrator) override;
-
-private:
-    OpenMM::ComputeContext& cc;
-};
-
-/**
- * A sweep integrator (ShardlowIntegrator, LoweAndersenIntegrator, every variant) on a
- * ComputeContext; what CommonDynamics::refuseUnsupported names raises an OpenMMException
- * naming the platform before anything changes.
+ * An integrator's step kernel on a ComputeContext (OpenCL, CUDA), its update rule in
+ * Dynamics; what CommonDynamics::refuseUnsupported names raises an OpenMMException naming the
+ * platform before anything changes.
  */
 template <class Interface, class Integrator, class Dynamics>
-class CommonSweepStepKernel : public DynamicsStepKernel<Interface, Integrator, Dynamics> {
+class CommonStepKernel : public DynamicsStepKernel<Interface, Integrator, Dynamics> {
 public:
-    CommonSweepStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
+    CommonStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
             DynamicsStepKernel<Interface, Integrator, Dynamics>(name, platform), cc(cc) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
         CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName());
-        cc.initializeContexts();  // as CommonIntegrateDPDVVStepKernel::initialize
+        // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do
+        // the same): until then the Context has no particle arrays.
+        cc.initializeContexts();
         OpenMM::ContextSelector selector(cc);
         DynamicsStepKernel<Interface, Integrator, Dynamics>::initialize(system, integrator);
     }
@@ -63,9 +47,13 @@ private:
     OpenMM::ComputeContext& cc;
 };
 
-using CommonIntegrateShardlowStepKernel = CommonSweepStepKernel<IntegrateShardlowStepKernel, ShardlowIntegrator, CommonShardlowDynamics>;
+using CommonIntegrateDPDVVStepKernel = CommonStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, CommonDPDVVDynamics>;
+using CommonIntegrateShardlowStepKernel = CommonStepKernel<IntegrateShardlowStepKernel, ShardlowIntegrator, CommonShardlowDynamics>;
 using CommonIntegrateLoweAndersenStepKernel =
-        CommonSweepStepKernel<IntegrateLoweAndersenStepKernel, LoweAndersenIntegrator, CommonLoweAndersenDynamics>;
+        CommonStepKernel<IntegrateLoweAndersenStepKernel, LoweAndersenIntegrator, CommonLoweAndersenDynamics>;
+
+using CommonIntegrateDenOtterClarkeStepKernel =
+        MeasuringStepKernel<CommonStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, CommonDenOtterClarkeDynamics>>;
 
 /** DPDSoftRepulsionForce on a ComputeContext: a gather over a cell list, forces in fixed point (kernels/softRepulsion.cc). */
 class CommonSoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel {

@@ -119,6 +119,16 @@ protected:
     int parametersVersion = 0, seedVersion = 0;
 };
 
+/** A den Otter-Clarke step kernel of any platform: it answers from its Dynamics' sums (getSums()). */
+template <class StepKernel>
+class MeasuringStepKernel : public StepKernel {
+public:
+    using StepKernel::StepKernel;
+    void getMeasuredSums(double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR, long long& count) const override {
+        this->dynamics->getSums().get(sumFDDotV, sumFDDotFD, sumFRDotFR, count);
+    }
+};
+
 } // namespace DPDPlugin
 
 #endif

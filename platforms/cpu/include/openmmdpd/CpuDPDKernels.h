@@ -31,14 +31,8 @@ using CpuIntegrateLoweAndersenStepKernel = CpuStepKernel<IntegrateLoweAndersenSt
 using CpuIntegrateStaggeredDPDStepKernel =
         CpuStepKernel<IntegrateStaggeredDPDStepKernel, StaggeredDPDIntegrator, StaggeredDynamics>;
 
-class CpuIntegrateDenOtterClarkeStepKernel
-        : public CpuStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, DenOtterClarkeDynamics> {
-public:
-    using CpuStepKernel::CpuStepKernel;
-    void getMeasuredSums(double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR, long long& count) const override {
-        this->dynamics->getSums().get(sumFDDotV, sumFDDotFD, sumFRDotFR, count);
-    }
-};
+using CpuIntegrateDenOtterClarkeStepKernel =
+        MeasuringStepKernel<CpuStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, DenOtterClarkeDynamics>>;
 
 class CpuIntegrateEDPDStepKernel : public CpuStepKernel<IntegrateEDPDStepKernel, EDPDIntegrator, EDPDDynamics> {
 public:

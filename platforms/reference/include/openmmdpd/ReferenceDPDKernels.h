@@ -30,14 +30,8 @@ using ReferenceIntegrateLoweAndersenStepKernel =
 using ReferenceIntegrateStaggeredDPDStepKernel =
         ReferenceStepKernel<IntegrateStaggeredDPDStepKernel, StaggeredDPDIntegrator, ReferenceStaggeredDynamics>;
 
-class ReferenceIntegrateDenOtterClarkeStepKernel
-        : public ReferenceStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, ReferenceDenOtterClarkeDynamics> {
-public:
-    using ReferenceStepKernel::ReferenceStepKernel;
-    void getMeasuredSums(double& sumFDDotV, double& sumFDDotFD, double& sumFRDotFR, long long& count) const override {
-        this->dynamics->getSums().get(sumFDDotV, sumFDDotFD, sumFRDotFR, count);
-    }
-};
+using ReferenceIntegrateDenOtterClarkeStepKernel =
+        MeasuringStepKernel<ReferenceStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, ReferenceDenOtterClarkeDynamics>>;
 
 class ReferenceIntegrateEDPDStepKernel : public ReferenceStepKernel<IntegrateEDPDStepKernel, EDPDIntegrator, ReferenceEDPDDynamics> {
 public:
