@@ -22,6 +22,7 @@
 #include "openmm/VerletIntegrator.h"
 #include "openmm/CustomBondForce.h"
 #include "openmm/HarmonicBondForce.h"
+#include "openmm/VirtualSite.h"
 #include "openmm/internal/ContextImpl.h"
 #include <array>
 #if OPENMMDPD_TEST_CUDA
@@ -255,7 +256,7 @@ std::vector<Run> runSteps(System& system, const std::vector<Vec3>& positions, co
     std::mt19937 rng(17);
     std::normal_distribution<double> normal(0, 1);
     for (size_t i = 0; i < velocities.size(); i++)
-        velocities[i] = Vec3(normal(rng), normal(rng), normal(rng)) * std::sqrt(1 / system.getParticleMass(i));
+        velocities[i] = Vec3(normal(rng), normal(rng), normal(rng)) * (system.isVirtualSite(i) ? 0.0 : std::sqrt(1 / system.getParticleMass(i)));
     std::unique_ptr<DPDThermostatIntegrator> integrator = make(system.getNumParticles());
     Context context(system, *integrator, Platform::getPlatformByName(platform), properties);
     context.setPositions(positions);
@@ -870,4 +871,39 @@ TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
     std::unique_ptr<DPDThermostatIntegrator> lowe = loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle)(100);
     expectErrorNaming([&] { makeContext(*system, *lowe, GPU, positions); },
                       "LoweAndersenIntegrator: a System with constraints is not supported on the " + GPU + " platform");
+}
+
+namespace {
+
+// Dimers of two beads held by a harmonic bond, with a massless virtual site at each one's
+// middle that the soft force acts on as on any bead (OpenMM passes its force on to the two):
+// the first 90 particles of the one-mass soft fluid.
+System* makeFluidWithSites(int n, std::vector<Vec3>& positions) {
+    System* system = makeOneMassSoftSystem(n, positions);
+    HarmonicBondForce* bonds = new HarmonicBondForce();  // not periodic: molecules are kept whole
+    for (int k = 0; k + 2 < 90; k += 3) {
+        positions[k + 1] = positions[k] + Vec3(0.5, 0, 0);
+        positions[k + 2] = positions[k] + Vec3(0.25, 0, 0);
+        bonds->addBond(k, k + 1, 0.5, 50.0);
+        system->setParticleMass(k + 2, 0.0);
+        system->setVirtualSite(k + 2, new TwoParticleAverageSite(k, k + 1, 0.5, 0.5));
+    }
+    system->addForce(bonds);
+    return system;
+}
+
+} // namespace
+
+TEST(GpuPlatform, VirtualSitesFollowReference) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluidWithSites(600, positions));
+    expectFollowsReference(*system, positions, dpdvv(DPDVVIntegrator::GrootWarren), "GW with virtual sites");
+    expectFollowsReference(*system, positions, dpdvv(DPDVVIntegrator::DPDVV), "DPD-VV with virtual sites");
+    expectFollowsReference(*system, positions, shardlow(1), "S1 with virtual sites");
+    expectFollowsReference(*system, positions, denOtterClarke(0.5), "sheared den Otter-Clarke with virtual sites");
+    DPDVVIntegrator sampling(KT_KELVIN, 4.5, 1.0, 0.02);
+    sampling.setPressureTensorEnabled(true);
+    expectErrorNaming([&] { makeContext(*system, sampling, GPU, positions); },
+                      "the pressure tensor of a System with virtual sites is not supported on the " + GPU);
 }

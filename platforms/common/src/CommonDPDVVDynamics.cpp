@@ -80,7 +80,7 @@ void CommonDPDVVDynamics::grootWarrenStep(ContextImpl& context, const DPDVVInteg
     setMixedArg(cc, grootWarren1, 8, integrator.getLambda());
     setMixedArg(cc, grootWarren1, 9, maxMove2());
     grootWarren1->execute(numAtoms());
-    slide(dt, true);  // v and the predicted velocity take the jumps
+    finishDrift(dt, true);  // v and the predicted velocity take the jumps
     // F' = FC(r) + FD(r, v~) + FR(r);  v += dt/(2m) (F + F')
     conservativeForce(context, integrator.getIntegrationForceGroups());
     pairForces(next, dt, 3, true, 3);
@@ -95,7 +95,7 @@ void CommonDPDVVDynamics::dpdvvStep(ContextImpl& context, const DPDVVIntegrator&
     setMixedArg(cc, dpdvv1, 7, dt);
     setMixedArg(cc, dpdvv1, 8, maxMove2());
     dpdvv1->execute(numAtoms());
-    slide(dt, true);  // velm and its copy by atom
+    finishDrift(dt, true);  // velm and its copy by atom
     // (3) FC(r), FD(r, v), FR(r);  (4a) v° <- v + dt/(2m) (FC + FR).  The step's thermostat
     // virial: FR's, and that of the FD carried into the next step.
     conservativeForce(context, integrator.getIntegrationForceGroups());

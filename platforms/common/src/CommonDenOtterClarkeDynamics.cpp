@@ -50,7 +50,7 @@ void CommonDenOtterClarkeDynamics::step(ContextImpl& context, const DenOtterClar
     setMixedArg(cc, stepKernel, 12, maxMove2());
     setMixedArg(cc, stepKernel, 13, velocityBound());
     stepKernel->execute(numAtoms());
-    slide(dt, false);
+    finishDrift(dt, false);
     checkStatus(context, now + 1);
     finishStep(dt);
 }

@@ -71,9 +71,10 @@ void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostat
         refuse(integrator, platform, "a triclinic periodic box");
     if (system.getNumConstraints() > 0)
         refuse(integrator, platform, "a System with constraints");
-    for (int i = 0; i < system.getNumParticles(); i++)
+    // How the device's strain moves virtual sites is not checked against the Reference: refused, not trusted.
+    for (int i = 0; i < system.getNumParticles() && integrator.getPressureTensorEnabled(); i++)
         if (system.isVirtualSite(i))
-            refuse(integrator, platform, "a System with virtual sites");
+            refuse(integrator, platform, "the pressure tensor of a System with virtual sites");
     if (integrator.getShearRate() != 0 || integrator.getPressureTensorEnabled())
         refusePeriodicForces(system, integrator, platform);
     // As the cell lists count their rows: a row across the tilted boundary needs 3.
@@ -88,6 +89,8 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
         cc(cc), name(std::string(integrator.className()) + " on the " + platform + " platform"), parameters(system, integrator),
         random(PairRandom::seedFor(integrator.getRandomNumberSeed())), carried(system.getNumParticles()) {
     ContextSelector selector(cc);
+    for (int i = 0; i < system.getNumParticles(); i++)
+        hasVirtualSites = hasVirtualSites || system.isVirtualSite(i);
     const int n = std::max(numAtoms(), 1);
     atomType.initialize<int>(cc, n, "dpdAtomType");
     velocity.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdVelocity");
@@ -137,6 +140,12 @@ void CommonDynamics::createSlideKernels(const System& system) {
     addArrayArgs(slideKernel, {&moleculeStart, &moleculeAtoms, &slotOf, &cc.getPosq(), &posqCorrection, &cc.getVelm(), &velocity});
     for (int k = 0; k < 4; k++)
         slideKernel->addArg();  // jumpAlso, the box, 1/Ly, U: set per call
+}
+
+void CommonDynamics::finishDrift(double dt, bool jumpVelocity) {
+    if (hasVirtualSites)
+        cc.getIntegrationUtilities().computeVirtualSites();
+    slide(dt, jumpVelocity);
 }
 
 void CommonDynamics::slide(double dt, bool jumpVelocity) {

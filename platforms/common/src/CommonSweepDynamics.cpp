@@ -61,7 +61,7 @@ void CommonSweepDynamics::kickDrift(double kick, double drift) {
     setMixedArg(cc, kickDriftKernel, 8, maxMove2());
     kickDriftKernel->execute(numAtoms());
     if (drift != 0)
-        slide(drift, false);  // the sweeps gather the velocities afresh
+        finishDrift(drift, false);  // the sweeps gather the velocities afresh
 }
 
 void CommonSweepDynamics::takeConservativeForce(ContextImpl& context, int forceGroups, double kick) {

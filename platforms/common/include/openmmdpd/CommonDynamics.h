@@ -53,7 +53,7 @@ public:
     void resetState();
     /**
      * Throws an OpenMMException, naming the platform, for what the device path does not do
-     * (constraints, virtual sites, a non-periodic System, a box under shear less than 3
+     * (constraints, virtual sites with the pressure tensor, a non-periodic System, a box under shear less than 3
      * cutoffs high, OpenMM's own periodic forces under shear or with the pressure tensor);
      * called before a Context is made (with the System's box) and before every step (with
      * the Context's), so nothing has changed.
@@ -88,11 +88,12 @@ protected:
     /** The recorded thermostat virial += scale times the sum of virialRows' `rows` rows. */
     void addVirialRows(int rows, double scale);
     /**
-     * Under shear, after a drift of duration dt: slide the box and bring the molecules that
-     * crossed back, with their velocity jumps (also in `velocity`, with jumpVelocity), as
-     * LeesEdwardsBoundary::slide (kernels/leesEdwards.cc).
+     * After a drift of duration dt, as the Reference's: the virtual sites placed from their
+     * particles (OpenMM's IntegrationUtilities); under shear, the box slid and the molecules
+     * that crossed brought back, with their velocity jumps (also in `velocity`, with
+     * jumpVelocity), as LeesEdwardsBoundary::slide (kernels/leesEdwards.cc).
      */
-    void slide(double dt, bool jumpVelocity);
+    void finishDrift(double dt, bool jumpVelocity);
     /** carried = FC + FR (+ FD): the sums of the current pass. */
     void sumIntoCarried(bool withDissipative);
     /**
@@ -114,6 +115,7 @@ protected:
     PairRandom random;
     CarriedForce carried;
     bool awaitingRestoreCheck = false;
+    bool hasVirtualSites = false;
     SymmetricTensor* thermostatVirial = nullptr;  // see recordThermostatVirial
     OpenMM::ComputeProgram program;
     std::unique_ptr<CommonPositionStrain> strain;
@@ -124,6 +126,8 @@ protected:
     OpenMM::ComputeArray moleculeStart, moleculeAtoms, slotOf;  // for the sliding boundaries
 
 private:
+    /** finishDrift's shear part. */
+    void slide(double dt, bool jumpVelocity);
     void uploadParameters();
     void createSlideKernels(const OpenMM::System& system);
     void createPairKernels();
