@@ -42,7 +42,7 @@ def have_opencl():
 pytestmark = pytest.mark.skipif(not have_opencl(), reason="no OpenCL platform or no openmmdpd OpenCL plugin")
 
 SCENES = {"ideal": ideal_scene, "soft": soft_scene}
-GPU_INTEGRATORS = ["GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU"]
+GPU_INTEGRATORS = ["GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU", "OC"]
 SHEAR_RATE, SHEAR_DT, SHEAR_TIME, BLOCK = 0.5, 0.01, 60.0, 0.5
 
 
