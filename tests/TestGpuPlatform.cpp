@@ -441,7 +441,7 @@ TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
     EXPECT_EQ(context->getState(State::Positions).getPositions(), before.getPositions()) << "nothing changed";
     EXPECT_EQ(context->getState(0).getStepCount(), 1);
     system->addConstraint(0, 1, 0.5);
-    DPDVVIntegrator constrained(KT_KELVIN, 4.5, 1.0, 0.02);
+    ShardlowIntegrator constrained(KT_KELVIN, 4.5, 1.0, 0.02);  // the velocity-Verlet family has them on the device
     expectErrorNaming([&] { makeContext(*system, constrained, GPU, positions); }, "constraints is not supported on the " + GPU);
     // An integrator with no device kernels: OpenMM's own refusal, when the Context is made.
     EDPDIntegrator edpd(KT_KELVIN, 4.5, 1.0, 1.0, 0.02);
@@ -875,16 +875,19 @@ TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
 
 namespace {
 
-// Dimers of two beads held by a harmonic bond, with a massless virtual site at each one's
-// middle that the soft force acts on as on any bead (OpenMM passes its force on to the two):
-// the first 90 particles of the one-mass soft fluid.
-System* makeFluidWithSites(int n, std::vector<Vec3>& positions) {
+// Dimers of two beads held by a harmonic bond (or a constraint), with a massless virtual site
+// at each one's middle that the soft force acts on as on any bead (OpenMM passes its force on
+// to the two): the first 90 particles of the one-mass soft fluid.
+System* makeFluidWithSites(int n, std::vector<Vec3>& positions, bool constrained = false) {
     System* system = makeOneMassSoftSystem(n, positions);
     HarmonicBondForce* bonds = new HarmonicBondForce();  // not periodic: molecules are kept whole
     for (int k = 0; k + 2 < 90; k += 3) {
         positions[k + 1] = positions[k] + Vec3(0.5, 0, 0);
         positions[k + 2] = positions[k] + Vec3(0.25, 0, 0);
-        bonds->addBond(k, k + 1, 0.5, 50.0);
+        if (constrained)
+            system->addConstraint(k, k + 1, 0.5);
+        else
+            bonds->addBond(k, k + 1, 0.5, 50.0);
         system->setParticleMass(k + 2, 0.0);
         system->setVirtualSite(k + 2, new TwoParticleAverageSite(k, k + 1, 0.5, 0.5));
     }
@@ -906,4 +909,21 @@ TEST(GpuPlatform, VirtualSitesFollowReference) {
     sampling.setPressureTensorEnabled(true);
     expectErrorNaming([&] { makeContext(*system, sampling, GPU, positions); },
                       "the pressure tensor of a System with virtual sites is not supported on the " + GPU);
+}
+
+// Rigid dimers (OpenMM's constraints on the device, tolerance 1e-5) with their sites: the
+// velocity-Verlet family (still and sheared) and den Otter-Clarke follow the Reference.
+TEST(GpuPlatform, ConstraintsFollowReference) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluidWithSites(600, positions, true));
+    for (DPDVVIntegrator::Variant variant : {DPDVVIntegrator::GrootWarren, DPDVVIntegrator::DPDVV, DPDVVIntegrator::SelfConsistent})
+        expectFollowsReference(*system, positions, dpdvv(variant), "variant " + std::to_string(variant) + " with constraints");
+    MakeIntegrator sheared = [](int n) {
+        std::unique_ptr<DPDThermostatIntegrator> integrator = dpdvv(DPDVVIntegrator::GrootWarren)(n);
+        integrator->setShearRate(0.5);
+        return integrator;
+    };
+    expectFollowsReference(*system, positions, sheared, "sheared GW with constraints");
+    expectFollowsReference(*system, positions, denOtterClarke(0), "den Otter-Clarke with constraints");
 }

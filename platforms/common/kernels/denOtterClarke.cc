@@ -33,7 +33,8 @@ KERNEL void denOtterClarkeTerms(int numAtoms, int threads, GLOBAL const mixed4* 
 KERNEL void denOtterClarkeStep(int numAtoms, int paddedNumAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
         GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT atomIndex, GLOBAL const mm_long* RESTRICT conservative,
         GLOBAL const mm_long* RESTRICT fd, GLOBAL const mm_long* RESTRICT fr, mixed dt, mixed alpha, mixed beta, mixed maxMove2,
-        mixed bound, GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue) {
+        mixed bound, GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue, int constrained, GLOBAL mixed4* RESTRICT posDelta,
+        GLOBAL mixed4* RESTRICT driftMove) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         mixed4 v = velm[k];
@@ -46,6 +47,7 @@ KERNEL void denOtterClarkeStep(int numAtoms, int paddedNumAtoms, GLOBAL real4* R
         v.z += f[2];
         velm[k] = v;
         checkVelocity(v, bound, status);
-        movePosition(posq, posqCorrection, k, make_mixed4(v.x*dt, v.y*dt, v.z*dt, 0), maxMove2, status, moveValue);
+        drift(posq, posqCorrection, k, make_mixed4(v.x*dt, v.y*dt, v.z*dt, 0), maxMove2, status, moveValue, constrained, posDelta,
+              driftMove);
     }
 }

@@ -46,18 +46,62 @@ inline DEVICE void movePosition(GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTR
     }
 }
 
+/*
+ * A drift: with constraints, the move goes to posDelta for OpenMM's constraints to correct
+ * (and is kept in driftMove: see applyConstrainedDrift); without, the position moves now.
+ */
+inline DEVICE void drift(GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, int k, mixed4 move, mixed maxMove2,
+        GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue, int constrained, GLOBAL mixed4* RESTRICT posDelta,
+        GLOBAL mixed4* RESTRICT driftMove) {
+    if (constrained) {
+        posDelta[k] = move;
+        driftMove[k] = move;
+    }
+    else
+        movePosition(posq, posqCorrection, k, move, maxMove2, status, moveValue);
+}
+
+/*
+ * After OpenMM's constraints corrected posDelta: r += posDelta, and each particle with mass
+ * has its velocity (and its by-atom copy, or predicted velocity) corrected by (posDelta - move)/dt.
+ */
+KERNEL void applyConstrainedDrift(int numAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
+        GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT atomIndex, GLOBAL const mixed4* RESTRICT posDelta,
+        GLOBAL const mixed4* RESTRICT driftMove, GLOBAL mixed4* RESTRICT velocity, mixed invDt, mixed maxMove2,
+        GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue) {
+    for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
+        const mixed4 delta = posDelta[k];
+        movePosition(posq, posqCorrection, k, delta, maxMove2, status, moveValue);
+        mixed4 v = velm[k];
+        if (v.w == 0)
+            continue;
+        const mixed4 move = driftMove[k];
+        const mixed cx = (delta.x-move.x)*invDt, cy = (delta.y-move.y)*invDt, cz = (delta.z-move.z)*invDt;
+        v.x += cx;
+        v.y += cy;
+        v.z += cz;
+        velm[k] = v;
+        const int a = atomIndex[k];
+        mixed4 u = velocity[a];
+        u.x += cx;
+        u.y += cy;
+        u.z += cz;
+        velocity[a] = u;
+    }
+}
+
 /* Groot-Warren: r += dt v + dt^2/(2m) F;  velocity[atom] = v + lambda dt F/m (the predicted velocity). */
 KERNEL void grootWarrenPart1(int numAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
         GLOBAL const mixed4* RESTRICT velm, GLOBAL const int* RESTRICT atomIndex, GLOBAL const mm_long* RESTRICT carried,
         GLOBAL mixed4* RESTRICT velocity, mixed dt, mixed lambda, mixed maxMove2, GLOBAL int* RESTRICT status,
-        GLOBAL float* RESTRICT moveValue) {
+        GLOBAL float* RESTRICT moveValue, int constrained, GLOBAL mixed4* RESTRICT posDelta, GLOBAL mixed4* RESTRICT driftMove) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         const mixed4 v = velm[k];
         const mixed fx = fromFixed(carried[a]), fy = fromFixed(carried[a+numAtoms]), fz = fromFixed(carried[a+2*numAtoms]);
         const mixed moveScale = (mixed) 0.5f*dt*dt*v.w, kick = lambda*dt*v.w;
-        movePosition(posq, posqCorrection, k, make_mixed4(v.x*dt+fx*moveScale, v.y*dt+fy*moveScale, v.z*dt+fz*moveScale, 0),
-                     maxMove2, status, moveValue);
+        drift(posq, posqCorrection, k, make_mixed4(v.x*dt+fx*moveScale, v.y*dt+fy*moveScale, v.z*dt+fz*moveScale, 0),
+              maxMove2, status, moveValue, constrained, posDelta, driftMove);
         velocity[a] = make_mixed4(v.x+fx*kick, v.y+fy*kick, v.z+fz*kick, v.w);
     }
 }
@@ -87,14 +131,16 @@ KERNEL void grootWarrenPart2(int numAtoms, int paddedNumAtoms, GLOBAL mixed4* RE
 /* DPD-VV (1), (2): v += dt/(2m) F;  r += dt v;  velocity[atom] = v. */
 KERNEL void dpdvvPart1(int numAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
         GLOBAL mixed4* RESTRICT velm, GLOBAL const int* RESTRICT atomIndex, GLOBAL const mm_long* RESTRICT carried,
-        GLOBAL mixed4* RESTRICT velocity, mixed dt, mixed maxMove2, GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue) {
+        GLOBAL mixed4* RESTRICT velocity, mixed dt, mixed maxMove2, GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue,
+        int constrained, GLOBAL mixed4* RESTRICT posDelta, GLOBAL mixed4* RESTRICT driftMove) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         mixed4 v = velm[k];
         v = addScaledForce(v, carried, a, numAtoms, (mixed) 0.5f*dt*v.w);
         velm[k] = v;
         velocity[a] = v;
-        movePosition(posq, posqCorrection, k, make_mixed4(v.x*dt, v.y*dt, v.z*dt, 0), maxMove2, status, moveValue);
+        drift(posq, posqCorrection, k, make_mixed4(v.x*dt, v.y*dt, v.z*dt, 0), maxMove2, status, moveValue, constrained, posDelta,
+              driftMove);
     }
 }
 

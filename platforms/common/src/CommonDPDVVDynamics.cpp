@@ -22,6 +22,7 @@ CommonDPDVVDynamics::CommonDPDVVDynamics(ComputeContext& cc, const System& syste
     grootWarren1->addArg();
     grootWarren1->addArg(status);
     grootWarren1->addArg(moveValue);
+    addDriftArgs(grootWarren1);
     grootWarren2 = program->createKernel("grootWarrenPart2");
     grootWarren2->addArg(n);
     grootWarren2->addArg(cc.getPaddedNumAtoms());
@@ -36,6 +37,7 @@ CommonDPDVVDynamics::CommonDPDVVDynamics(ComputeContext& cc, const System& syste
     dpdvv1->addArg();
     dpdvv1->addArg(status);
     dpdvv1->addArg(moveValue);
+    addDriftArgs(dpdvv1);
     noDissipative.initialize(cc, std::max(n, 1), mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdNoDissipative");
     dpdvv2 = program->createKernel("dpdvvPart2");
     dpdvv2->addArg(n);
@@ -80,13 +82,15 @@ void CommonDPDVVDynamics::grootWarrenStep(ContextImpl& context, const DPDVVInteg
     setMixedArg(cc, grootWarren1, 8, integrator.getLambda());
     setMixedArg(cc, grootWarren1, 9, maxMove2());
     grootWarren1->execute(numAtoms());
-    finishDrift(dt, true);  // v and the predicted velocity take the jumps
+    constrainDrift(dt, integrator.getConstraintTolerance());  // v and the predicted velocity take the corrections
+    finishDrift(dt, true);  // and the jumps
     // F' = FC(r) + FD(r, v~) + FR(r);  v += dt/(2m) (F + F')
     conservativeForce(context, integrator.getIntegrationForceGroups());
     pairForces(next, dt, 3, true, 3);
     setMixedArg(cc, grootWarren2, 8, dt);
     setMixedArg(cc, grootWarren2, 9, velocityBound());
     grootWarren2->execute(numAtoms());
+    constrainVelocities(integrator.getConstraintTolerance());
 }
 
 void CommonDPDVVDynamics::dpdvvStep(ContextImpl& context, const DPDVVIntegrator& integrator, long long next) {
@@ -95,6 +99,7 @@ void CommonDPDVVDynamics::dpdvvStep(ContextImpl& context, const DPDVVIntegrator&
     setMixedArg(cc, dpdvv1, 7, dt);
     setMixedArg(cc, dpdvv1, 8, maxMove2());
     dpdvv1->execute(numAtoms());
+    constrainDrift(dt, integrator.getConstraintTolerance());
     finishDrift(dt, true);  // velm and its copy by atom
     // (3) FC(r), FD(r, v), FR(r);  (4a) v° <- v + dt/(2m) (FC + FR).  The step's thermostat
     // virial: FR's, and that of the FD carried into the next step.
@@ -118,6 +123,7 @@ void CommonDPDVVDynamics::dissipativeIterations(const DPDVVIntegrator& integrato
     double previousKinetic = 0;
     for (int it = 0; it < iterations; it++) {
         dissipativeKick->execute(numAtoms());
+        constrainVelocities(integrator.getConstraintTolerance());
         pairForces(next, dt, 1, false, selfConsistent ? 0 : 1);
         if (!selfConsistent)
             return;

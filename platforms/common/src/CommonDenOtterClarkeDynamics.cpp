@@ -30,6 +30,7 @@ CommonDenOtterClarkeDynamics::CommonDenOtterClarkeDynamics(ComputeContext& cc, c
         stepKernel->addArg();  // dt, alpha, beta and the bounds: set per step
     stepKernel->addArg(status);
     stepKernel->addArg(moveValue);
+    addDriftArgs(stepKernel);
 }
 
 void CommonDenOtterClarkeDynamics::step(ContextImpl& context, const DenOtterClarkeIntegrator& integrator) {
@@ -50,7 +51,10 @@ void CommonDenOtterClarkeDynamics::step(ContextImpl& context, const DenOtterClar
     setMixedArg(cc, stepKernel, 12, maxMove2());
     setMixedArg(cc, stepKernel, 13, velocityBound());
     stepKernel->execute(numAtoms());
+    constrainDrift(dt, integrator.getConstraintTolerance());
     finishDrift(dt, false);
+    // The next step's FD sees only velocities the constraints allow, as on the Reference.
+    constrainVelocities(integrator.getConstraintTolerance());
     checkStatus(context, now + 1);
     finishStep(dt);
 }

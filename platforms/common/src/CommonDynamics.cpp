@@ -55,21 +55,22 @@ void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& i
 
 } // namespace
 
-void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform) {
+void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
+                                       bool constraints) {
     Vec3 box[3];
     system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    refuseUnsupported(system, integrator, platform, box);
+    refuseUnsupported(system, integrator, platform, constraints, box);
 }
 
 void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                       const Vec3* box) {
+                                       bool constraints, const Vec3* box) {
     if (!system.usesPeriodicBoundaryConditions())
         refuse(integrator, platform, "a non-periodic System");
     Vec3 a, b, c;
     system.getDefaultPeriodicBoxVectors(a, b, c);
     if (b[0] != 0 || c[0] != 0 || c[1] != 0)
         refuse(integrator, platform, "a triclinic periodic box");
-    if (system.getNumConstraints() > 0)
+    if (system.getNumConstraints() > 0 && !constraints)
         refuse(integrator, platform, "a System with constraints");
     // How the device's strain moves virtual sites is not checked against the Reference: refused, not trusted.
     for (int i = 0; i < system.getNumParticles() && integrator.getPressureTensorEnabled(); i++)
@@ -91,6 +92,7 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     ContextSelector selector(cc);
     for (int i = 0; i < system.getNumParticles(); i++)
         hasVirtualSites = hasVirtualSites || system.isVirtualSite(i);
+    hasConstraints = (system.getNumConstraints() > 0);
     const int n = std::max(numAtoms(), 1);
     atomType.initialize<int>(cc, n, "dpdAtomType");
     velocity.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdVelocity");
@@ -116,6 +118,7 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     gatherKernel->addArg(cc.getAtomIndexArray());
     gatherKernel->addArg(velocity);
     createSlideKernels(system);
+    createConstraintKernel();
     if (withPairForces) {
         cells.reset(new CommonCellList(cc, program, name));
         createPairKernels();
@@ -140,6 +143,44 @@ void CommonDynamics::createSlideKernels(const System& system) {
     addArrayArgs(slideKernel, {&moleculeStart, &moleculeAtoms, &slotOf, &cc.getPosq(), &posqCorrection, &cc.getVelm(), &velocity});
     for (int k = 0; k < 4; k++)
         slideKernel->addArg();  // jumpAlso, the box, 1/Ly, U: set per call
+}
+
+void CommonDynamics::createConstraintKernel() {
+    driftMove.initialize(cc, hasConstraints ? std::max(numAtoms(), 1) : 1, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float),
+                         "dpdDriftMove");
+    if (!hasConstraints)
+        return;
+    ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
+    constrainedDriftKernel = program->createKernel("applyConstrainedDrift");
+    constrainedDriftKernel->addArg(numAtoms());
+    addArrayArgs(constrainedDriftKernel, {&cc.getPosq(), &posqCorrection, &cc.getVelm(), &cc.getAtomIndexArray(),
+                                          &cc.getIntegrationUtilities().getPosDelta(), &driftMove, &velocity});
+    for (int k = 0; k < 2; k++)
+        constrainedDriftKernel->addArg();  // 1/dt and the move bound: set per drift
+    constrainedDriftKernel->addArg(status);
+    constrainedDriftKernel->addArg(moveValue);
+}
+
+void CommonDynamics::addDriftArgs(ComputeKernel& kernel) {
+    kernel->addArg(hasConstraints ? 1 : 0);
+    kernel->addArg(cc.getIntegrationUtilities().getPosDelta());
+    kernel->addArg(driftMove);
+}
+
+void CommonDynamics::constrainDrift(double dt, double tolerance) {
+    if (!hasConstraints)
+        return;
+    cc.getIntegrationUtilities().applyConstraints(tolerance);
+    setMixedArg(cc, constrainedDriftKernel, 8, 1 / dt);
+    setMixedArg(cc, constrainedDriftKernel, 9, maxMove2());
+    constrainedDriftKernel->execute(numAtoms());
+}
+
+void CommonDynamics::constrainVelocities(double tolerance) {
+    if (!hasConstraints)
+        return;
+    cc.getIntegrationUtilities().applyVelocityConstraints(tolerance);
+    gatherVelocities();
 }
 
 void CommonDynamics::finishDrift(double dt, bool jumpVelocity) {

@@ -24,7 +24,7 @@ public:
     CommonStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
             DynamicsStepKernel<Interface, Integrator, Dynamics>(name, platform), cc(cc) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
-        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName());
+        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName(), Dynamics::supportsConstraints);
         // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do
         // the same): until then the Context has no particle arrays.
         cc.initializeContexts();
@@ -34,7 +34,8 @@ public:
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
         OpenMM::Vec3 box[3];
         context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), box);
+        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), Dynamics::supportsConstraints,
+                                          box);
         DynamicsStepKernel<Interface, Integrator, Dynamics>::execute(context, integrator);
     }
 

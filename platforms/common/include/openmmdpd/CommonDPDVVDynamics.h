@@ -8,11 +8,12 @@ namespace DPDPlugin {
 
 /**
  * Groot-Warren (lambda), DPD-VV and SC-VV on the device, step for step as
- * ReferenceDPDVVDynamics (kernels/dpdvv.cc).  The carried force is FC + FD + FR of the last
+ * ReferenceDPDVVDynamics (kernels/dpdvv.cc), constraints included.  The carried force is FC + FD + FR of the last
  * evaluation.
  */
 class CommonDPDVVDynamics : public CommonDynamics {
 public:
+    static constexpr bool supportsConstraints = true;
     CommonDPDVVDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const DPDVVIntegrator& integrator,
                         const std::string& platform);
     void step(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);

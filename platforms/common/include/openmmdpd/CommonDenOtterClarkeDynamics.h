@@ -11,10 +11,11 @@ namespace DPDPlugin {
  * den Otter and Clarke's leap-frog on the device, step for step as
  * ReferenceDenOtterClarkeDynamics (kernels/denOtterClarke.cc): nothing is carried; each
  * step evaluates FC, FD and FR at its start, adds its measured terms to the sums, and moves
- * with the integrator's prefactors.
+ * with the integrator's prefactors, constraints included.
  */
 class CommonDenOtterClarkeDynamics : public CommonDynamics {
 public:
+    static constexpr bool supportsConstraints = true;
     CommonDenOtterClarkeDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const DenOtterClarkeIntegrator& integrator,
                                  const std::string& platform);
     void step(OpenMM::ContextImpl& context, const DenOtterClarkeIntegrator& integrator);

@@ -29,6 +29,8 @@ namespace DPDPlugin {
  */
 class CommonDynamics {
 public:
+    /** Whether the update rule applies constraints (a subclass that does says so). */
+    static constexpr bool supportsConstraints = false;
     /**
      * Refuses (OpenMMException naming `platform`) what the device path does not do.
      * @param ruleSources     the kernel sources of the subclass's update rule
@@ -53,14 +55,15 @@ public:
     void resetState();
     /**
      * Throws an OpenMMException, naming the platform, for what the device path does not do
-     * (constraints, virtual sites with the pressure tensor, a non-periodic System, a box under shear less than 3
+     * (constraints where the rule has none, virtual sites with the pressure tensor, a non-periodic System, a box under shear less than 3
      * cutoffs high, OpenMM's own periodic forces under shear or with the pressure tensor);
      * called before a Context is made (with the System's box) and before every step (with
      * the Context's), so nothing has changed.
      */
-    static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform);
     static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                  const OpenMM::Vec3* box);
+                                  bool constraints);
+    static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
+                                  bool constraints, const OpenMM::Vec3* box);
 
 protected:
     /** Whether the carried force holds for the Context's state (see CarriedForce). */
@@ -87,6 +90,16 @@ protected:
     bool clearVirialRows(int rows);
     /** The recorded thermostat virial += scale times the sum of virialRows' `rows` rows. */
     void addVirialRows(int rows, double scale);
+    /**
+     * With constraints, after a drift kernel left its moves in OpenMM's posDelta (and
+     * driftMove): OpenMM's constraints correct them, the positions move, and each velocity,
+     * and `velocity`, takes the correction / dt, as the Reference's ConstrainedMotion.
+     */
+    void constrainDrift(double dt, double tolerance);
+    /** With constraints: OpenMM's velocity constraints on velm, and `velocity` gathered from it again. */
+    void constrainVelocities(double tolerance);
+    /** The drift kernels' arguments from `first`: whether they leave the moves to constrainDrift, posDelta and driftMove. */
+    void addDriftArgs(OpenMM::ComputeKernel& kernel);
     /**
      * After a drift of duration dt, as the Reference's: the virtual sites placed from their
      * particles (OpenMM's IntegrationUtilities); under shear, the box slid and the molecules
@@ -115,14 +128,15 @@ protected:
     PairRandom random;
     CarriedForce carried;
     bool awaitingRestoreCheck = false;
-    bool hasVirtualSites = false;
+    bool hasVirtualSites = false, hasConstraints = false;
     SymmetricTensor* thermostatVirial = nullptr;  // see recordThermostatVirial
     OpenMM::ComputeProgram program;
     std::unique_ptr<CommonPositionStrain> strain;
     std::unique_ptr<CommonCellList> cells;  // with pair forces only, as fd, fr, pairKernel and sumKernel
     OpenMM::ComputeArray atomType, typeParams, transverseParams, exceptionStart, exceptionPartner, exceptionFactor, velocity, fd, fr, carriedForce, status,
             moveValue, virialRows;
-    OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel, findSlotsKernel, slideKernel;
+    OpenMM::ComputeKernel pairKernel, gatherKernel, sumKernel, findSlotsKernel, slideKernel, constrainedDriftKernel;
+    OpenMM::ComputeArray driftMove;  // with constraints: each slot's move before they corrected it
     OpenMM::ComputeArray moleculeStart, moleculeAtoms, slotOf;  // for the sliding boundaries
 
 private:
@@ -130,6 +144,7 @@ private:
     void slide(double dt, bool jumpVelocity);
     void uploadParameters();
     void createSlideKernels(const OpenMM::System& system);
+    void createConstraintKernel();
     void createPairKernels();
 };
 
