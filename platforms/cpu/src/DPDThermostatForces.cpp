@@ -132,7 +132,7 @@ void DPDThermostatForces::findWorkerPairs(int w, const FusedPairForce* fused) {
     }
     UniformPairRule rule;
     const bool uniform = uniformRule(fused, rule) || uniformRule(nullptr, rule);
-    const FusedPairForce* fusedAfter = (rule.soft ? nullptr : fused);  // where the rows do not make it
+    const FusedPairForce* fusedAfter = (uniform && !rule.soft ? fused : nullptr);  // where the rows do not make it
     fillWorkerList(w, fused, pairs, workerPairs,
                    [&](int p, const int* qs, const Vec3* ds, int hits, std::vector<PairGeometry>& out,
                        std::vector<PairParticles>& outParticles, size_t& count, std::vector<Vec3>& fusedForce) {
@@ -180,6 +180,9 @@ void DPDThermostatForces::appendPairsOneByOne(int p, const int* qs, const Vec3* 
                                               const FusedPairForce* fused) const {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const TypePairTable& table = parameters.getTable();
+    const size_t start = count;
+    int acceptedQ[PairSearch::MAX_BLOCK];
+    double r[PairSearch::MAX_BLOCK];
     for (int k = 0; k < hits; k++) {
         const int q = qs[k];
         const Vec3& d = ds[k];
@@ -195,22 +198,16 @@ void DPDThermostatForces::appendPairsOneByOne(int p, const int* qs, const Vec3* 
         PairGeometry& g = out[count];
         if (!parameters.pairGeometry(i, j, t, d, g, imageVx))
             continue;
+        acceptedQ[count - start] = q;
+        r[count - start] = table.cutoff(t) * (1 - g.wR);
         outParticles[count++] = {i, j};
         if (pairsBySlot) {
             g.i = p;
             g.j = q;
         }
-        if (fused != nullptr) {
-            const int fusedType = fused->getTable().indexOfTypes(sortedFusedTypes[p], sortedFusedTypes[q]);
-            const double r = table.cutoff(t) * (1 - g.wR);
-            const double valueSum = (fused->getParticleValues() != nullptr ? sortedFusedValues[p] + sortedFusedValues[q] : 0.0);
-            double along;
-            fused->pairForces(1, &i, &j, &fusedType, &r, &valueSum, &along);
-            const Vec3 f = g.e * along;
-            fusedForce[p] += f;
-            fusedForce[q] -= f;
-        }
     }
+    if (fused != nullptr && count > start)
+        addFusedForces(*fused, p, acceptedQ, &out[start], r, (int) (count - start), fusedForce);
 }
 
 template <class Entry>
@@ -223,8 +220,12 @@ bool DPDThermostatForces::appendUniformPairs(const UniformPairRule& rule, int p,
     }
     int acceptedQ[PairSearch::MAX_BLOCK];
     const int n = uniformPairBlock(rule, p, qs, ds, hits, acceptedQ, &out[count], fusedForce.data());
-    if (n > 0 && fused != nullptr)
-        addFusedForces(*fused, rule.cutoff, p, acceptedQ, &out[count], n, fusedForce);
+    if (n > 0 && fused != nullptr) {
+        double r[PairSearch::MAX_BLOCK];
+        for (int k = 0; k < n; k++)
+            r[k] = rule.cutoff * (1 - out[count + k].wR);
+        addFusedForces(*fused, p, acceptedQ, &out[count], r, n, fusedForce);
+    }
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     for (int k = 0; k < n; k++, count++) {
         const int q = acceptedQ[k], i = sortedIndex[p], j = sortedIndex[q];
@@ -236,21 +237,22 @@ bool DPDThermostatForces::appendUniformPairs(const UniformPairRule& rule, int p,
 }
 
 template <class Entry>
-void DPDThermostatForces::addFusedForces(const FusedPairForce& fused, double cutoff, int p, const int* acceptedQ, const Entry* accepted,
+void DPDThermostatForces::addFusedForces(const FusedPairForce& fused, int p, const int* acceptedQ, const Entry* accepted, const double* r,
                                          int n, std::vector<Vec3>& fusedForce) const {
     const std::vector<int>& sortedIndex = search.getSortedIndex();
     const TypePairTable& table = fused.getTable();
     const bool values = (fused.getParticleValues() != nullptr);
     int first[PairSearch::MAX_BLOCK], second[PairSearch::MAX_BLOCK], types[PairSearch::MAX_BLOCK];
-    double r[PairSearch::MAX_BLOCK], valueSums[PairSearch::MAX_BLOCK], along[PairSearch::MAX_BLOCK];
+    double valueSums[PairSearch::MAX_BLOCK], along[PairSearch::MAX_BLOCK];
+    const int i = sortedIndex[p], typeP = sortedFusedTypes[p];
     for (int k = 0; k < n; k++) {
         const int q = acceptedQ[k];
-        first[k] = sortedIndex[p];
+        first[k] = i;
         second[k] = sortedIndex[q];
-        types[k] = table.indexOfTypes(sortedFusedTypes[p], sortedFusedTypes[q]);
-        r[k] = cutoff * (1 - accepted[k].wR);
-        valueSums[k] = (values ? sortedFusedValues[p] + sortedFusedValues[q] : 0.0);
+        types[k] = table.indexOfTypes(typeP, sortedFusedTypes[q]);
     }
+    for (int k = 0; values && k < n; k++)
+        valueSums[k] = sortedFusedValues[p] + sortedFusedValues[acceptedQ[k]];
     fused.pairForces(n, first, second, types, r, values ? valueSums : nullptr, along);
     for (int k = 0; k < n; k++) {
         const Vec3 f = accepted[k].e * along[k];

@@ -223,12 +223,12 @@ private:
                             std::vector<Entry>& out, std::vector<PairParticles>& outParticles, size_t& count,
                             std::vector<OpenMM::Vec3>& fusedForce, const FusedPairForce* fused) const;
     /**
-     * The forces of `fused` on the n pairs (p, acceptedQ[k]) that uniformPairBlock accepted
-     * (thermostat cutoff `cutoff`) added to fusedForce by slot, pair by pair in order, as
-     * appendPairsOneByOne adds them.
+     * The forces of `fused` on the n accepted pairs (p, acceptedQ[k]) of one block, at
+     * distances r[k] along accepted[k].e, added to fusedForce by slot pair by pair in order:
+     * one call into the force per block, not per pair.
      */
     template <class Entry>
-    void addFusedForces(const FusedPairForce& fused, double cutoff, int p, const int* acceptedQ, const Entry* accepted, int n,
+    void addFusedForces(const FusedPairForce& fused, int p, const int* acceptedQ, const Entry* accepted, const double* r, int n,
                         std::vector<OpenMM::Vec3>& fusedForce) const;
     size_t workerPairsBefore(int w) const;
     /** Worker w's cells: where their pairs lie (cellPairs), and their offsets into its own list made numbers in the whole list. */
