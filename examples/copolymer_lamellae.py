@@ -27,9 +27,8 @@ WAVE_NUMBERS = np.array([n for n in itertools.product(range(-3, 4), repeat=3) if
 
 
 def diblock(n, m):
-    """A_nB_m as one residue per bead, named as the force field's templates (ends AE/BE, others AM/BM)."""
-    names = ["AE"] + ["AM"] * (n - 1) + ["BM"] * (m - 1) + ["BE"]
-    return packer.Molecule([(name, [name[0]]) for name in names], [(i, i + 1) for i in range(n + m - 1)])
+    """A_nB_m as one residue per bead."""
+    return packer.Molecule.linear(["A"] * n + ["B"] * m)
 
 
 def structure_factor(x, signs, edge):

@@ -29,9 +29,8 @@ from openmmdpd import forcefield, packer
 
 
 def surfactant(heads, tails):
-    """H_mT_n as one residue per bead, named as the force field's templates (ends HE/TE, others HM/TM)."""
-    names = ["HE"] + ["HM"] * (heads - 1) + ["TM"] * (tails - 1) + ["TE"]
-    return packer.Molecule([(name, [name[0]]) for name in names], [(i, i + 1) for i in range(heads + tails - 1)])
+    """H_mT_n as one residue per bead."""
+    return packer.Molecule.linear(["H"] * heads + ["T"] * tails)
 
 
 def aggregation_numbers(x, tail_owner, count, edge, link):

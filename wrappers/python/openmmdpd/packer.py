@@ -73,7 +73,18 @@ class Molecule:
     def chain(cls, length, bead="P", residue="P"):
         """A linear chain of `length` one-bead residues, as the per-bead templates of a force
         field (e.g. groot-warren.xml's P, PE, PM) match them."""
-        return cls([(residue, [bead])] * length, [(i, i + 1) for i in range(length - 1)])
+        return cls.linear([bead] * length, [residue] * length)
+
+    @classmethod
+    def linear(cls, beads, residues=None):
+        """A linear chain of one-bead residues, bead k named beads[k] and its residue
+        residues[k] (by default the bead's name): Molecule.linear(["A"] * 5 + ["B"] * 5) is the
+        diblock A5B5. Templates match bead names and bonds, so ends need no names of their own."""
+        residues = beads if residues is None else residues
+        if len(residues) != len(beads):
+            raise ValueError(f"Molecule.linear: {len(residues)} residue names for {len(beads)} beads")
+        return cls([(residue, [bead]) for residue, bead in zip(residues, beads)],
+                   [(i, i + 1) for i in range(len(beads) - 1)])
 
     @classmethod
     def from_topology(cls, topology):

@@ -614,13 +614,20 @@ def test_data_path_names_what_is_shipped():
 
 # --- The guide's script ---------------------------------------------------------------------
 
-def guide_script():
+def guide_scripts():
+    """The guide's scripts that swap in Langevin by one line, made small: a 5-edge box or 500
+    beads, 100 steps, a log line every 50."""
     page = os.path.join(ROOT, "docs", "guide", "force-fields.md")
     if not os.path.isfile(page):
         pytest.skip("the documentation is not in this copy of the tests")
     with open(page) as f:
-        code = re.findall(r"^```python\n(.*?)^```", f.read(), re.S | re.M)[0]
-    return re.sub(r"num_particles=\d+", "num_particles=500", re.sub(r"\.step\(\d+\)", ".step(100)", code))
+        blocks = re.findall(r"^```python\n(.*?)^```", f.read(), re.S | re.M)
+    small = [("num_particles=\\d+", "num_particles=500"), ("edge = [\\d.]+", "edge = 5.0"),
+             ("\\.step\\(\\d+\\)", ".step(100)"), ('"log.csv", \\d+', '"log.csv", 50')]
+    scripts = [code for code in blocks if "# Langevin instead: this line" in code]
+    for pattern, replacement in small:
+        scripts = [re.sub(pattern, replacement, code) for code in scripts]
+    return scripts
 
 
 def run_script(code, tmp_path):
@@ -632,15 +639,22 @@ def run_script(code, tmp_path):
     return np.loadtxt(tmp_path / "log.csv", delimiter=",", usecols=1)
 
 
-def test_the_guide_script_runs_with_a_dpd_integrator_and_with_langevin_by_one_line(tmp_path):
-    code = guide_script()
+def test_the_guide_has_the_copolymer_melt_and_the_polymer_in_solvent():
+    scripts = guide_scripts()
+    assert len(scripts) == 2
+    assert "groot-madden-diblock.xml" in scripts[0] and "groot-warren.xml" in scripts[1]
+
+
+@pytest.mark.parametrize("which", [0, 1], ids=["copolymer-melt", "polymer-in-solvent"])
+def test_a_guide_script_runs_with_a_dpd_integrator_and_with_langevin_by_one_line(which, tmp_path):
+    code = guide_scripts()[which]
     assert len(code.splitlines()) <= 30
     energies = run_script(code, tmp_path)
-    assert np.all(np.isfinite(energies))
+    assert len(energies) == 2 and np.all(np.isfinite(energies))
     lines = code.splitlines()
     dpd = [k for k, line in enumerate(lines) if line.startswith("integrator = ")]
     langevin = [line[2:] for line in lines if line.startswith("# integrator = openmm.LangevinMiddleIntegrator")]
     assert len(dpd) == 1 and len(langevin) == 1
     lines[dpd[0]] = langevin[0]
     energies = run_script("\n".join(lines), tmp_path)
-    assert np.all(np.isfinite(energies))
+    assert len(energies) == 2 and np.all(np.isfinite(energies))

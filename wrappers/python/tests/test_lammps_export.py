@@ -540,8 +540,7 @@ def test_a_force_field_model_with_shardlow(tmp_path):
     from openmm import app
     from openmmdpd import forcefield, packer
     ff = app.ForceField(forcefield.data_path("groot-madden-diblock.xml"))
-    names = ["AE"] + ["AM"] * 4 + ["BM"] * 4 + ["BE"]
-    chain = packer.Molecule([(name, [name[0]]) for name in names], [(i, i + 1) for i in range(9)])
+    chain = packer.Molecule.linear(["A"] * 5 + ["B"] * 5)
     topology, positions = packer.pack([(chain, 12)], box=[3.5] * 3, bond_length=0.8, seed=4)
     system = ff.createSystem(topology, nonbondedMethod=app.CutoffPeriodic)
     integrator = openmmdpd.ShardlowIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, DT)

@@ -21,8 +21,7 @@ from dpdtest import energy_and_forces, named_pair_table as pair_table, number, s
 KT = openmmdpd.KT_TEMPERATURE
 FILES = ("groot-madden-diblock.xml", "lipid-h3t4.xml", "binary-mixture.xml")
 
-DIBLOCK = packer.Molecule([(name, [name[0]]) for name in ["AE", "AM", "AM", "BM", "BE"]],  # A3B2
-                          [(i, i + 1) for i in range(4)])
+DIBLOCK = packer.Molecule.linear(["A"] * 3 + ["B"] * 2)
 LIPID = packer.Molecule.single("LIPID", ["h1", "h2", "h3"] + [f"t{i}" for i in range(1, 9)],
                                [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 6), (2, 7), (7, 8), (8, 9), (9, 10)])
 

@@ -84,6 +84,16 @@ def test_a_box_denser_than_max_density_is_refused():
         packer.pack([(WATER, 20)], box=(3.0, float("nan"), 3.0))
 
 
+def test_a_linear_molecule_bonds_its_beads_in_order():
+    diblock = packer.Molecule.linear(["A"] * 2 + ["B"] * 3)
+    assert diblock.residues == [("A", ("A",))] * 2 + [("B", ("B",))] * 3
+    assert diblock.bonds == [(0, 1), (1, 2), (2, 3), (3, 4)]
+    named = packer.Molecule.linear(["A", "B"], residues=["AE", "BE"])
+    assert named.residues == [("AE", ("A",)), ("BE", ("B",))]
+    with pytest.raises(ValueError, match="Molecule.linear: 1 residue names for 2 beads"):
+        packer.Molecule.linear(["A", "B"], residues=["AE"])
+
+
 def test_a_bond_outside_the_molecule_is_refused():
     with pytest.raises(ValueError, match=r"molecule X: bond \(0, 2\) does not join two of its 2 beads "
                                          r"\(indices 0 to 1\)"):

@@ -18,8 +18,7 @@ from dpdtest import energy_and_forces, named_pair_table as pair_table, number, s
 KT = openmmdpd.KT_TEMPERATURE
 NAME = "surfactant.xml"
 # H3T3 as one residue per bead: every bead template but the lone ones (added below).
-SURFACTANT = packer.Molecule([(name, [name[0]]) for name in ["HE", "HM", "HM", "TM", "TM", "TE"]],
-                             [(i, i + 1) for i in range(5)])
+SURFACTANT = packer.Molecule.linear(["H"] * 3 + ["T"] * 3)
 COUNT = 20
 
 
@@ -72,9 +71,7 @@ def test_the_force_the_thermostat_and_the_springs_have_the_files_tables():
 def test_other_head_and_tail_lengths_match_the_same_templates():
     ff = app.ForceField(forcefield.data_path(NAME))
     for heads, tails in ((1, 1), (1, 4), (2, 5)):
-        names = ["HE"] + ["HM"] * (heads - 1) + ["TM"] * (tails - 1) + ["TE"]
-        molecule = packer.Molecule([(name, [name[0]]) for name in names],
-                                   [(i, i + 1) for i in range(heads + tails - 1)])
+        molecule = packer.Molecule.linear(["H"] * heads + ["T"] * tails)
         topology, _ = packer.pack([(molecule, 2), (packer.Molecule.single("W", ["W"]), 100)], box=[4.0] * 3)
         system = ff.createSystem(topology)
         assert [soft_force(system).getParticleType(i) for i in range(heads + tails)] == [1] * heads + [2] * tails
