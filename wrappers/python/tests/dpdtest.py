@@ -12,6 +12,12 @@ def platform(name):
     return openmm.Platform.getPlatformByName(name)
 
 
+def have_opencl():
+    """Whether OpenMM has an OpenCL platform and openmmdpd its OpenCL plugin."""
+    names = {openmm.Platform.getPlatform(i).getName() for i in range(openmm.Platform.getNumPlatforms())}
+    return "OpenCL" in names and any(p.endswith("libOpenMMDPDOpenCL.so") for p in openmmdpd.loaded_plugins)
+
+
 def properties(name):
     return {"Threads": "1"} if name == "CPU" else {}
 

@@ -24,7 +24,7 @@ from openmmdpd.catalog import integrators
 from openmmdpd.pressure import pressure_tensor
 from openmmdpd.scenes import build_scene, ideal_scene, soft_scene
 
-from dpdtest import make_context, reduced_kT, set_velocities
+from dpdtest import have_opencl, make_context, reduced_kT, set_velocities
 
 N = 2000
 DT = 0.04
@@ -32,11 +32,6 @@ EQUILIBRATION_STEPS = 200
 SAMPLES = 400
 STEPS_PER_SAMPLE = 5
 MAX_SIGMA = 0.003
-
-
-def have_opencl():
-    names = {openmm.Platform.getPlatform(i).getName() for i in range(openmm.Platform.getNumPlatforms())}
-    return "OpenCL" in names and any(p.endswith("libOpenMMDPDOpenCL.so") for p in openmmdpd.loaded_plugins)
 
 
 pytestmark = pytest.mark.skipif(not have_opencl(), reason="no OpenCL platform or no openmmdpd OpenCL plugin")

@@ -16,7 +16,7 @@ from scipy.spatial import cKDTree
 import openmmdpd
 from openmmdpd import forcefield, packer, scenes
 
-from dpdtest import energy_and_forces, named_pair_table as pair_table, number, soft_force
+from dpdtest import energy_and_forces, have_opencl, named_pair_table as pair_table, number, soft_force
 
 KT = openmmdpd.KT_TEMPERATURE
 FILES = ("groot-madden-diblock.xml", "lipid-h3t4.xml", "binary-mixture.xml")
@@ -176,6 +176,50 @@ def test_a_relaxed_start_runs_stable_at_dt_004(name):
         assert math.isfinite(state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole))
     # GW-type velocity Verlet at dt 0.04 runs ~2-5 % hot; ~600 beads give kT to ~1 %.
     assert 0.95 < np.mean(samples) < 1.12
+
+
+# One integrator of the device per file: a sweep, the velocity-Verlet family, Lowe.
+OPENCL_INTEGRATORS = {"groot-madden-diblock.xml": lambda: openmmdpd.ShardlowIntegrator(KT, 4.5, 1.0, 0.04),
+                      "lipid-h3t4.xml": lambda: openmmdpd.DPDVVIntegrator(KT, 4.5, 1.0, 0.04),
+                      "binary-mixture.xml": lambda: openmmdpd.LoweAndersenIntegrator(KT, 4.5, 1.0, 0.04)}
+
+
+def three_steps(name, ff, topology, system, start, platform_name):
+    """Positions and velocities after steps 1 and 3 from the same start (positions, velocities)."""
+    integrator = forcefield.apply_thermostat_parameters(OPENCL_INTEGRATORS[name](), ff, topology)
+    integrator.setRandomNumberSeed(11)
+    context = openmm.Context(system, integrator, openmm.Platform.getPlatformByName(platform_name))
+    context.setPositions(start[0])
+    context.setVelocities(start[1])
+    states = []
+    for steps in (1, 2):
+        integrator.step(steps)
+        state = context.getState(getPositions=True, getVelocities=True)
+        states.append((state.getPositions(asNumpy=True).value_in_unit(unit.nanometer),
+                       state.getVelocities(asNumpy=True).value_in_unit(unit.nanometer / unit.picosecond)))
+    return states
+
+
+@pytest.mark.skipif(not have_opencl(), reason="no OpenCL platform or no openmmdpd OpenCL plugin")
+@pytest.mark.parametrize("name", FILES)
+def test_a_force_field_system_follows_the_reference_on_opencl(name):
+    # The device's float tolerance (tests/TestGpuPlatform.cpp): 2e-5 of the box in position,
+    # 2e-5 of the largest speed in velocity, after 1 and 3 steps of a relaxed start.
+    ff, topology, positions, system = created(name, seed=3)
+    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
+    context.setPositions(positions)
+    packer.relax(context)
+    context.setVelocitiesToTemperature(KT, 4)
+    state = context.getState(getPositions=True, getVelocities=True)
+    start = (state.getPositions(), state.getVelocities())
+    edge = topology.getPeriodicBoxVectors()[0][0].value_in_unit(unit.nanometer)
+    expected = three_steps(name, ff, topology, system, start, "Reference")
+    actual = three_steps(name, ff, topology, system, start, "OpenCL")
+    for (x, v), (y, u) in zip(expected, actual):
+        d = y - x
+        d -= edge * np.round(d / edge)  # the nearest image: the two may wrap differently
+        assert np.max(np.linalg.norm(d, axis=1)) < 2e-5 * edge
+        assert np.max(np.abs(u - v)) < 2e-5 * np.max(np.linalg.norm(v, axis=1))
 
 
 def test_the_binary_mixture_demixes():
