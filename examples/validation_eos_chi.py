@@ -1,6 +1,6 @@
 """Two checks of the standard DPD fluid against Groot and Warren (1997): the equation of state
 p(rho) at kT = 1, and the Flory-Huggins chi of a binary monomer mixture against Delta a from
-demixing in a slab.  CPU platform, ShardlowIntegrator (S1), CSVs and a Markdown report (report.md) into
+demixing in a slab.  CPU platform, ShardlowIntegrator (S1; --integrator for another), CSVs and a Markdown report (report.md) into
 docs/results/validation-eos-chi/.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/validation_eos_chi.py [--quick] [--out DIR]
@@ -62,8 +62,8 @@ QUICK = dict(particles=500, eos_time=4.0, eos_equilibrate=2.0, eos_points=["25:3
              chi_points=["12:0.04"], slab=[5.0, 5.0, 16.0], chi_time=10.0, chi_equilibrate=5.0, plateau=3.0)
 
 
-def context_for(system, positions, dt, seed, threads):
-    integrator = catalog.integrators()["S1"](dt)
+def context_for(system, positions, dt, seed, threads, scheme):
+    integrator = catalog.integrators()[scheme](dt)
     integrator.setRandomNumberSeed(seed)
     platform = openmm.Platform.getPlatformByName("CPU")
     context = openmm.Context(system, integrator, platform, {"Threads": str(threads)})
@@ -72,10 +72,10 @@ def context_for(system, positions, dt, seed, threads):
     return context, integrator
 
 
-def measure_eos(a, rho, dt, particles, equilibrate, sample, seed, threads):
+def measure_eos(a, rho, dt, particles, equilibrate, sample, seed, threads, scheme):
     """One state point: dict of p (kinetic + conservative), its parts, their errors, and kT."""
     scene = scenes.soft_scene(particles, density=rho, a=a, seed=seed)
-    context, integrator = context_for(scene.system, scene.positions, dt, seed, threads)
+    context, integrator = context_for(scene.system, scene.positions, dt, seed, threads, scheme)
     integrator.step(round(equilibrate / dt))
     integrator.setPressureTensorEnabled(True)
     blocks = []
@@ -86,7 +86,7 @@ def measure_eos(a, rho, dt, particles, equilibrate, sample, seed, threads):
         blocks.append([pressure_tensor(integrator, part)[:3].mean() for part in range(4)])
     total, kinetic, conservative, thermostat = np.array(blocks).T
     virial = kinetic + conservative
-    row = dict(a=a, rho=rho, dt=dt, N=particles, sampled_ps=len(blocks) * BLOCK_STEPS * dt)
+    row = dict(a=a, rho=rho, dt=dt, integrator=scheme, N=particles, sampled_ps=len(blocks) * BLOCK_STEPS * dt)
     for name, series in (("p", virial), ("p_kinetic", kinetic), ("p_conservative", conservative),
                          ("p_thermostat", thermostat), ("p_with_thermostat", total)):
         row[name], row[name + "_err"] = float(series.mean()), standard_error(series)
@@ -138,11 +138,11 @@ def slab_system(delta_a, box, rho, seed):
     return system, positions, types
 
 
-def measure_chi(delta_a, box, rho, dt, equilibrate, sample, plateau, seed, threads):
+def measure_chi(delta_a, box, rho, dt, equilibrate, sample, plateau, seed, threads, scheme):
     """One Delta a: (row, profile rows)."""
     system, positions, types = slab_system(delta_a, box, rho, seed)
     lz = box[2]
-    context, integrator = context_for(system, positions, dt, seed, threads)
+    context, integrator = context_for(system, positions, dt, seed, threads, scheme)
     integrator.step(round(equilibrate / dt))
     nbins = int(round(lz / BIN))
     edges = np.linspace(0, lz, nbins + 1)
@@ -181,6 +181,7 @@ def measure_chi(delta_a, box, rho, dt, equilibrate, sample, plateau, seed, threa
     chi, dchi = flory_huggins_chi(phi)
     chi_err = abs(dchi) * phi_err
     row = dict(delta_a=delta_a, a_AB=25.0 + delta_a, rho=rho, box=f"{box[0]:g}x{box[1]:g}x{box[2]:g}", N=n, dt=dt,
+               integrator=scheme,
                sampled_ps=len(phi_series) * every * dt, phi=phi, phi_err=phi_err,
                phi_A_rich=float(phis[:, 0].mean()), phi_A_rich_err=block_average(phis[:, 0], 10)[1],
                phi_B_rich=float(phis[:, 1].mean()), phi_B_rich_err=block_average(phis[:, 1], 10)[1],
@@ -217,7 +218,7 @@ def report(eos, chi, args, seconds):
              "Written by `examples/validation_eos_chi.py` "
              f"({'--quick' if args.quick else 'full run'}, {seconds[0]:.0f} s for the equation of state, "
              f"{seconds[1]:.0f} s for chi, {args.threads} CPU threads); "
-             "S1 (`ShardlowIntegrator`, order 1, gamma 4.5), CPU platform, kT = 1, rc = 1.", ""]
+             f"{args.integrator} (the catalog's, gamma 4.5), CPU platform, kT = 1, rc = 1.", ""]
     if eos:
         lines += ["## Equation of state", "",
                   f"N = {args.particles}; p = trace/3 of the kinetic + conservative pressure tensor, "
@@ -272,6 +273,8 @@ def main(argv=None):
     parser.add_argument("--plateau", type=float, default=PLATEAU)
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--seed", type=int, default=7)
+    parser.add_argument("--integrator", default="S1", choices=list(catalog.integrators()),
+                        help="the catalog's integrator to run (Groot and Warren's own: GW0.65, lambda 0.65)")
     parser.add_argument("--quick", action="store_true", help=f"a run of seconds for CI: {QUICK}")
     args = parser.parse_args(argv)
     if args.quick:
@@ -296,7 +299,7 @@ def main(argv=None):
         for point in args.eos_points:
             a, rho, dt = (float(x) for x in point.split(":"))
             eos.append(measure_eos(a, rho, dt, args.particles, args.eos_equilibrate, args.eos_time, args.seed,
-                                   args.threads))
+                                   args.threads, args.integrator))
             r = eos[-1]
             print(f"a {a:g} rho {rho:g} dt {dt:g}: p = {r['p']:.4f} +- {r['p_err']:.4f} "
                   f"(GW {r['p_gw']:.3f}), alpha {r['alpha']:.5f} +- {r['alpha_err']:.5f}, "
@@ -308,7 +311,7 @@ def main(argv=None):
         for point in args.chi_points:
             delta_a, dt = (float(x) for x in point.split(":"))
             row, profile, series = measure_chi(delta_a, args.slab, 3.0, dt, args.chi_equilibrate, args.chi_time,
-                                       args.plateau, args.seed, args.threads)
+                                       args.plateau, args.seed, args.threads, args.integrator)
             chi.append(row)
             profiles += profile
             plateau_series += series
