@@ -1,0 +1,313 @@
+// The physics every platform must reproduce, written once for every integrator (TestSchemes.h)
+// and run on each platform: TestDPD runs it on Reference and CPU, TestDPDOpenCL on OpenCL and
+// TestDPDCUDA on CUDA.  Three variants of one System (a soft fluid of two particle types with
+// their own type pairs, mixed masses, springs between a few pairs in force group 1, the fast
+// group of StaggeredDPDIntegrator): still, under Lees-Edwards shear at rate 0.5, and with rigid
+// dimers (constraints) each carrying a virtual site at its middle.
+//
+// - FollowsTheReference: positions and velocities after 1 and 3 steps equal the Reference
+//   platform's, and so do the pressure tensor's parts sampled over the first step (where the
+//   Reference samples it: not with constraints).  CPU: 1e-10 relative (only the summation
+//   order differs).  A device: 2e-5 of the box in position and of the largest speed in
+//   velocity, 1e-4 of each part's largest component (float pair terms; see TestGpuPlatform.cpp).
+// - ConservesMomentumAndContinuesFromCheckpoints: still and with constraints, the total
+//   momentum after 5 steps is the first's (a device: to float rounding, 1e-3); every variant
+//   continues from a checkpoint bit for bit.
+//
+// Where the Reference refuses a case the test is skipped.  A platform may refuse only what
+// refusedOn lists (a device: what has no kernel yet, docs/guide/gpu.md), and then with an
+// OpenMMException when the Context is made.
+
+#include "TestHelpers.h"
+#include "TestSchemes.h"
+#include "openmmdpd/DPDSoftRepulsionForce.h"
+#include "openmm/HarmonicBondForce.h"
+#include "openmm/VirtualSite.h"
+#include <cctype>
+
+using namespace DPDPlugin;
+
+namespace {
+
+enum class Variant { Still, Sheared, Constrained };
+
+struct PhysicsCase {
+    std::string platform;
+    Scheme scheme;
+    Variant variant;
+};
+
+void PrintTo(const PhysicsCase& c, std::ostream* out) {
+    *out << c.platform << " " << c.scheme.name << " " << (int) c.variant;
+}
+
+constexpr int NUM_PARTICLES = 600;  // a box of 5.31 nm at density 4: at least 3 cutoffs, as a device needs under shear
+constexpr int NUM_DIMERS = 30;      // particles 0-89 as (bead, bead, site) with the Constrained variant
+
+std::vector<std::string> testedPlatforms() {
+#if OPENMMDPD_TEST_CUDA
+    return {"CUDA"};
+#elif OPENMMDPD_HAVE_OPENCL
+    return {"OpenCL"};
+#else
+    return platforms();
+#endif
+}
+
+bool isDevice(const std::string& platform) { return platform == "OpenCL" || platform == "CUDA"; }
+
+bool startsWith(const std::string& text, const std::string& prefix) { return text.compare(0, prefix.size(), prefix) == 0; }
+
+/** What a platform may refuse: on a device, the integrators without kernels and constraints in the sweeps. */
+bool refusedOn(const PhysicsCase& c) {
+    if (!isDevice(c.platform))
+        return false;
+    const std::string& name = c.scheme.name;
+    if (startsWith(name, "EDPD") || startsWith(name, "Staggered"))
+        return true;
+    const bool sweep = startsWith(name, "S1") || startsWith(name, "S2") || startsWith(name, "Lowe") || startsWith(name, "PairOU");
+    return sweep && c.variant == Variant::Constrained;
+}
+
+int typeOf(int i) { return i % 3 == 0 ? 1 : 0; }
+
+System* makeSystem(const PhysicsCase& c, std::vector<Vec3>& positions, std::vector<Vec3>& velocities) {
+    System* system = makeFluid(NUM_PARTICLES, 0, positions);
+    system->removeForce(0);
+    DPDSoftRepulsionForce* soft = new DPDSoftRepulsionForce(25.0, 1.0);
+    for (int i = 0; i < NUM_PARTICLES; i++) {
+        soft->setParticleType(i, typeOf(i));
+        if (i % 4 == 0 && !c.scheme.uniformMasses)
+            system->setParticleMass(i, 2.0);
+    }
+    soft->addTypePair(0, 1, 30.0, 0.9);
+    system->addForce(soft);
+    HarmonicBondForce* springs = new HarmonicBondForce();  // DPD springs; molecules are kept whole
+    for (int i = 100; i + 1 < NUM_PARTICLES; i += 50)
+        springs->addBond(i, i + 1, 0.0, 4.0);
+    springs->setForceGroup(1);
+    system->addForce(springs);
+    if (c.variant == Variant::Constrained)
+        for (int k = 0; k < 3 * NUM_DIMERS; k += 3) {
+            positions[k + 1] = positions[k] + Vec3(0.5, 0, 0);
+            positions[k + 2] = positions[k] + Vec3(0.25, 0, 0);
+            system->addConstraint(k, k + 1, 0.5);
+            system->setParticleMass(k + 2, 0.0);
+            system->setVirtualSite(k + 2, new TwoParticleAverageSite(k, k + 1, 0.5, 0.5));
+        }
+    std::mt19937 rng(17);
+    std::normal_distribution<double> normal(0, 1);
+    velocities.resize(NUM_PARTICLES);
+    for (int i = 0; i < NUM_PARTICLES; i++) {
+        const double mass = system->getParticleMass(i);
+        velocities[i] = mass > 0 ? Vec3(normal(rng), normal(rng), normal(rng)) * std::sqrt(1 / mass) : Vec3();  // kT = 1 kJ/mol
+    }
+    return system;
+}
+
+DPDThermostatIntegrator* makeIntegrator(const PhysicsCase& c) {
+    DPDThermostatIntegrator* integrator = c.scheme.make();
+    for (int i = 0; i < NUM_PARTICLES; i++)
+        integrator->setParticleType(i, typeOf(i));
+    integrator->addTypePair(0, 1, 6.0, 0.9);
+    integrator->setRandomNumberSeed(1234);
+    if (c.variant == Variant::Sheared)
+        integrator->setShearRate(0.5);
+    return integrator;
+}
+
+struct Simulation {
+    std::unique_ptr<System> system;
+    std::unique_ptr<DPDThermostatIntegrator> integrator;
+    std::unique_ptr<Context> context;
+};
+
+/** The case's System and integrator in a Context on `platform`; null context if the platform refused it. */
+Simulation start(const PhysicsCase& c, const std::string& platform, bool pressure, std::string& refusal) {
+    Simulation run;
+    std::vector<Vec3> positions, velocities;
+    run.system.reset(makeSystem(c, positions, velocities));
+    run.integrator.reset(makeIntegrator(c));
+    std::map<std::string, std::string> properties;
+    if (platform == "CPU")
+        properties["Threads"] = "2";
+    try {
+        run.integrator->setPressureTensorEnabled(pressure);
+        run.context.reset(new Context(*run.system, *run.integrator, Platform::getPlatformByName(platform), properties));
+    }
+    catch (const OpenMMException& e) {
+        refusal = e.what();
+        return run;
+    }
+    run.context->setPositions(positions);
+    run.context->setVelocities(velocities);
+    return run;
+}
+
+bool platformExists(const std::string& platform) {
+    try {
+        Platform::getPlatformByName(platform);
+        return true;
+    }
+    catch (const OpenMMException&) {
+        return false;
+    }
+}
+
+class IntegratorPhysics : public testing::TestWithParam<PhysicsCase> {
+protected:
+    /**
+     * A Context for the case on its platform; a null one, with `skip` saying why, where the
+     * platform or the Reference cannot run it, or with a failure where the platform refuses
+     * what refusedOn does not list (or runs what it lists).
+     */
+    Simulation startTested(bool pressure, std::string& skip) {
+        const PhysicsCase& c = GetParam();
+        std::string refusal;
+        Simulation run;
+        if (!platformExists(c.platform))
+            skip = "OpenMM has no " + c.platform + " platform here";
+        else if (!start(c, "Reference", pressure, refusal).context)
+            skip = "the Reference refuses it: " + refusal;
+        if (!skip.empty())
+            return run;
+        run = start(c, c.platform, pressure, refusal);
+        if (!run.context)
+            EXPECT_TRUE(refusedOn(c)) << c.platform << " refuses " << c.scheme.name << ": " << refusal;
+        else
+            EXPECT_FALSE(refusedOn(c)) << c.platform << " runs " << c.scheme.name << ", which refusedOn says it refuses";
+        return run;
+    }
+};
+
+std::vector<std::vector<double>> pressureParts(DPDThermostatIntegrator& integrator) {
+    std::vector<std::vector<double>> parts;
+    for (int part : {DPDThermostatIntegrator::PressureKinetic, DPDThermostatIntegrator::PressureConservative,
+                     DPDThermostatIntegrator::PressureThermostat, DPDThermostatIntegrator::PressureTotal})
+        parts.push_back(integrator.getAveragePressureTensor(part));
+    return parts;
+}
+
+/** max over particles of |a - b| taken at the nearest image along each axis of a rectangular box of edge `box`. */
+double maxImageDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b, double box) {
+    double m = 0;
+    for (size_t i = 0; i < a.size(); i++) {
+        Vec3 d = a[i] - b[i];
+        for (int k = 0; k < 3; k++)
+            d[k] -= box * std::round(d[k] / box);
+        m = std::max(m, std::sqrt(d.dot(d)));
+    }
+    return m;
+}
+
+double maxNorm(const std::vector<Vec3>& a) {
+    double m = 0;
+    for (const Vec3& x : a)
+        m = std::max(m, std::sqrt(x.dot(x)));
+    return m;
+}
+
+void expectStatesAgree(const State& expected, const State& actual, const std::string& platform, double box, const std::string& label) {
+    if (isDevice(platform)) {
+        EXPECT_LT(maxImageDifference(expected.getPositions(), actual.getPositions(), box), 2e-5 * box) << label << ", positions";
+        const std::vector<Vec3>& v = expected.getVelocities();
+        std::vector<Vec3> difference(v.size());
+        for (size_t i = 0; i < v.size(); i++)
+            difference[i] = actual.getVelocities()[i] - v[i];
+        EXPECT_LT(maxNorm(difference), 2e-5 * maxNorm(v)) << label << ", velocities";
+        return;
+    }
+    EXPECT_LT(relativeDifference(expected.getPositions(), actual.getPositions()), 1e-10) << label << ", positions";
+    EXPECT_LT(relativeDifference(expected.getVelocities(), actual.getVelocities()), 1e-10) << label << ", velocities";
+}
+
+void expectPressureAgrees(DPDThermostatIntegrator& reference, DPDThermostatIntegrator& tested, const std::string& platform) {
+    const std::vector<std::vector<double>> expected = pressureParts(reference), actual = pressureParts(tested);
+    const double tolerance = isDevice(platform) ? 1e-4 : 1e-9;
+    for (int p = 0; p < 4; p++) {
+        double scale = 0;
+        for (double x : expected[p])
+            scale = std::max(scale, std::fabs(x));
+        for (int k = 0; k < 6; k++)
+            EXPECT_NEAR(actual[p][k], expected[p][k], tolerance * scale) << "pressure tensor part " << p << ", component " << k;
+    }
+}
+
+TEST_P(IntegratorPhysics, FollowsTheReference) {
+    const PhysicsCase& c = GetParam();
+    if (c.platform == "Reference")
+        GTEST_SKIP() << "the Reference is the definition";
+    // The pressure tensor where the Reference samples it: not for every integrator, and not
+    // with constraints (it leaves out their forces).
+    std::string skip, refusal;
+    const bool pressure = c.variant != Variant::Constrained && start(c, "Reference", true, refusal).context;
+    Simulation tested = startTested(pressure, skip);
+    if (!skip.empty())
+        GTEST_SKIP() << skip;
+    if (!tested.context)
+        return;
+    Simulation reference = start(c, "Reference", pressure, refusal);
+    Vec3 a, b, cc;
+    tested.system->getDefaultPeriodicBoxVectors(a, b, cc);
+    const double box = a[0];
+    int done = 0;
+    for (int steps : {1, 3}) {
+        reference.integrator->step(steps - done);
+        tested.integrator->step(steps - done);
+        if (steps == 1 && pressure)
+            expectPressureAgrees(*reference.integrator, *tested.integrator, c.platform);
+        const int parts = State::Positions | State::Velocities;
+        expectStatesAgree(reference.context->getState(parts), tested.context->getState(parts), c.platform, box,
+                          "after " + std::to_string(steps) + " steps");
+        done = steps;
+    }
+}
+
+TEST_P(IntegratorPhysics, ConservesMomentumAndContinuesFromCheckpoints) {
+    const PhysicsCase& c = GetParam();
+    std::string skip;
+    Simulation run = startTested(false, skip);
+    if (!skip.empty())
+        GTEST_SKIP() << skip;
+    if (!run.context)
+        return;
+    if (c.variant != Variant::Sheared) {  // crossing a sheared boundary changes a velocity by the shear's U
+        auto momentum = [&] {
+            Vec3 p;
+            const State state = run.context->getState(State::Velocities);
+            for (int i = 0; i < NUM_PARTICLES; i++)
+                p += state.getVelocities()[i] * run.system->getParticleMass(i);
+            return p;
+        };
+        const Vec3 before = momentum();
+        run.integrator->step(5);
+        const Vec3 change = momentum() - before;
+        // A device rounds each m v to float (~1e-7 of ~1, over 600 particles and 5 steps).
+        EXPECT_LT(std::sqrt(change.dot(change)), isDevice(c.platform) ? 1e-3 : 1e-9);
+    }
+    expectCheckpointContinuesBitForBit(*run.context, *run.integrator, c.platform + " " + c.scheme.name);
+}
+
+std::vector<PhysicsCase> physicsCases() {
+    std::vector<Scheme> schemes = schemesAt(0.02), staggered = staggeredSchemesAt(0.02);
+    schemes.insert(schemes.end(), staggered.begin(), staggered.end());
+    std::vector<PhysicsCase> cases;
+    for (const std::string& platform : testedPlatforms())
+        for (const Scheme& scheme : schemes)
+            for (Variant variant : {Variant::Still, Variant::Sheared, Variant::Constrained})
+                cases.push_back({platform, scheme, variant});
+    return cases;
+}
+
+std::string caseName(const testing::TestParamInfo<PhysicsCase>& info) {
+    static const char* variants[] = {"Still", "Sheared", "Constrained"};
+    std::string name = info.param.platform + "_" + info.param.scheme.name + "_" + variants[(int) info.param.variant];
+    for (char& ch : name)
+        if (!std::isalnum((unsigned char) ch))
+            ch = '_';
+    return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryPlatform, IntegratorPhysics, testing::ValuesIn(physicsCases()), caseName);
+
+} // namespace
