@@ -18,6 +18,7 @@ namespace DPDPlugin {
  * staggered scheme) call this; pairwise-sequential rules use the same pair list.
  */
 class FusedPairForce;
+class SoftRepulsionKernel;
 
 class DPDThermostatForces {
 public:
@@ -207,10 +208,11 @@ private:
     template <class Entry, class AppendBlock>
     void fillWorkerList(int w, const FusedPairForce* fused, std::vector<Entry>& firstPart, std::vector<std::vector<Entry>>& otherParts,
                         AppendBlock appendBlock);
-    /** findWorkerPairs for one block of hits, pair by pair (what uniformPairBlock does four at a time). */
+    /** findWorkerPairs for one block of hits, pair by pair (what uniformPairBlock does four at a time);
+     *  soft is the fused force where it is the soft repulsion, made inline. */
     void appendPairsOneByOne(int p, const int* qs, const OpenMM::Vec3* ds, int hits, std::vector<PairGeometry>& out,
                              std::vector<PairParticles>& outParticles, size_t& count, std::vector<OpenMM::Vec3>& fusedForce,
-                             const FusedPairForce* fused) const;
+                             const FusedPairForce* fused, const SoftRepulsionKernel* soft) const;
     /** Whether every pair shares its parameters (UniformPairRule), and if so, those. */
     bool uniformRule(const FusedPairForce* fused, UniformPairRule& rule) const;
     /**

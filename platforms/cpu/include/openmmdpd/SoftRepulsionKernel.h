@@ -40,14 +40,14 @@ public:
         for (int k = 0; k < n; k++)
             out[k] = pairForce(first[k], second[k], types[k], r[k]);
     }
-
-private:
     /** The force on i along e = (r_i - r_j)/r of a pair at distance r of table index t (kJ/mol/nm). */
     double pairForce(int i, int j, int t, double r) const {
         if (r >= table->cutoff(t) || excludedPairs.contains(i, j))
             return 0;
         return SoftRepulsionPair::force(table->value(t), table->inverseCutoff(t), r);
     }
+
+private:
     void setParameters(const DPDSoftRepulsionForce& force);
     /** Sort the particles into the search's cells at the Context's positions. */
     void search(OpenMM::ContextImpl& context);
