@@ -19,6 +19,7 @@
 #include "openmmdpd/EDPDIntegrator.h"
 #include "openmmdpd/LoweAndersenIntegrator.h"
 #include "openmmdpd/ShardlowIntegrator.h"
+#include "openmmdpd/StaggeredDPDIntegrator.h"
 #include "openmm/VerletIntegrator.h"
 #include "openmm/CustomBondForce.h"
 #include "openmm/HarmonicBondForce.h"
@@ -890,4 +891,33 @@ TEST(GpuPlatform, ConstraintsFollowReference) {
         return integrator;
     };
     expectFollowsReference(*system, positions, sheared, "sheared GW with constraints");
+}
+
+// The staggered schemes under shear with their polymer (spring dimers in the fast group)
+// straddling the sliding boundary: molecules cross in the prediction and in the sub-steps,
+// which start again from the box at the start of the step.  (Away from the boundary, every
+// base and K: TestIntegratorPhysics.cpp.)
+TEST(GpuPlatform, StaggeredPolymerCrossesTheShearedBoundary) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeBondedSoftSystem(600, positions));
+    system->getForce(system->getNumForces() - 1).setForceGroup(1);  // the springs: the fast forces
+    Vec3 a, b, c;
+    system->getDefaultPeriodicBoxVectors(a, b, c);
+    for (int i = 0; i + 1 < 600; i += 50) {
+        positions[i][1] = ((i / 50) % 2 == 0 ? b[1] - 0.005 : 0.005);
+        positions[i + 1] = positions[i] + Vec3(0.3, 0, 0);
+    }
+    for (StaggeredDPDIntegrator::BaseScheme base : {StaggeredDPDIntegrator::VelocityVerlet, StaggeredDPDIntegrator::LoweAndersen})
+        for (int K : {1, 3}) {
+            MakeIntegrator make = [base, K](int) {
+                std::unique_ptr<StaggeredDPDIntegrator> integrator(new StaggeredDPDIntegrator(KT_KELVIN, 4.5, 1.0, 0.02, K));
+                integrator->setBaseScheme(base);
+                integrator->useRecommendedParameters();
+                integrator->setShearRate(0.5);
+                integrator->setRandomNumberSeed(1234);
+                return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+            };
+            expectFollowsReference(*system, positions, make, "staggered base " + std::to_string(base) + ", K " + std::to_string(K));
+        }
 }

@@ -14,6 +14,8 @@ KernelImpl* CommonDPDKernelFactory::createKernelImpl(std::string name, const Pla
         return new CommonIntegrateShardlowStepKernel(name, platform, cc);
     if (name == IntegrateLoweAndersenStepKernel::Name())
         return new CommonIntegrateLoweAndersenStepKernel(name, platform, cc);
+    if (name == IntegrateStaggeredDPDStepKernel::Name())
+        return new CommonIntegrateStaggeredDPDStepKernel(name, platform, cc);
     if (name == IntegrateDenOtterClarkeStepKernel::Name())
         return new CommonIntegrateDenOtterClarkeStepKernel(name, platform, cc);
     if (name == CalcDPDSoftRepulsionForceKernel::Name())
@@ -34,6 +36,7 @@ void CommonDPDKernelFactory::registerWith(const std::string& platformName, const
     KernelFactory* factory = new CommonDPDKernelFactory(plugin, find);
     for (const std::string& name : {IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(),
                                     IntegrateLoweAndersenStepKernel::Name(), IntegrateDenOtterClarkeStepKernel::Name(),
+                                    IntegrateStaggeredDPDStepKernel::Name(),
                                     CalcDPDSoftRepulsionForceKernel::Name(),
                                     CalcMDPDForceKernel::Name()})
         platform->registerKernelFactory(name, factory);

@@ -340,7 +340,12 @@ void CommonDynamics::addVirialRows(int rows, double scale) {
 }
 
 void CommonDynamics::sumIntoCarried(bool withDissipative) {
+    sumForcesInto(carriedForce, withDissipative);
+}
+
+void CommonDynamics::sumForcesInto(ComputeArray& out, bool withDissipative) {
     sumKernel->setArg(6, withDissipative ? 1 : 0);
+    sumKernel->setArg(7, out);
     sumKernel->execute(numAtoms());
 }
 
@@ -393,6 +398,7 @@ void CommonDynamics::createCheckpoint(std::ostream& stream) const {
         for (int d = 0; d < 3; d++)
             copy.force[a][d] = std::ldexp((double) fixed[a + d * n], -32);  // exact: |force| < 2^21
     copy.write(stream, random.getSeed());
+    saveExtraState(stream);
 }
 
 void CommonDynamics::loadCheckpoint(ContextImpl& context, CheckpointReader& reader) {
@@ -401,6 +407,7 @@ void CommonDynamics::loadCheckpoint(ContextImpl& context, CheckpointReader& read
     context.getPositions(r);
     context.getVelocities(v);
     const uint32_t seed = loaded.read(reader, r, v);
+    loadExtraState(reader);
     reader.expectEnd();
     const int n = numAtoms();
     std::vector<long long> fixed(3 * std::max(n, 1), 0);
@@ -409,6 +416,7 @@ void CommonDynamics::loadCheckpoint(ContextImpl& context, CheckpointReader& read
             fixed[a + d * n] = (long long) std::ldexp(loaded.force[a][d], 32);
     ContextSelector selector(cc);
     carriedForce.upload(fixed);
+    commitExtraState();
     carried = std::move(loaded);
     random = PairRandom(seed);
     awaitingRestoreCheck = true;
@@ -417,4 +425,5 @@ void CommonDynamics::loadCheckpoint(ContextImpl& context, CheckpointReader& read
 void CommonDynamics::resetState() {
     carried = CarriedForce(numAtoms());
     awaitingRestoreCheck = false;
+    resetExtraState();
 }

@@ -9,9 +9,19 @@
 using namespace DPDPlugin;
 using namespace OpenMM;
 
+namespace {
+
+std::vector<std::string> withSweepSources(std::vector<std::string> ruleSources) {
+    ruleSources.insert(ruleSources.begin(), {CommonDPDKernelSources::dpdvv, CommonDPDKernelSources::sweep});
+    return ruleSources;
+}
+
+} // namespace
+
 CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
-                                         const std::string& platform) :
-        CommonDynamics(cc, system, integrator, platform, {CommonDPDKernelSources::dpdvv, CommonDPDKernelSources::sweep}, false),
+                                         const std::string& platform, const std::vector<std::string>& ruleSources,
+                                         bool withPairForces) :
+        CommonDynamics(cc, system, integrator, platform, withSweepSources(ruleSources), withPairForces),
         scan(cc, program) {
     ContextSelector selector(cc);
     const int n = std::max(numAtoms(), 1);

@@ -4,6 +4,7 @@
 #include "openmmdpd/CommonCellList.h"
 #include "openmmdpd/CommonDPDVVDynamics.h"
 #include "openmmdpd/CommonDenOtterClarkeDynamics.h"
+#include "openmmdpd/CommonStaggeredDynamics.h"
 #include "openmmdpd/CommonSweepDynamics.h"
 #include "openmmdpd/DPDKernels.h"
 #include "openmmdpd/DynamicsStepKernel.h"
@@ -53,6 +54,8 @@ using CommonIntegrateShardlowStepKernel = CommonStepKernel<IntegrateShardlowStep
 using CommonIntegrateLoweAndersenStepKernel =
         CommonStepKernel<IntegrateLoweAndersenStepKernel, LoweAndersenIntegrator, CommonLoweAndersenDynamics>;
 
+using CommonIntegrateStaggeredDPDStepKernel =
+        CommonStepKernel<IntegrateStaggeredDPDStepKernel, StaggeredDPDIntegrator, CommonStaggeredDynamics>;
 using CommonIntegrateDenOtterClarkeStepKernel =
         MeasuringStepKernel<CommonStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, CommonDenOtterClarkeDynamics>>;
 

@@ -116,6 +116,16 @@ protected:
      * grids), and the flags raised during it name the step, as the Reference's checks do.
      */
     void checkStatus(OpenMM::ContextImpl& context, long long step);
+    /**
+     * A rule's state beyond the carried force, in checkpoints after it: write it; read and
+     * check it without using it; take it into use once the whole checkpoint is read; drop it.
+     */
+    virtual void saveExtraState(std::ostream&) const {}
+    virtual void loadExtraState(CheckpointReader&) {}
+    virtual void commitExtraState() {}
+    virtual void resetExtraState() {}
+    /** Sums FC (by slot) + FR (+ FD) into `out` (by atom), as sumIntoCarried into carriedForce. */
+    void sumForcesInto(OpenMM::ComputeArray& out, bool withDissipative);
     /** Advance step count and time; let OpenMM reorder its slots for locality. */
     void finishStep(double dt);
     double velocityBound() const;

@@ -19,8 +19,9 @@ class CommonSweepDynamics : public CommonDynamics {
 protected:
     /** The pair rule of a sweep (kernels/sweep.cc). */
     enum Rule { ShardlowRule = 0, LoweRule = 1, PairOrnsteinUhlenbeckRule = 2 };
+    /** ruleSources and withPairForces: a rule's own kernels, and whether it uses pairForces too (CommonDynamics). */
     CommonSweepDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const DPDThermostatIntegrator& integrator,
-                        const std::string& platform);
+                        const std::string& platform, const std::vector<std::string>& ruleSources = {}, bool withPairForces = false);
     /** At the start of a step: make sure the carried force is FC at the current positions. */
     void ensureCarriedForce(OpenMM::ContextImpl& context, int forceGroups);
     /** v += dt/2m F ; r += dt v ; F <- FC(r) ; v += dt/2m F. */
