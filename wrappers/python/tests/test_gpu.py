@@ -18,7 +18,7 @@ import pytest
 from openmm import unit
 
 import openmmdpd
-from openmmdpd import shear
+from openmmdpd import shear, staggered
 from openmmdpd.analysis import standard_error
 from openmmdpd.catalog import integrators
 from openmmdpd.pressure import pressure_tensor
@@ -104,6 +104,20 @@ def test_opencl_shear_profile_and_viscosity_agree_with_cpu():
     assert slope_sigma <= 0.02 / 3 and abs(slope - 1) <= 0.02
     assert sigma <= 0.02 and cpu_sigma <= 0.02, "too short to see a 5 % difference"
     assert abs(eta - cpu) <= 3 * np.hypot(sigma, cpu_sigma)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("base", ["vv", "lowe"])
+def test_opencl_staggered_kT_agrees_with_cpu(base):
+    """StaggeredDPDIntegrator (K = 5, dt 0.002) on 2000 particles with 10 FENE chains of 5 beads:
+    the total <kT> (10 block averages) on OpenCL against the CPU's, each sigma <= 0.003."""
+    scene, state = staggered.equilibrated_fene_chains(chain_length=5, num_chains=10, num_particles=2000, time_units=2.0)
+    runs = {name: staggered.run_fene_chains(scene, state, 5, 0.002, 80.0, base=base, platform=name)["total_kT"]
+            for name in ("OpenCL", "CPU")}
+    (device, device_sigma), (cpu, cpu_sigma) = runs["OpenCL"], runs["CPU"]
+    print(f"staggered {base}: OpenCL {device:.4f} +- {device_sigma:.4f}, CPU {cpu:.4f} +- {cpu_sigma:.4f}")
+    assert device_sigma <= MAX_SIGMA and cpu_sigma <= MAX_SIGMA, "too short to see a 1 % difference"
+    assert abs(device - cpu) <= 3 * np.hypot(device_sigma, cpu_sigma)
 
 
 def test_unsupported_integrator_is_refused_on_opencl():
