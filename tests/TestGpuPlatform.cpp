@@ -42,15 +42,7 @@ const std::string GPU = "CUDA";
 const std::string GPU = "OpenCL";
 #endif
 
-bool haveDevice() {
-    try {
-        Platform::getPlatformByName(GPU);
-        return true;
-    }
-    catch (const OpenMMException&) {
-        return false;
-    }
-}
+bool haveDevice() { return platformExists(GPU); }
 
 #define REQUIRE_DEVICE() \
     if (!haveDevice()) \
@@ -305,7 +297,8 @@ void expectFollowsReference(const MakeIntegrator& make, int n, const std::string
 
 } // namespace
 
-// Single precision, still, sheared and constrained, is TestIntegratorPhysics.cpp's for every integrator.
+// Single precision, still and sheared for every integrator, constrained for those that take
+// constraints here: TestIntegratorPhysics.cpp.
 TEST(GpuPlatform, DPDVVFollowsReferenceInMixedPrecision) {
     REQUIRE_DEVICE();
     expectFollowsReference(dpdvv(DPDVVIntegrator::DPDVV), 600, "DPD-VV mixed precision", {{"Precision", "mixed"}});
@@ -726,8 +719,8 @@ MakeIntegrator sheared(const MakeIntegrator& make, double rate) {
 
 // Lees-Edwards shear backwards (rate -0.5, U = -2.7 nm/ps) in mixed precision: the box slides
 // 0.16 nm in 3 steps, particles and two-particle molecules cross the y boundaries with their
-// velocity jumps, and pairs across them see their partner's image move.  Forwards, with the
-// pressure tensor, every integrator: TestIntegratorPhysics.cpp.
+// velocity jumps, and pairs across them see their partner's image move.  Forwards, every
+// integrator (with the pressure tensor where it is sampled): TestIntegratorPhysics.cpp.
 TEST(GpuPlatform, ShearFollowsReference) {
     REQUIRE_DEVICE();
     std::vector<Vec3> positions;
@@ -895,8 +888,9 @@ TEST(GpuPlatform, ConstraintsFollowReference) {
 
 // The staggered schemes under shear with their polymer (spring dimers in the fast group)
 // straddling the sliding boundary: molecules cross in the prediction and in the sub-steps,
-// which start again from the box at the start of the step.  (Away from the boundary, every
-// base and K: TestIntegratorPhysics.cpp.)
+// which start again from the box at the start of the step; with the recommended parameters
+// and with others (mu, a, b all in play, the slow force not weighted).  (Away from the
+// boundary, every base and K: TestIntegratorPhysics.cpp.)
 TEST(GpuPlatform, StaggeredPolymerCrossesTheShearedBoundary) {
     REQUIRE_DEVICE();
     std::vector<Vec3> positions;
@@ -909,15 +903,57 @@ TEST(GpuPlatform, StaggeredPolymerCrossesTheShearedBoundary) {
         positions[i + 1] = positions[i] + Vec3(0.3, 0, 0);
     }
     for (StaggeredDPDIntegrator::BaseScheme base : {StaggeredDPDIntegrator::VelocityVerlet, StaggeredDPDIntegrator::LoweAndersen})
-        for (int K : {1, 3}) {
-            MakeIntegrator make = [base, K](int) {
-                std::unique_ptr<StaggeredDPDIntegrator> integrator(new StaggeredDPDIntegrator(KT_KELVIN, 4.5, 1.0, 0.02, K));
-                integrator->setBaseScheme(base);
-                integrator->useRecommendedParameters();
-                integrator->setShearRate(0.5);
-                integrator->setRandomNumberSeed(1234);
-                return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
-            };
-            expectFollowsReference(*system, positions, make, "staggered base " + std::to_string(base) + ", K " + std::to_string(K));
-        }
+        for (int K : {1, 3})
+            for (bool recommended : {true, false}) {
+                MakeIntegrator make = [base, K, recommended](int) {
+                    std::unique_ptr<StaggeredDPDIntegrator> integrator(new StaggeredDPDIntegrator(KT_KELVIN, 4.5, 1.0, 0.02, K));
+                    integrator->setBaseScheme(base);
+                    integrator->useRecommendedParameters();
+                    if (!recommended) {
+                        integrator->setRelaxationParameters(0.2, 0.3, 0.4);
+                        integrator->setWeighted(false);
+                    }
+                    integrator->setShearRate(0.5);
+                    integrator->setRandomNumberSeed(1234);
+                    return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+                };
+                expectFollowsReference(*system, positions, make, "staggered base " + std::to_string(base) + ", K " +
+                                       std::to_string(K) + (recommended ? "" : ", mu a b 0.2 0.3 0.4, not weighted"));
+            }
+}
+
+// Live changes: new fast groups select a new polymer at the next step, as on the Reference;
+// a new base scheme is refused until the Context is reinitialised.
+TEST(GpuPlatform, StaggeredTakesNewFastGroupsAndRefusesANewBase) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeBondedSoftSystem(600, positions));
+    system->getForce(system->getNumForces() - 1).setForceGroup(1);
+    HarmonicBondForce* other = new HarmonicBondForce();
+    for (int i = 25; i + 1 < 600; i += 50)
+        other->addBond(i, i + 1, 0.0, 4.0);
+    other->setForceGroup(2);
+    system->addForce(other);
+    std::vector<std::vector<Vec3>> after;
+    for (const std::string& platform : {std::string("Reference"), GPU}) {
+        StaggeredDPDIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.02, 3);
+        integrator.setRandomNumberSeed(1234);
+        std::unique_ptr<Context> context = makeContext(*system, integrator, platform, positions);
+        integrator.step(2);
+        integrator.setFastForceGroups(1 << 2);
+        integrator.step(2);
+        after.push_back(context->getState(State::Positions).getPositions());
+        integrator.setBaseScheme(StaggeredDPDIntegrator::LoweAndersen);
+        expectErrorNaming([&] { integrator.step(1); }, "the base scheme changed after the Context was created");
+    }
+    Vec3 a, b, c;
+    system->getDefaultPeriodicBoxVectors(a, b, c);
+    double dr = 0;  // at the nearest image: the two may wrap differently
+    for (size_t i = 0; i < positions.size(); i++) {
+        Vec3 d = after[1][i] - after[0][i];
+        for (int m = 0; m < 3; m++)
+            d[m] -= a[0] * std::round(d[m] / a[0]);
+        dr = std::max(dr, std::sqrt(d.dot(d)));
+    }
+    EXPECT_LT(dr, 2e-5 * a[0]) << "positions after the new fast groups";
 }

@@ -69,6 +69,17 @@ inline std::unique_ptr<Context> makeContext(System& system, Integrator& integrat
     return context;
 }
 
+/** Whether OpenMM has the platform here (OpenCL, CUDA: where their plugins loaded). */
+inline bool platformExists(const std::string& platform) {
+    try {
+        Platform::getPlatformByName(platform);
+        return true;
+    }
+    catch (const OpenMMException&) {
+        return false;
+    }
+}
+
 inline std::vector<std::string> platforms() {
     std::vector<std::string> names = {"Reference"};
 #if OPENMMDPD_HAVE_CPU

@@ -396,7 +396,7 @@ void CommonDynamics::createCheckpoint(std::ostream& stream) const {
     const int n = numAtoms();
     for (int a = 0; a < n; a++)
         for (int d = 0; d < 3; d++)
-            copy.force[a][d] = std::ldexp((double) fixed[a + d * n], -32);  // exact: |force| < 2^21
+            copy.force[a][d] = fromFixedForce(fixed[a + d * n]);
     copy.write(stream, random.getSeed());
     saveExtraState(stream);
 }
@@ -413,7 +413,7 @@ void CommonDynamics::loadCheckpoint(ContextImpl& context, CheckpointReader& read
     std::vector<long long> fixed(3 * std::max(n, 1), 0);
     for (int a = 0; a < n; a++)
         for (int d = 0; d < 3; d++)
-            fixed[a + d * n] = (long long) std::ldexp(loaded.force[a][d], 32);
+            fixed[a + d * n] = toFixedForce(loaded.force[a][d]);
     ContextSelector selector(cc);
     carriedForce.upload(fixed);
     commitExtraState();

@@ -1,9 +1,9 @@
 #include "openmmdpd/CommonStaggeredDynamics.h"
 #include "CommonDPDKernelSources.h"
 #include "openmmdpd/CheckpointIO.h"
+#include "openmmdpd/StaggeredSteps.h"
 #include "openmmdpd/StepState.h"
 #include "openmm/common/ContextSelector.h"
-#include <cmath>
 
 using namespace DPDPlugin;
 using namespace OpenMM;
@@ -73,9 +73,7 @@ void CommonStaggeredDynamics::updatePolymer(const System& system, const Staggere
 
 void CommonStaggeredDynamics::step(ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
     ContextSelector selector(cc);
-    if (integrator.getBaseScheme() != baseScheme)
-        throw OpenMMException("StaggeredDPDIntegrator: the base scheme changed after the Context was created; call "
-                              "Context.reinitialize(True) after setBaseScheme()");
+    requireBaseScheme(integrator, baseScheme);
     const double Dt = integrator.getStepSize();
     const long long current = cc.getStepCount(), next = current + 1;
     bool valid = carriedIsValid(context);
@@ -172,9 +170,8 @@ void CommonStaggeredDynamics::subStep(ContextImpl& context, const StaggeredDPDIn
     finishDrift(dt, false);
     fastForce(context, integrator, next, newFast);
     // The slow force at the sub-step's two ends, linear in time from F to F^ (weighted), or F and F^.
-    const bool weighted = integrator.getWeighted();
-    const double weights[4] = {weighted ? (double) (K - s) / K : 1.0, weighted ? (double) s / K : 0.0,
-                               weighted ? (double) (K - s - 1) / K : 0.0, weighted ? (double) (s + 1) / K : 1.0};
+    const SubStepWeights w(integrator, s);
+    const double weights[4] = {w.oldOfF, w.oldOfNewF, w.newOfF, w.newOfNewF};
     setMixedArg(cc, kickKernel, 8, dt);
     setMixed4Arg(cc, kickKernel, 9, weights);
     setMixedArg(cc, kickKernel, 10, velocityBound());
@@ -189,7 +186,7 @@ void CommonStaggeredDynamics::saveExtraState(std::ostream& stream) const {
     std::vector<Vec3> values(polymer.particles.size());
     for (size_t k = 0; k < values.size(); k++)
         for (int d = 0; d < 3; d++)
-            values[k][d] = std::ldexp((double) fixed[polymer.particles[k] + d * n], -32);  // exact, as the carried force
+            values[k][d] = fromFixedForce(fixed[polymer.particles[k] + d * n]);
     putVectors(stream, values);
 }
 
@@ -203,7 +200,7 @@ void CommonStaggeredDynamics::commitExtraState() {
     std::vector<long long> fixed(3 * std::max(n, 1), 0);
     for (size_t k = 0; k < loadedFast.size(); k++)
         for (int d = 0; d < 3; d++)
-            fixed[polymer.particles[k] + d * n] = (long long) std::ldexp(loadedFast[k][d], 32);
+            fixed[polymer.particles[k] + d * n] = toFixedForce(loadedFast[k][d]);
     fast.upload(fixed);
     loadedFast.clear();
 }

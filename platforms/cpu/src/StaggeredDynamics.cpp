@@ -1,5 +1,6 @@
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/StaggeredDynamics.h"
+#include "openmmdpd/StaggeredSteps.h"
 #include "openmmdpd/PairEvaluators.h"
 #include "openmmdpd/DPDSoftRepulsionForce.h"
 #include "openmmdpd/MDPDForce.h"
@@ -152,9 +153,7 @@ void StaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDInt
 }
 
 void StaggeredDynamics::prepareStep(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
-    if (integrator.getBaseScheme() != baseScheme)
-        throw OpenMM::OpenMMException("StaggeredDPDIntegrator: the base scheme changed after the Context was created; call "
-                                      "Context.reinitialize(True) after setBaseScheme()");
+    requireBaseScheme(integrator, baseScheme);
     OpenMM::ReferencePlatform::PlatformData& data = platformData(context);
     numSubSteps = integrator.getNumSubSteps();
     bool valid = carriedForceValid(*data.positions, *data.velocities);
@@ -274,13 +273,11 @@ void StaggeredDynamics::subStep(OpenMM::ContextImpl& context, const StaggeredDPD
     computeFastForce(context, integrator, next, newFastForce);
     // The slow force at the ends of the sub-step: linear in time from F to F^ (weighted), or
     // F and F^ (non-weighted).
-    const bool weighted = integrator.getWeighted();
-    const double oldF = (weighted ? (double) (K - s) / K : 1.0), oldNew = (weighted ? (double) s / K : 0.0);
-    const double newF = (weighted ? (double) (K - s - 1) / K : 0.0), newNew = (weighted ? (double) (s + 1) / K : 1.0);
+    const SubStepWeights w(integrator, s);
     for (size_t k = 0; k < polymer.particles.size(); k++) {
         const int p = polymer.particles[k];
-        const Vec3 slowOld = force[p] * oldF + newForce[p] * oldNew;
-        const Vec3 slowNew = force[p] * newF + newForce[p] * newNew;
+        const Vec3 slowOld = force[p] * w.oldOfF + newForce[p] * w.oldOfNewF;
+        const Vec3 slowNew = force[p] * w.newOfF + newForce[p] * w.newOfNewF;
         v[p] += ((slowOld + fastForce[k]) + (slowNew + newFastForce[k])) * (0.5 * dt * invMass[p]);
         fastForce[k] = newFastForce[k];
     }

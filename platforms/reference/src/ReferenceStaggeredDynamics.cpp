@@ -1,5 +1,6 @@
 #include "openmmdpd/CheckpointIO.h"
 #include "openmmdpd/ReferenceStaggeredDynamics.h"
+#include "openmmdpd/StaggeredSteps.h"
 #include "openmm/OpenMMException.h"
 #include <istream>
 #include <ostream>
@@ -49,9 +50,7 @@ std::vector<Vec3> ReferenceStaggeredDynamics::fastForce(OpenMM::ContextImpl& con
 }
 
 void ReferenceStaggeredDynamics::step(OpenMM::ContextImpl& context, const StaggeredDPDIntegrator& integrator) {
-    if (integrator.getBaseScheme() != baseScheme)
-        throw OpenMM::OpenMMException("StaggeredDPDIntegrator: the base scheme changed after the Context was created; call "
-                                      "Context.reinitialize(True) after setBaseScheme()");
+    requireBaseScheme(integrator, baseScheme);
     std::vector<Vec3>& r = *data(context).positions;
     std::vector<Vec3>& v = *data(context).velocities;
     const long long current = data(context).stepCount;
@@ -166,14 +165,12 @@ void ReferenceStaggeredDynamics::subStep(OpenMM::ContextImpl& context, const Sta
     // The slow force at the two ends of the sub-step, linear in time from F to F^
     // (weighted): Fold = (K-s)/K F + s/K F^, Fnew = (K-s-1)/K F + (s+1)/K F^;
     // or (non-weighted) Fold = F, Fnew = F^.
-    const bool weighted = integrator.getWeighted();
-    const double oldOfF = (weighted ? (double) (K - s) / K : 1.0), oldOfNewF = (weighted ? (double) s / K : 0.0);
-    const double newOfF = (weighted ? (double) (K - s - 1) / K : 0.0), newOfNewF = (weighted ? (double) (s + 1) / K : 1.0);
+    const SubStepWeights w(integrator, s);
     // u_p <- u_p + dt/(2m) [(Fold + Fp_p) + (Fnew + Fp*)] ;  Fp_p <- Fp*
     for (size_t k = 0; k < polymer.particles.size(); k++) {
         const int p = polymer.particles[k];
-        const Vec3 Fold = F[p] * oldOfF + newF[p] * oldOfNewF;
-        const Vec3 Fnew = F[p] * newOfF + newF[p] * newOfNewF;
+        const Vec3 Fold = F[p] * w.oldOfF + newF[p] * w.oldOfNewF;
+        const Vec3 Fnew = F[p] * w.newOfF + newF[p] * w.newOfNewF;
         u[p] += ((Fold + Fp[k]) + (Fnew + newFp[k])) * (0.5 * dt * invMass[p]);
     }
     Fp = newFp;

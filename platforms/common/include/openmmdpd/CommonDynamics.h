@@ -9,6 +9,7 @@
 #include "openmmdpd/PressureTensor.h"
 #include "openmmdpd/StepState.h"
 #include "openmm/internal/ContextImpl.h"
+#include <cmath>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -126,6 +127,9 @@ protected:
     virtual void resetExtraState() {}
     /** Sums FC (by slot) + FR (+ FD) into `out` (by atom), as sumIntoCarried into carriedForce. */
     void sumForcesInto(OpenMM::ComputeArray& out, bool withDissipative);
+    /** A force component in OpenMM's 64-bit fixed point (2^32 per kJ/mol/nm) and back: exact below 2^21. */
+    static double fromFixedForce(long long value) { return std::ldexp((double) value, -32); }
+    static long long toFixedForce(double value) { return (long long) std::ldexp(value, 32); }
     /** Advance step count and time; let OpenMM reorder its slots for locality. */
     void finishStep(double dt);
     double velocityBound() const;

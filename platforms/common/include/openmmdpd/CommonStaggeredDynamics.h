@@ -13,7 +13,9 @@ namespace DPDPlugin {
  * slow force groups, with the velocity-Verlet base the pair forces at the predicted
  * velocities), K sub-steps of the polymer alone with OpenMM's fast groups evaluated on the
  * device, and with the Lowe base the sweep over the end-of-step pairs.  Carried (and in
- * checkpoints): the slow force on every particle and the fast force on the polymer.
+ * checkpoints): the slow force on every particle and the fast force on the polymer.  Unlike
+ * the Reference, a non-finite fast force is not named as such: the velocity and position
+ * checks at the end of the step stop the run.
  */
 class CommonStaggeredDynamics : public CommonSweepDynamics {
 public:
@@ -25,7 +27,6 @@ protected:
     void saveExtraState(std::ostream& stream) const override;
     void loadExtraState(CheckpointReader& reader) override;
     void commitExtraState() override;
-    void resetExtraState() override { loadedFast.clear(); }
 
 private:
     /** The polymer for the integrator's fast groups and explicit list, on the device. */
