@@ -92,20 +92,6 @@ void configure(DPDVVIntegrator& integrator, DPDVVIntegrator::Variant variant) {
     integrator.addTypePair(0, 1, 6.0, 0.9);
 }
 
-double maxNorm(const std::vector<Vec3>& a) {
-    double m = 0;
-    for (const Vec3& x : a)
-        m = std::max(m, std::sqrt(x.dot(x)));
-    return m;
-}
-
-double maxDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    double m = 0;
-    for (size_t i = 0; i < a.size(); i++)
-        m = std::max(m, std::sqrt((a[i] - b[i]).dot(a[i] - b[i])));
-    return m;
-}
-
 Vec3 momentum(System& system, const State& state) {
     Vec3 p;
     for (int i = 0; i < system.getNumParticles(); i++)
@@ -271,15 +257,8 @@ void expectFollowsReference(System& system, const std::vector<Vec3>& positions, 
     Vec3 a, b, c;
     system.getDefaultPeriodicBoxVectors(a, b, c);
     for (int k = 0; k < 2; k++) {
-        double dr = 0;  // the nearest image of the difference: positions may be wrapped differently
-        for (size_t i = 0; i < positions.size(); i++) {
-            Vec3 d = actual[k].positions[i] - expected[k].positions[i];
-            for (int m = 0; m < 3; m++)
-                d[m] -= a[0] * std::round(d[m] / a[0]);
-            dr = std::max(dr, std::sqrt(d.dot(d)));
-        }
         const std::string after = label + ": after " + (k == 0 ? "1 step" : "3 steps");
-        EXPECT_LT(dr, 2e-5 * a[0]) << after << ", positions";
+        EXPECT_LT(maxImageDifference(actual[k].positions, expected[k].positions, a[0]), 2e-5 * a[0]) << after << ", positions";
         EXPECT_LT(maxDifference(expected[k].velocities, actual[k].velocities), 2e-5 * maxNorm(expected[k].velocities))
                 << after << ", velocities";
     }
@@ -645,17 +624,13 @@ TEST(GpuPlatform, BlowUpsStopTheStepTheyHappenInAsOnReference) {
 namespace {
 
 // The pressure tensor's parts (kinetic, conservative, thermostat, total) sampled by one step on a platform.
-std::vector<std::vector<double>> pressureParts(System& system, const std::vector<Vec3>& positions, const MakeIntegrator& make,
-                                               const std::string& platform) {
+std::vector<std::vector<double>> sampledPressureParts(System& system, const std::vector<Vec3>& positions, const MakeIntegrator& make,
+                                                      const std::string& platform) {
     std::unique_ptr<DPDThermostatIntegrator> integrator = make(system.getNumParticles());
     integrator->setPressureTensorEnabled(true);
     std::unique_ptr<Context> context = makeContext(system, *integrator, platform, positions);
     integrator->step(1);
-    std::vector<std::vector<double>> parts;
-    for (int part : {DPDThermostatIntegrator::PressureKinetic, DPDThermostatIntegrator::PressureConservative,
-                     DPDThermostatIntegrator::PressureThermostat, DPDThermostatIntegrator::PressureTotal})
-        parts.push_back(integrator->getAveragePressureTensor(part));
-    return parts;
+    return pressureParts(*integrator);
 }
 
 // The soft fluid with a DPD spring (k = 4, r0 = 0) between every 50th particle and the next.
@@ -680,15 +655,9 @@ System* makeBondedSoftSystem(int n, std::vector<Vec3>& positions) {
 void expectPressureFollowsReference(int n, const std::string& label, const MakeIntegrator& make) {
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeBondedSoftSystem(n, positions));
-    const std::vector<std::vector<double>> expected = pressureParts(*system, positions, make, "Reference");
-    const std::vector<std::vector<double>> actual = pressureParts(*system, positions, make, GPU);
-    for (int p = 0; p < 4; p++) {
-        double scale = 0;
-        for (double x : expected[p])
-            scale = std::max(scale, std::fabs(x));
-        for (int c = 0; c < 6; c++)
-            EXPECT_NEAR(actual[p][c], expected[p][c], 1e-4 * scale) << label << ", " << n << " particles, part " << p << ", component " << c;
-    }
+    const std::vector<std::vector<double>> expected = sampledPressureParts(*system, positions, make, "Reference");
+    const std::vector<std::vector<double>> actual = sampledPressureParts(*system, positions, make, GPU);
+    expectPressurePartsNear(expected, actual, 1e-4, label + ", " + std::to_string(n) + " particles");
 }
 
 } // namespace
@@ -948,12 +917,5 @@ TEST(GpuPlatform, StaggeredTakesNewFastGroupsAndRefusesANewBase) {
     }
     Vec3 a, b, c;
     system->getDefaultPeriodicBoxVectors(a, b, c);
-    double dr = 0;  // at the nearest image: the two may wrap differently
-    for (size_t i = 0; i < positions.size(); i++) {
-        Vec3 d = after[1][i] - after[0][i];
-        for (int m = 0; m < 3; m++)
-            d[m] -= a[0] * std::round(d[m] / a[0]);
-        dr = std::max(dr, std::sqrt(d.dot(d)));
-    }
-    EXPECT_LT(dr, 2e-5 * a[0]) << "positions after the new fast groups";
+    EXPECT_LT(maxImageDifference(after[1], after[0], a[0]), 2e-5 * a[0]) << "positions after the new fast groups";
 }

@@ -3,6 +3,7 @@
 
 // Systems and checks shared by the integrator tests.
 
+#include "openmmdpd/DPDThermostatIntegrator.h"
 #include "openmm/Context.h"
 #include "openmm/CustomBondForce.h"
 #include "openmm/CustomNonbondedForce.h"
@@ -95,6 +96,55 @@ inline Vec3 totalMomentum(Context& context) {
     for (const Vec3& v : state.getVelocities())
         p += v;
     return p;
+}
+
+/** max |a_i| over the particles. */
+inline double maxNorm(const std::vector<Vec3>& a) {
+    double m = 0;
+    for (const Vec3& x : a)
+        m = std::max(m, std::sqrt(x.dot(x)));
+    return m;
+}
+
+/** max |a_i - b_i| over the particles. */
+inline double maxDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double m = 0;
+    for (size_t i = 0; i < a.size(); i++)
+        m = std::max(m, std::sqrt((a[i] - b[i]).dot(a[i] - b[i])));
+    return m;
+}
+
+/** max |a_i - b_i| at the nearest image along each axis of a cubic box of edge `edge`: two platforms may wrap differently. */
+inline double maxImageDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b, double edge) {
+    double m = 0;
+    for (size_t i = 0; i < a.size(); i++) {
+        Vec3 d = a[i] - b[i];
+        for (int k = 0; k < 3; k++)
+            d[k] -= edge * std::round(d[k] / edge);
+        m = std::max(m, std::sqrt(d.dot(d)));
+    }
+    return m;
+}
+
+/** The pressure tensor's averaged parts: kinetic, conservative, thermostat, total. */
+inline std::vector<std::vector<double>> pressureParts(const DPDPlugin::DPDThermostatIntegrator& integrator) {
+    std::vector<std::vector<double>> parts;
+    for (int part : {DPDPlugin::DPDThermostatIntegrator::PressureKinetic, DPDPlugin::DPDThermostatIntegrator::PressureConservative,
+                     DPDPlugin::DPDThermostatIntegrator::PressureThermostat, DPDPlugin::DPDThermostatIntegrator::PressureTotal})
+        parts.push_back(integrator.getAveragePressureTensor(part));
+    return parts;
+}
+
+/** Each component of each part within `tolerance` times the part's largest component. */
+inline void expectPressurePartsNear(const std::vector<std::vector<double>>& expected, const std::vector<std::vector<double>>& actual,
+                                    double tolerance, const std::string& label) {
+    for (size_t p = 0; p < expected.size(); p++) {
+        double scale = 0;
+        for (double x : expected[p])
+            scale = std::max(scale, std::fabs(x));
+        for (size_t k = 0; k < expected[p].size(); k++)
+            EXPECT_NEAR(actual[p][k], expected[p][k], tolerance * scale) << label << ", pressure tensor part " << p << ", component " << k;
+    }
 }
 
 /** max |a - b| / max |a| over the particles (0 if a is all zero). */

@@ -96,7 +96,7 @@ State runState(System& system, Integrator& integrator, const std::string& platfo
     return context->getState(State::Positions | State::Velocities);
 }
 
-double maxDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+double maxComponentDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
     double worst = 0;
     for (size_t i = 0; i < a.size(); i++)
         for (int d = 0; d < 3; d++)
@@ -416,8 +416,8 @@ TEST(StaggeredIntegrator, OneSubStepIsTheBaseIntegrator) {
             State expected = runState(*system, reference, platform, positions, 20);
             State actual = runState(*system, *staggered, platform, positions, 20);
             // positions ~ 5 nm, velocities ~ 1 nm/ps
-            EXPECT_LE(maxDifference(expected.getPositions(), actual.getPositions()), 5e-12) << platform << " base " << base;
-            EXPECT_LE(maxDifference(expected.getVelocities(), actual.getVelocities()), 1e-12) << platform << " base " << base;
+            EXPECT_LE(maxComponentDifference(expected.getPositions(), actual.getPositions()), 5e-12) << platform << " base " << base;
+            EXPECT_LE(maxComponentDifference(expected.getVelocities(), actual.getVelocities()), 1e-12) << platform << " base " << base;
             EXPECT_EQ(actual.getStepCount(), 20);
             EXPECT_NEAR(actual.getTime(), 0.2, 1e-12);
         }
@@ -563,9 +563,9 @@ TEST(StaggeredIntegrator, SideContextsMatchTheFullContext) {
         auto a = makeStaggered(base, 0.01, 5), b = makeStaggered(base, 0.01, 5);
         State sa = runState(*copyable, *a, "CPU", positions, 10);
         State sb = runState(*fallback, *b, "CPU", positions, 10);
-        EXPECT_LE(maxDifference(sa.getPositions(), sb.getPositions()), 1e-11) << "base " << base;
-        EXPECT_LE(maxDifference(sa.getVelocities(), sb.getVelocities()), 1e-10) << "base " << base;
-        EXPECT_GT(maxDifference(sa.getPositions(), positions), 0.01);
+        EXPECT_LE(maxComponentDifference(sa.getPositions(), sb.getPositions()), 1e-11) << "base " << base;
+        EXPECT_LE(maxComponentDifference(sa.getVelocities(), sb.getVelocities()), 1e-10) << "base " << base;
+        EXPECT_GT(maxComponentDifference(sa.getPositions(), positions), 0.01);
     }
 }
 #endif

@@ -202,8 +202,9 @@ void DPDThermostatForces::appendPairsOneByOne(int p, const int* qs, const Vec3* 
         PairGeometry& g = out[count];
         if (!parameters.pairGeometry(i, j, t, d, g, imageVx))
             continue;
+        const double distance = table.cutoff(t) * (1 - g.wR);
         acceptedQ[count - start] = q;
-        r[count - start] = table.cutoff(t) * (1 - g.wR);
+        r[count - start] = distance;
         outParticles[count++] = {i, j};
         if (pairsBySlot) {
             g.i = p;
@@ -211,7 +212,7 @@ void DPDThermostatForces::appendPairsOneByOne(int p, const int* qs, const Vec3* 
         }
         if (soft != nullptr) {
             const int softType = soft->getTable().indexOfTypes(sortedFusedTypes[p], sortedFusedTypes[q]);
-            const Vec3 f = g.e * soft->pairForce(i, j, softType, r[count - 1 - start]);
+            const Vec3 f = g.e * soft->pairForce(i, j, softType, distance);
             fusedForce[p] += f;
             fusedForce[q] -= f;
         }
