@@ -83,11 +83,21 @@ System* makeSoftSystem(int n, std::vector<Vec3>& positions) {
     return system;
 }
 
-void configure(DPDVVIntegrator& integrator, DPDVVIntegrator::Variant variant) {
+// A spring that uses OpenMM's periodic device kernels, which take the box as the Context was
+// made: allowed without shear or the pressure tensor, refused with either.
+void addPeriodicSprings(System& system) {
+    HarmonicBondForce* bonds = new HarmonicBondForce();
+    bonds->addBond(0, 1, 0.0, 4.0);
+    bonds->setUsesPeriodicBoundaryConditions(true);
+    bonds->setName("PeriodicSprings");
+    system.addForce(bonds);
+}
+
+void configure(DPDVVIntegrator& integrator, DPDVVIntegrator::Variant variant, int numParticles = 600) {
     integrator.setVariant(variant);
     integrator.setLambda(0.65);
     integrator.setRandomNumberSeed(1234);
-    for (int i = 0; i < 600; i += 3)
+    for (int i = 0; i < numParticles; i += 3)
         integrator.setParticleType(i, 1);
     integrator.addTypePair(0, 1, 6.0, 0.9);
 }
@@ -188,28 +198,35 @@ TEST(GpuPlatform, MDPDForceEqualsReference) {
         EXPECT_NEAR(pressure[1][c], pressure[0][c], 1e-4 * scale) << "component " << c;
 }
 
-// The box that Lees-Edwards shear makes, b = (tilt, Ly, 0), at tilts up to OpenMM's Lx/2: the
-// rows across the y boundary are found shifted along x (kernels/cellList.cc).
-TEST(GpuPlatform, SoftRepulsionForceEqualsReferenceInATiltedBox) {
+// Tilted boxes: the one Lees-Edwards shear makes, b = (tilt, Ly, 0), at tilts up to OpenMM's
+// Lx/2, and triclinic ones with c tilted too.  The device bins them on their fractional axes
+// (kernels/cellList.cc) and takes images along c, b, a (kernels/utilities.cc).
+TEST(GpuPlatform, PairForcesEqualReferenceInTiltedBoxes) {
     REQUIRE_DEVICE();
     std::vector<Vec3> positions;
-    std::unique_ptr<System> system(makeSoftSystem(600, positions));
+    std::unique_ptr<System> soft(makeSoftSystem(600, positions)), mdpd(makeMDPDSystem(600, positions));
     Vec3 a, b, c;
-    system->getDefaultPeriodicBoxVectors(a, b, c);
-    for (double tilt : {0.3, 1.7, -2.6, 2.65}) {
-        // The System's own box: OpenMM 8 refuses to tilt a Context made with a rectangular one.
-        system->setDefaultPeriodicBoxVectors(a, Vec3(tilt, b[1], 0), c);
-        VerletIntegrator first(0.001), second(0.001);
-        Context reference(*system, first, Platform::getPlatformByName("Reference"));
-        Context device(*system, second, Platform::getPlatformByName(GPU));
-        for (Context* context : {&reference, &device})
-            context->setPositions(positions);
-        const State expected = reference.getState(State::Forces | State::Energy);
-        const State actual = device.getState(State::Forces | State::Energy);
-        EXPECT_LT(maxDifference(expected.getForces(), actual.getForces()), 1e-5 * maxNorm(expected.getForces())) << "tilt " << tilt;
-        EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-5 * std::fabs(expected.getPotentialEnergy()))
-                << "tilt " << tilt;
-    }
+    soft->getDefaultPeriodicBoxVectors(a, b, c);
+    // (b_x, c_x, c_y): Lees-Edwards offsets, then triclinic boxes
+    const std::vector<std::array<double, 3>> tilts = {{0.3, 0, 0}, {1.7, 0, 0}, {-2.6, 0, 0}, {2.65, 0, 0},
+                                                      {1.1, -1.9, 1.3}, {-0.4, 2.2, -2.4}};
+    for (System* system : {soft.get(), mdpd.get()})
+        for (const std::array<double, 3>& tilt : tilts) {
+            // The System's own box: OpenMM 8 refuses to tilt a Context made with a rectangular one.
+            system->setDefaultPeriodicBoxVectors(a, Vec3(tilt[0], b[1], 0), Vec3(tilt[1], tilt[2], c[2]));
+            VerletIntegrator first(0.001), second(0.001);
+            Context reference(*system, first, Platform::getPlatformByName("Reference"));
+            Context device(*system, second, Platform::getPlatformByName(GPU));
+            for (Context* context : {&reference, &device})
+                context->setPositions(positions);
+            const State expected = reference.getState(State::Forces | State::Energy);
+            const State actual = device.getState(State::Forces | State::Energy);
+            const std::string label = std::string(system == soft.get() ? "soft repulsion" : "MDPD") + ", tilts " +
+                                      std::to_string(tilt[0]) + " " + std::to_string(tilt[1]) + " " + std::to_string(tilt[2]);
+            EXPECT_LT(maxDifference(expected.getForces(), actual.getForces()), 1e-5 * maxNorm(expected.getForces())) << label;
+            EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-5 * std::fabs(expected.getPotentialEnergy()))
+                    << label;
+        }
 }
 
 namespace {
@@ -221,9 +238,9 @@ struct Run {
 using MakeIntegrator = std::function<std::unique_ptr<DPDThermostatIntegrator>(int numParticles)>;
 
 MakeIntegrator dpdvv(DPDVVIntegrator::Variant variant) {
-    return [variant](int) {
+    return [variant](int numParticles) {
         std::unique_ptr<DPDVVIntegrator> integrator(new DPDVVIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
-        configure(*integrator, variant);
+        configure(*integrator, variant, numParticles);
         return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
     };
 }
@@ -390,12 +407,13 @@ TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
     REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(100, positions));
+    addPeriodicSprings(*system);
     DPDVVIntegrator integrator(KT_KELVIN, 4.5, 1.0, 0.02);
     std::unique_ptr<Context> context = makeContext(*system, integrator, GPU, positions);
     integrator.step(1);
     const State before = context->getState(State::Positions);
     integrator.setShearRate(0.1);
-    expectErrorNaming([&] { integrator.step(1); }, "Lees-Edwards shear of a box less than 3 cutoffs high (2.92");
+    expectErrorNaming([&] { integrator.step(1); }, "OpenMM's periodic PeriodicSprings (force 1");
     integrator.setShearRate(0);
     EXPECT_EQ(context->getState(State::Positions).getPositions(), before.getPositions()) << "nothing changed";
     EXPECT_EQ(context->getState(0).getStepCount(), 1);
@@ -699,12 +717,15 @@ TEST(GpuPlatform, ShearFollowsReference) {
 }
 
 // A sweep under shear backwards, in the Reference's pair order on the grid of the sheared
-// lattice (forwards, every sweep: TestIntegratorPhysics.cpp).
+// lattice (forwards, every sweep: TestIntegratorPhysics.cpp).  And a box less than 3 cutoffs
+// high (2.92 nm), whose rows across the sliding boundary are each other's neighbours twice over.
 TEST(GpuPlatform, ShearedSweepsFollowReference) {
     REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeBondedSoftSystem(600, positions));
     expectFollowsReference(*system, positions, sheared(shardlow(2), -0.5), "S2 sheared backwards");
+    expectFollowsReference(sheared(shardlow(2), 0.5), 100, "S2 sheared, 2 cutoffs high");
+    expectFollowsReference(sheared(dpdvv(DPDVVIntegrator::GrootWarren), 0.5), 100, "GW sheared, 2 cutoffs high");
 }
 
 // Transverse friction in mixed precision (single precision's pow, as for the weight exponents),
@@ -740,11 +761,7 @@ TEST(GpuPlatform, RefusesOpenMMPeriodicForcesUnderShearOrStrain) {
     std::unique_ptr<DPDThermostatIntegrator> allowed = sheared(dpdvv(DPDVVIntegrator::GrootWarren), 0.5)(600);
     allowed->setPressureTensorEnabled(true);
     makeContext(*system, *allowed, GPU, positions);
-    HarmonicBondForce* bonds = new HarmonicBondForce();
-    bonds->addBond(0, 1, 0.0, 4.0);
-    bonds->setUsesPeriodicBoundaryConditions(true);
-    bonds->setName("PeriodicSprings");
-    system->addForce(bonds);
+    addPeriodicSprings(*system);
     for (bool shear : {true, false}) {
         std::unique_ptr<DPDThermostatIntegrator> integrator = dpdvv(DPDVVIntegrator::GrootWarren)(600);
         integrator->setShearRate(shear ? 0.5 : 0.0);
@@ -786,12 +803,13 @@ TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
     REQUIRE_DEVICE();
     std::vector<Vec3> positions;
     std::unique_ptr<System> system(makeSoftSystem(100, positions));
+    addPeriodicSprings(*system);
     std::unique_ptr<DPDThermostatIntegrator> s2 = shardlow(2)(100);
     std::unique_ptr<Context> context = makeContext(*system, *s2, GPU, positions);
     s2->step(1);
     const State before = context->getState(State::Positions | State::Velocities);
     s2->setShearRate(0.1);
-    expectErrorNaming([&] { s2->step(1); }, "ShardlowIntegrator: Lees-Edwards shear of a box less than 3 cutoffs high");
+    expectErrorNaming([&] { s2->step(1); }, "ShardlowIntegrator: Lees-Edwards shear or the pressure tensor with OpenMM's periodic");
     s2->setShearRate(0);
     const State after = context->getState(State::Positions | State::Velocities);
     EXPECT_EQ(after.getPositions(), before.getPositions()) << "nothing changed";

@@ -1,9 +1,9 @@
 // The physics every platform must reproduce, written once for every integrator (TestSchemes.h)
 // and run on each platform: TestDPD runs it on Reference and CPU, TestDPDOpenCL on OpenCL and
-// TestDPDCUDA on CUDA.  Three variants of one System (a soft fluid of two particle types with
+// TestDPDCUDA on CUDA.  Four variants of one System (a soft fluid of two particle types with
 // their own type pairs, mixed masses, springs between a few pairs in force group 1, the fast
-// group of StaggeredDPDIntegrator): still, under Lees-Edwards shear at rate 0.5, and with rigid
-// dimers (constraints) each carrying a virtual site at its middle.
+// group of StaggeredDPDIntegrator): still, under Lees-Edwards shear at rate 0.5, with rigid
+// dimers (constraints) each carrying a virtual site at its middle, and in a triclinic box.
 //
 // - FollowsTheReference: positions and velocities after 1 and 3 steps equal the Reference
 //   platform's (CPU: 1e-10 relative, only the summation order differs; a device: 2e-5 of the
@@ -32,7 +32,7 @@ using namespace DPDPlugin;
 
 namespace {
 
-enum class Variant { Still, Sheared, Constrained };
+enum class Variant { Still, Sheared, Constrained, Triclinic };
 
 struct PhysicsCase {
     std::string platform;
@@ -44,7 +44,7 @@ void PrintTo(const PhysicsCase& c, std::ostream* out) {
     *out << c.platform << " " << c.scheme.name << " " << (int) c.variant;
 }
 
-constexpr int NUM_PARTICLES = 600;  // a box of 5.31 nm at density 4: at least 3 cutoffs, as a device needs under shear
+constexpr int NUM_PARTICLES = 600;  // a box of 5.31 nm at density 4: 3 cells or more on every axis, so the sweeps run by colour
 constexpr int NUM_DIMERS = 30;      // particles 0-89 as (bead, bead, site) with the Constrained variant
 
 std::vector<std::string> testedPlatforms() {
@@ -93,6 +93,12 @@ System* makeSystem(const PhysicsCase& c, std::vector<Vec3>& positions, std::vect
     }
     springs->setForceGroup(1);
     system->addForce(springs);
+    if (c.variant == Variant::Triclinic) {  // the cube's volume and OpenMM's reduced form, b and c both tilted
+        Vec3 a, b, cVector;
+        system->getDefaultPeriodicBoxVectors(a, b, cVector);
+        const double edge = a[0];
+        system->setDefaultPeriodicBoxVectors(a, Vec3(0.2 * edge, edge, 0), Vec3(-0.15 * edge, 0.25 * edge, edge));
+    }
     if (c.variant == Variant::Constrained)
         for (int k = 0; k < 3 * NUM_DIMERS; k += 3) {
             positions[k + 1] = positions[k] + Vec3(0.5, 0, 0);
@@ -256,13 +262,13 @@ std::vector<PhysicsCase> physicsCases() {
     std::vector<PhysicsCase> cases;
     for (const std::string& platform : testedPlatforms())
         for (const Scheme& scheme : schemes)
-            for (Variant variant : {Variant::Still, Variant::Sheared, Variant::Constrained})
+            for (Variant variant : {Variant::Still, Variant::Sheared, Variant::Constrained, Variant::Triclinic})
                 cases.push_back({platform, scheme, variant});
     return cases;
 }
 
 std::string caseName(const testing::TestParamInfo<PhysicsCase>& info) {
-    static const char* variants[] = {"Still", "Sheared", "Constrained"};
+    static const char* variants[] = {"Still", "Sheared", "Constrained", "Triclinic"};
     std::string name = info.param.platform + "_" + info.param.scheme.name + "_" + variants[(int) info.param.variant];
     for (char& ch : name)
         if (!std::isalnum((unsigned char) ch))

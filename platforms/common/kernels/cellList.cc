@@ -1,9 +1,11 @@
 /*
- * A cell list in a periodic box whose b may be tilted along x by boxSize.w (Lees-Edwards
- * shear): cells at least the cutoff wide on the grid of (Lx, Ly, Lz), each particle slot listed
- * in its cell (the order within a cell does not matter: every sum over a cell is taken in
- * fixed point).  A particle outside 0 <= y < Ly is binned at its image inside, shifted along x
- * by the tilt with each b.  An axis with fewer than three cells visits each cell once.
+ * A cell list in a periodic box of OpenMM's reduced form (a along x, b in the xy plane,
+ * c tilted or not: rectangular, sheared by Lees-Edwards, or triclinic), binned as the Reference
+ * bins (ReferencePairList.h): in fractional coordinates s_k = rows[k] . r, taken modulo 1,
+ * so that the box's faces, tilted or not, are the grid's.  Cells are at least the cutoff wide
+ * across, so a particle's partners lie in its cell and the 26 around it; an axis with fewer
+ * than three cells visits each cell once.  The rows of the inverse box matrix come as
+ * rowX = rows[0] and rowYZ = (rows[1][1], rows[1][2], rows[2][2], unused).
  */
 
 KERNEL void clearCells(int numCells, GLOBAL int* RESTRICT cellCount) {
@@ -18,17 +20,17 @@ inline DEVICE int cellOfFraction(mixed f, int n) {
     return (c < 0 ? 0 : (c >= n ? n-1 : c));  // also keeps a non-finite position inside the arrays
 }
 
-inline DEVICE int cellAlong(mixed x, mixed invSize, int n) {
-    return cellOfFraction(x*invSize, n);
+/* The cell of position r in a grid of numCells along the fractional axes. */
+inline DEVICE int fractionalCell(mixed4 r, mixed4 rowX, mixed4 rowYZ, int4 numCells) {
+    const mixed sx = rowX.x*r.x+rowX.y*r.y+rowX.z*r.z, sy = rowYZ.x*r.y+rowYZ.y*r.z, sz = rowYZ.z*r.z;
+    return cellOfFraction(sx, numCells.x) + numCells.x*(cellOfFraction(sy, numCells.y) + numCells.y*cellOfFraction(sz, numCells.z));
 }
 
-KERNEL void assignCells(int numAtoms, GLOBAL const real4* RESTRICT posq, mixed4 boxSize, mixed4 invBoxSize, int4 numCells,
+KERNEL void assignCells(int numAtoms, GLOBAL const real4* RESTRICT posq, mixed4 rowX, mixed4 rowYZ, int4 numCells,
         GLOBAL int* RESTRICT atomCell, GLOBAL int* RESTRICT cellCount) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const real4 r = posq[k];
-        const mixed x = r.x-floor(r.y*invBoxSize.y)*boxSize.w;
-        const int c = cellAlong(x, invBoxSize.x, numCells.x) +
-                numCells.x*(cellAlong(r.y, invBoxSize.y, numCells.y) + numCells.y*cellAlong(r.z, invBoxSize.z, numCells.z));
+        const int c = fractionalCell(make_mixed4(r.x, r.y, r.z, 0), rowX, rowYZ, numCells);
         atomCell[k] = c;
         ATOMIC_ADD(&cellCount[c], 1);
     }
@@ -107,29 +109,13 @@ inline DEVICE int shiftCell(int c, int offset, int n) {
     return (c+offset+n)%n;
 }
 
-/* How many neighbour slots a cell has: 4 along x (a row across a tilted boundary needs 4), 3 along y and z. */
-#define NEIGHBOUR_SLOTS 36
-
-/*
- * The x cell of slot (0..3) along x of a neighbour row `crossing` b away (-1, 0, 1): the
- * row's own cells x-1..x+1, or across a tilted boundary the 4 cells that hold x-1..x+2 shifted
- * by the tilt (fewer than 4 cells: each once); -1 for a slot with no cell.
- */
-inline DEVICE int neighbourColumn(int x, int slot, int crossing, int n, mixed4 boxSize) {
-    if (crossing == 0 || boxSize.w == 0)
-        return (slot == 3 ? -1 : shiftCell(x, slot-1, n));
-    if (n <= 4)
-        return (slot < n ? slot : -1);
-    const int first = (int) floor(x-1-crossing*boxSize.w*n/boxSize.x);
-    return ((first+slot)%n+n)%n;
-}
+/* How many neighbour slots a cell has: the offsets -1..1 along each axis. */
+#define NEIGHBOUR_SLOTS 27
 
 /* The n-th (0..NEIGHBOUR_SLOTS-1) neighbour of a cell, itself included; -1 where there is none. */
-inline DEVICE int neighbourCell(int cell, int n, int4 numCells, mixed4 boxSize) {
-    const int cy = (cell/numCells.x)%numCells.y, dy = (n/4)%3-1;
-    const int y = shiftCell(cy, dy, numCells.y);
-    const int z = shiftCell(cell/(numCells.x*numCells.y), n/12-1, numCells.z);
-    const int crossing = (cy+dy < 0 ? -1 : (cy+dy >= numCells.y ? 1 : 0));
-    const int x = neighbourColumn(cell%numCells.x, n%4, crossing, numCells.x, boxSize);
+inline DEVICE int neighbourCell(int cell, int n, int4 numCells) {
+    const int x = shiftCell(cell%numCells.x, n%3-1, numCells.x);
+    const int y = shiftCell((cell/numCells.x)%numCells.y, (n/3)%3-1, numCells.y);
+    const int z = shiftCell(cell/(numCells.x*numCells.y), n/9-1, numCells.z);
     return (x < 0 || y < 0 || z < 0 ? -1 : x+numCells.x*(y+numCells.y*z));
 }

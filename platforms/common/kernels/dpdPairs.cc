@@ -82,7 +82,7 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
         int numTypes, GLOBAL const mixed4* RESTRICT typeParams, GLOBAL const int* RESTRICT exceptionStart,
         GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor, mixed kT, mixed invSqrtDt, unsigned int seed,
         unsigned int stepLow, unsigned int stepHigh, int terms, GLOBAL mm_long* RESTRICT outD, GLOBAL mm_long* RESTRICT outR,
-        mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
+        mixed4 boxSize, mixed4 invBoxSize, mixed4 boxC, int4 numCells, GLOBAL const int* RESTRICT atomCell,
         GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int virialTerms, int paddedNumAtoms,
         GLOBAL mixed* RESTRICT virial, mixed imageVelocity, int transverse, GLOBAL const mixed4* RESTRICT transverseParams) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
@@ -92,7 +92,7 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
         mm_long fd[3] = {0, 0, 0}, fr[3] = {0, 0, 0};
         mixed w[6] = {0, 0, 0, 0, 0, 0};
         for (int n = 0; n < NEIGHBOUR_SLOTS && va.w != 0; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells, boxSize);
+            const int cell = neighbourCell(atomCell[k], n, numCells);
             if (cell < 0)
                 continue;
             for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
@@ -105,7 +105,7 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                 const bool aIsLo = (a < b);
                 const mixed4 rLo = (aIsLo ? ra : rb), rHi = (aIsLo ? rb : ra);
                 const mixed4 vLo = (aIsLo ? va : vb), vHi = (aIsLo ? vb : va);
-                const mixed4 d = nearestDisplacement(rLo, rHi, boxSize, invBoxSize);
+                const mixed4 d = nearestDisplacement(rLo, rHi, boxSize, invBoxSize, boxC);
                 const mixed dx = d.x, dy = d.y, dz = d.z;
                 const int typePair = atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a];
                 const mixed4 p = typeParams[typePair];  // friction, rc, s, rc^2

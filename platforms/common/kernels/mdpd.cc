@@ -16,21 +16,21 @@ inline DEVICE bool mdpdExcluded(int a, int b, GLOBAL const int* RESTRICT exclusi
 
 KERNEL void mdpdDensity(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
         GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT exclusionStart, GLOBAL const int* RESTRICT exclusions,
-        mixed4 densityParams, GLOBAL mixed* RESTRICT density, mixed4 boxSize, mixed4 invBoxSize, int4 numCells,
+        mixed4 densityParams, GLOBAL mixed* RESTRICT density, mixed4 boxSize, mixed4 invBoxSize, mixed4 boxC, int4 numCells,
         GLOBAL const int* RESTRICT atomCell, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mixed rho = 0;
         for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells, boxSize);
+            const int cell = neighbourCell(atomCell[k], n, numCells);
             if (cell < 0)
                 continue;
             for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
                 const int k2 = cellAtoms[s];
                 if (k2 == k)
                     continue;
-                const mixed4 d = nearestDisplacement(ra, loadPosition(posq, posqCorrection, k2), boxSize, invBoxSize);
+                const mixed4 d = nearestDisplacement(ra, loadPosition(posq, posqCorrection, k2), boxSize, invBoxSize, boxC);
                 const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
                 if (r2 < densityParams.z && !mdpdExcluded(a, atomIndex[k2], exclusionStart, exclusions))
                     rho += mdpdDensityWeight(sqrt(r2), densityParams.x, densityParams.y);
@@ -44,7 +44,7 @@ KERNEL void mdpdForce(int numAtoms, int paddedNumAtoms, int energyThreads, GLOBA
         GLOBAL const real4* RESTRICT posqCorrection, GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT atomType,
         int numTypes, GLOBAL const mixed4* RESTRICT typeParams, GLOBAL const mixed* RESTRICT typeB, mixed4 densityParams,
         GLOBAL const mixed* RESTRICT density, GLOBAL const int* RESTRICT exclusionStart, GLOBAL const int* RESTRICT exclusions,
-        GLOBAL mm_long* RESTRICT forceBuffer, GLOBAL mixed* RESTRICT energyBuffer, mixed4 boxSize, mixed4 invBoxSize,
+        GLOBAL mm_long* RESTRICT forceBuffer, GLOBAL mixed* RESTRICT energyBuffer, mixed4 boxSize, mixed4 invBoxSize, mixed4 boxC,
         int4 numCells, GLOBAL const int* RESTRICT atomCell, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms,
         int virialOnly, GLOBAL mixed* RESTRICT virial) {
     const int threads = min((int) GLOBAL_SIZE, energyThreads);
@@ -59,7 +59,7 @@ KERNEL void mdpdForce(int numAtoms, int paddedNumAtoms, int energyThreads, GLOBA
         energy += mdpdDensityEnergy(density[k], typeB[atomType[a]], densityParams.w);
         mm_long f[3] = {0, 0, 0};
         for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells, boxSize);
+            const int cell = neighbourCell(atomCell[k], n, numCells);
             if (cell < 0)
                 continue;
             for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
@@ -69,7 +69,8 @@ KERNEL void mdpdForce(int numAtoms, int paddedNumAtoms, int energyThreads, GLOBA
                     continue;
                 const mixed4 rb = loadPosition(posq, posqCorrection, k2);
                 const bool aIsLo = (a < b);
-                const mixed4 d = (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize) : nearestDisplacement(rb, ra, boxSize, invBoxSize));
+                const mixed4 d = (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize, boxC)
+                                        : nearestDisplacement(rb, ra, boxSize, invBoxSize, boxC));
                 const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
                 const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
                 if (r2 >= p.w || r2 == 0 || mdpdExcluded(a, b, exclusionStart, exclusions))

@@ -11,7 +11,7 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
         GLOBAL const real4* RESTRICT posqCorrection, GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT atomType,
         int numTypes, GLOBAL const mixed4* RESTRICT typeParams, GLOBAL const int* RESTRICT exclusionStart,
         GLOBAL const int* RESTRICT exclusions, GLOBAL mm_long* RESTRICT forceBuffer, GLOBAL mixed* RESTRICT energyBuffer,
-        mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT atomCell,
+        mixed4 boxSize, mixed4 invBoxSize, mixed4 boxC, int4 numCells, GLOBAL const int* RESTRICT atomCell,
         GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int virialOnly,
         GLOBAL mixed* RESTRICT virial) {
     // Threads beyond the energy slots return; a launch that a platform capped below them has
@@ -26,7 +26,7 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mm_long f[3] = {0, 0, 0};
         for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells, boxSize);
+            const int cell = neighbourCell(atomCell[k], n, numCells);
             if (cell < 0)
                 continue;
             for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
@@ -36,7 +36,8 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
                     continue;
                 const mixed4 rb = loadPosition(posq, posqCorrection, k2);
                 const bool aIsLo = (a < b);
-                const mixed4 d = (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize) : nearestDisplacement(rb, ra, boxSize, invBoxSize));
+                const mixed4 d = (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize, boxC)
+                                        : nearestDisplacement(rb, ra, boxSize, invBoxSize, boxC));
                 const mixed dx = d.x, dy = d.y, dz = d.z;
                 const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
                 const mixed r2 = dx*dx+dy*dy+dz*dz;

@@ -11,23 +11,22 @@
  * Everything here is indexed by atom: position[a] at the sweep, velocity[a] = (v, 1/m)
  * (1/m = 0: a particle the thermostat leaves alone), cellAtoms sorted by atom index.
  *
- * Under Lees-Edwards shear the box's b = (tilt, Ly, 0) (tilt = boxSize.w) and the grid is the
- * Reference's, in fractional coordinates: s_x = x/Lx + y invBoxSize.w, invBoxSize.w =
- * -tilt/(Lx Ly); a pair across the y boundary sees its partner's image move at n U.
+ * The grid is the Reference's, in fractional coordinates (fractionalCell), in any box of
+ * OpenMM's reduced form; under Lees-Edwards shear (b = (tilt, Ly, 0), tilt = boxSize.w) a
+ * pair across the y boundary sees its partner's image move at n U.
  *
  * For the pressure tensor, a sweep can also add the virial r J e e^T of the impulse J each
  * pair receives to the row of the work item that swept it (6 components virialStride apart).
  */
 
-/* Each atom's position and cell in the sweep grid, binned as the Reference bins (fractional coordinates). */
+/* Each atom's position and cell in the sweep grid, binned as the Reference bins (fractionalCell). */
 KERNEL void sweepAssign(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
-        GLOBAL const int* RESTRICT atomIndex, mixed4 invBoxSize, int4 numCells, GLOBAL mixed4* RESTRICT position,
+        GLOBAL const int* RESTRICT atomIndex, mixed4 rowX, mixed4 rowYZ, int4 numCells, GLOBAL mixed4* RESTRICT position,
         GLOBAL int* RESTRICT atomCell, GLOBAL int* RESTRICT cellCount) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         const mixed4 r = loadPosition(posq, posqCorrection, k);
-        const int c = cellOfFraction(invBoxSize.x*r.x+invBoxSize.w*r.y, numCells.x) +
-                numCells.x*(cellAlong(r.y, invBoxSize.y, numCells.y) + numCells.y*cellAlong(r.z, invBoxSize.z, numCells.z));
+        const int c = fractionalCell(r, rowX, rowYZ, numCells);
         position[a] = r;
         atomCell[a] = c;
         ATOMIC_ADD(&cellCount[c], 1);
@@ -224,8 +223,9 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed4 d, mixed4 p, mixe
 /* Every pair of one cell, in the sweep order or (reverse) exactly the opposite order. */
 inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell, GLOBAL const mixed4* RESTRICT position,
         GLOBAL mixed4* RESTRICT velocity, GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams,
-        mixed4 boxSize, mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms,
-        GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor,
+        mixed4 boxSize, mixed4 invBoxSize, mixed4 boxC, int4 numCells, GLOBAL const int* RESTRICT cellStart,
+        GLOBAL const int* RESTRICT cellAtoms, GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner,
+        GLOBAL const mixed* RESTRICT exceptionFactor,
         GLOBAL const mixed4* RESTRICT transverseParams, mixed* virial) {
     int neighbours[27];
     const int numNeighbours = sweepNeighbours(cell, numCells, halfShell, neighbours);
@@ -241,7 +241,7 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
                 const int j = cellAtoms[reverse ? end-1-t : begin+t];
                 const mixed4 rj = position[j];
                 const int typePair = atomType[i]*numTypes+atomType[j];
-                sweepPair(s, i, j, nearestDisplacement(ri, rj, boxSize, invBoxSize), typeParams[typePair],
+                sweepPair(s, i, j, nearestDisplacement(ri, rj, boxSize, invBoxSize, boxC), typeParams[typePair],
                           s.transverse ? transverseParams[typePair] : make_mixed4(0, 0, 0, 0),
                           thermostatFactor(i, j, exceptionStart, exceptionPartner, exceptionFactor), velocity, virial);
             }
@@ -256,7 +256,8 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
 KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, unsigned int seed, unsigned int stream,
         unsigned int stepLow, unsigned int stepHigh, GLOBAL const mixed4* RESTRICT position, GLOBAL mixed4* RESTRICT velocity,
         GLOBAL const int* RESTRICT atomType, int numTypes, GLOBAL const mixed4* RESTRICT typeParams, mixed4 boxSize,
-        mixed4 invBoxSize, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms, int partner,
+        mixed4 invBoxSize, mixed4 boxC, int4 numCells, GLOBAL const int* RESTRICT cellStart, GLOBAL const int* RESTRICT cellAtoms,
+        int partner,
         GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor,
         int virial, int virialStride, GLOBAL mixed* RESTRICT virialRows, mixed imageVelocity, unsigned int transverseStream,
         int transverse, GLOBAL const mixed4* RESTRICT transverseParams) {
@@ -279,7 +280,7 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
         if (GLOBAL_ID == 0) {
             for (int c = 0; c < total; c++)
                 sweepCell(s, reverse ? total-1-c : c, reverse, false, position, velocity, atomType, numTypes, typeParams,
-                          boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor,
+                          boxSize, invBoxSize, boxC, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor,
                           transverseParams, w);
             if (virial)
                 addVirialRow(virialRows, 0, virialStride, w);
@@ -290,7 +291,7 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
     for (int t = GLOBAL_ID; t < px*py*pz; t += GLOBAL_SIZE) {
         const int x = colour%3+3*(t%px), y = (colour/3)%3+3*((t/px)%py), z = colour/9+3*(t/(px*py));
         sweepCell(s, x+numCells.x*(y+numCells.y*z), reverse, true, position, velocity, atomType, numTypes, typeParams,
-                  boxSize, invBoxSize, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor,
+                  boxSize, invBoxSize, boxC, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor,
                   transverseParams, w);
     }
     if (virial && GLOBAL_ID < px*py*pz)

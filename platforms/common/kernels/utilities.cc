@@ -46,15 +46,19 @@ inline DEVICE mixed nearestImage(mixed d, mixed size, mixed invSize) {
 }
 
 /*
- * r_a - r_b at its nearest image in the box (Lx, Ly, Lz) = boxSize.xyz whose b = (tilt, Ly, 0)
- * has tilt = boxSize.w (Lees-Edwards: 0 without shear); w = the number of b taken off, whose
- * image moves at w U along x under shear (docs/theory/lees-edwards.md).
+ * r_a - r_b at its nearest image in a box of OpenMM's reduced form: a = (Lx, 0, 0), b = (tilt,
+ * Ly, 0), c = boxC.xyz, where (Lx, Ly, Lz) = boxSize.xyz and tilt = boxSize.w (Lees-Edwards
+ * shear tilts b; c is (0, 0, Lz) but in a triclinic box).  Images are taken off along c, then
+ * b, then a, as minimumImage on the host.  w = the number of b taken off, whose image moves at
+ * w U along x under shear (docs/theory/lees-edwards.md).
  */
-inline DEVICE mixed4 nearestDisplacement(mixed4 ra, mixed4 rb, mixed4 boxSize, mixed4 invBoxSize) {
-    const mixed dz = nearestImage(ra.z-rb.z, boxSize.z, invBoxSize.z);
-    const mixed images = floor((ra.y-rb.y)*invBoxSize.y+(mixed) 0.5f);
-    const mixed dy = ra.y-rb.y-images*boxSize.y;
-    const mixed dx = nearestImage(ra.x-rb.x-images*boxSize.w, boxSize.x, invBoxSize.x);
+inline DEVICE mixed4 nearestDisplacement(mixed4 ra, mixed4 rb, mixed4 boxSize, mixed4 invBoxSize, mixed4 boxC) {
+    const mixed cImages = floor((ra.z-rb.z)*invBoxSize.z+(mixed) 0.5f);
+    const mixed dz = ra.z-rb.z-cImages*boxSize.z;
+    const mixed y = ra.y-rb.y-cImages*boxC.y;
+    const mixed images = floor(y*invBoxSize.y+(mixed) 0.5f);
+    const mixed dy = y-images*boxSize.y;
+    const mixed dx = nearestImage(ra.x-rb.x-cImages*boxC.x-images*boxSize.w, boxSize.x, invBoxSize.x);
     return make_mixed4(dx, dy, dz, images);
 }
 

@@ -1,5 +1,6 @@
 #include "openmmdpd/CommonCellList.h"
 #include "CommonDPDKernelSources.h"
+#include "openmmdpd/BoxGeometry.h"
 #include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ComputeVectorTypes.h"
@@ -172,6 +173,20 @@ void CommonCellScan::execute(int numCells, ComputeArray& cellCount, ComputeArray
     addKernel->execute(numCells);
 }
 
+DeviceBox::DeviceBox(const Vec3* box) {
+    inverseBoxRows(box, rows);
+    for (int d = 0; d < 3; d++) {
+        size[d] = box[d][d];
+        inverse[d] = 1 / box[d][d];
+        c[d] = box[2][d];
+        rowX[d] = rows[0][d];
+    }
+    size[3] = box[1][0];
+    rowYZ[0] = rows[1][1];
+    rowYZ[1] = rows[1][2];
+    rowYZ[2] = rows[2][2];
+}
+
 CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner) :
         cc(cc), owner(owner), scan(cc, program) {
     const int n = std::max(cc.getNumAtoms(), 1);
@@ -184,25 +199,17 @@ CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const
 }
 
 void CommonCellList::build(double cutoff) {
-    Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    if (box[2][0] != 0 || box[2][1] != 0)
-        throw OpenMMException(owner + ": a triclinic periodic box (but b tilted along x, as Lees-Edwards shear makes it) is not "
-                              "supported; use the Reference or CPU platform");
-    requireCutoffFitsBox(owner, "the cutoff", cutoff, box);
-    tilt = box[1][0];
+    Vec3 vectors[3];
+    cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
+    requireCutoffFitsBox(owner, "the cutoff", cutoff, vectors);
+    box = DeviceBox(vectors);
     int total = 1;
     for (int d = 0; d < 3; d++) {
-        boxSize[d] = box[d][d];
-        invBoxSize[d] = 1 / box[d][d];
         // A little wider than the cutoff: a position rounded into the next cell still finds its partners.
-        numCells[d] = std::max(1, (int) std::floor(box[d][d] / (cutoff * (1 + 1e-5))));
+        const double reach = cutoff * (1 + 1e-5) * std::sqrt(box.rows[d].dot(box.rows[d]));
+        numCells[d] = std::max(1, (int) std::floor(1 / reach));
         total *= numCells[d];
     }
-    // A row across the tilted boundary is found by its neighbours above and below alike only with 3 rows or more.
-    if (tilt != 0 && numCells[1] < 3)
-        throw OpenMMException(owner + ": under Lees-Edwards shear the box height must be at least 3 cutoffs on this platform, got " +
-                              std::to_string(box[1][1]) + " nm for a cutoff of " + std::to_string(cutoff) + " nm");
     if (total != totalCells) {
         totalCells = total;
         if (!cellCount.isInitialized()) {
@@ -215,14 +222,13 @@ void CommonCellList::build(double cutoff) {
         }
     }
     const int n = cc.getNumAtoms();
-    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], tilt}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
     clearKernel->setArg(0, total);
     clearKernel->setArg(1, cellCount);
     clearKernel->execute(total);
     assignKernel->setArg(0, n);
     assignKernel->setArg(1, cc.getPosq());
-    setMixed4Arg(cc, assignKernel, 2, size);
-    setMixed4Arg(cc, assignKernel, 3, inverse);
+    setMixed4Arg(cc, assignKernel, 2, box.rowX);
+    setMixed4Arg(cc, assignKernel, 3, box.rowYZ);
     assignKernel->setArg(4, mm_int4(numCells[0], numCells[1], numCells[2], 0));
     assignKernel->setArg(5, atomCell);
     assignKernel->setArg(6, cellCount);
@@ -237,11 +243,11 @@ void CommonCellList::build(double cutoff) {
 }
 
 void CommonCellList::setArgs(ComputeKernel& kernel, int first) {
-    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], tilt}, inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], 0};
-    setMixed4Arg(cc, kernel, first, size);
-    setMixed4Arg(cc, kernel, first + 1, inverse);
-    kernel->setArg(first + 2, mm_int4(numCells[0], numCells[1], numCells[2], 0));
-    kernel->setArg(first + 3, atomCell);
-    kernel->setArg(first + 4, cellStart);
-    kernel->setArg(first + 5, cellAtoms);
+    setMixed4Arg(cc, kernel, first, box.size);
+    setMixed4Arg(cc, kernel, first + 1, box.inverse);
+    setMixed4Arg(cc, kernel, first + 2, box.c);
+    kernel->setArg(first + 3, mm_int4(numCells[0], numCells[1], numCells[2], 0));
+    kernel->setArg(first + 4, atomCell);
+    kernel->setArg(first + 5, cellStart);
+    kernel->setArg(first + 6, cellAtoms);
 }

@@ -8,6 +8,11 @@
 using namespace DPDPlugin;
 using namespace OpenMM;
 
+namespace {
+// Where the soft repulsion kernel's cell-list arguments start, and those after them.
+constexpr int CELL_ARGS = 13, VIRIAL_ONLY_ARG = CELL_ARGS + CommonCellList::NUM_ARGS, VIRIAL_ROWS_ARG = VIRIAL_ONLY_ARG + 1;
+} // namespace
+
 void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRepulsionForce& force) {
     const std::string owner = "DPDSoftRepulsionForce on the " + getPlatform().getName() + " platform";
     if (!force.usesPeriodicBoundaryConditions())
@@ -28,7 +33,7 @@ void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRe
     kernel->addArg();  // the number of types and their parameters: set per call
     kernel->addArg();
     addArrayArgs(kernel, {&exclusionStart, &exclusions, &cc.getLongForceBuffer(), &cc.getEnergyBuffer()});
-    for (int k = 0; k < 6; k++)
+    for (int k = 0; k < CommonCellList::NUM_ARGS; k++)
         kernel->addArg();  // the cell list's
     virialRows.initialize(cc, 1, mixedIsDouble(cc) ? sizeof(double) : sizeof(float), "dpdSoftVirialRows");
     kernel->addArg();  // virialOnly: set per call
@@ -72,15 +77,15 @@ int CommonSoftRepulsionKernel::run(bool virialOnly) {
     const int energyThreads = std::min((int) cc.getEnergyBuffer().getSize(), std::max(cc.getNumAtoms(), 1));
     if (virialOnly && (int) virialRows.getSize() != 6 * energyThreads) {
         virialRows.resize(6 * energyThreads);
-        kernel->setArg(20, virialRows);
+        kernel->setArg(VIRIAL_ROWS_ARG, virialRows);
     }
     if (virialOnly)
         cc.clearBuffer(virialRows);
     kernel->setArg(2, energyThreads);
     kernel->setArg(7, numTypes);
     kernel->setArg(8, typeParams);
-    cells->setArgs(kernel, 13);
-    kernel->setArg(19, virialOnly ? 1 : 0);
+    cells->setArgs(kernel, CELL_ARGS);
+    kernel->setArg(VIRIAL_ONLY_ARG, virialOnly ? 1 : 0);
     kernel->execute(energyThreads);
     return energyThreads;
 }

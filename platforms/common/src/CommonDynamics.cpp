@@ -15,24 +15,14 @@ using namespace OpenMM;
 
 namespace {
 
+// Where the pair kernel's cell-list arguments start, and those after them.
+constexpr int PAIR_CELL_ARGS = 19, PAIR_VIRIAL_TERMS_ARG = PAIR_CELL_ARGS + CommonCellList::NUM_ARGS,
+              PAIR_VIRIAL_ROWS_ARG = PAIR_VIRIAL_TERMS_ARG + 2, PAIR_IMAGE_VELOCITY_ARG = PAIR_VIRIAL_TERMS_ARG + 3,
+              PAIR_TRANSVERSE_ARG = PAIR_VIRIAL_TERMS_ARG + 4;
+
 [[noreturn]] void refuse(const DPDThermostatIntegrator& integrator, const std::string& platform, const std::string& what) {
     throw OpenMMException(std::string(integrator.className()) + ": " + what + " is not supported on the " + platform +
                           " platform; use the Reference or CPU platform");
-}
-
-/** The largest cutoff of a pair search on the device: the thermostat's (its default or a type pair's) or a soft force's. */
-double largestCutoff(const System& system, const DPDThermostatIntegrator& integrator) {
-    double largest = integrator.getDefaultCutoff();
-    for (int k = 0; k < integrator.getNumTypePairs(); k++) {
-        int type1, type2;
-        double friction, cutoff;
-        integrator.getTypePairParameters(k, type1, type2, friction, cutoff);
-        largest = std::max(largest, cutoff);
-    }
-    for (int k = 0; k < system.getNumForces(); k++)
-        if (const DPDSoftRepulsionForce* soft = dynamic_cast<const DPDSoftRepulsionForce*>(&system.getForce(k)))
-            largest = std::max(largest, soft->getMaxCutoff());
-    return largest;
 }
 
 /**
@@ -57,19 +47,8 @@ void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& i
 
 void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
                                        bool constraints) {
-    Vec3 box[3];
-    system.getDefaultPeriodicBoxVectors(box[0], box[1], box[2]);
-    refuseUnsupported(system, integrator, platform, constraints, box);
-}
-
-void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                       bool constraints, const Vec3* box) {
     if (!system.usesPeriodicBoundaryConditions())
         refuse(integrator, platform, "a non-periodic System");
-    Vec3 a, b, c;
-    system.getDefaultPeriodicBoxVectors(a, b, c);
-    if (b[0] != 0 || c[0] != 0 || c[1] != 0)
-        refuse(integrator, platform, "a triclinic periodic box");
     if (system.getNumConstraints() > 0 && !constraints)
         refuse(integrator, platform, "a System with constraints");
     // How the device's strain moves virtual sites is not checked against the Reference: refused, not trusted.
@@ -78,11 +57,6 @@ void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostat
             refuse(integrator, platform, "the pressure tensor of a System with virtual sites");
     if (integrator.getShearRate() != 0 || integrator.getPressureTensorEnabled())
         refusePeriodicForces(system, integrator, platform);
-    // As the cell lists count their rows: a row across the tilted boundary needs 3.
-    const double cutoff = largestCutoff(system, integrator);
-    if (integrator.getShearRate() != 0 && std::floor(box[1][1] / (cutoff * (1 + 1e-5))) < 3)
-        refuse(integrator, platform, "Lees-Edwards shear of a box less than 3 cutoffs high (" + std::to_string(box[1][1]) +
-               " nm against a cutoff of " + std::to_string(cutoff) + " nm)");
 }
 
 CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const DPDThermostatIntegrator& integrator,
@@ -214,8 +188,8 @@ void CommonDynamics::updateParameters(const System& system, const DPDThermostatI
         pairKernel->setArg(6, parameters.getTable().getNumTypes());
         pairKernel->setArg(7, typeParams);
         setArrayArgs(pairKernel, 8, {&exceptionStart, &exceptionPartner, &exceptionFactor});
-        pairKernel->setArg(29, parameters.hasTransverse() ? 1 : 0);
-        pairKernel->setArg(30, transverseParams);
+        pairKernel->setArg(PAIR_TRANSVERSE_ARG, parameters.hasTransverse() ? 1 : 0);
+        pairKernel->setArg(PAIR_TRANSVERSE_ARG + 1, transverseParams);
     }
 }
 
@@ -260,7 +234,7 @@ void CommonDynamics::createPairKernels() {
         pairKernel->addArg();  // kT, 1/sqrt(dt), seed, step, terms: set per pass
     pairKernel->addArg(fd);
     pairKernel->addArg(fr);
-    for (int k = 0; k < 6; k++)
+    for (int k = 0; k < CommonCellList::NUM_ARGS; k++)
         pairKernel->addArg();  // the cell list's
     pairKernel->addArg();      // virialTerms: set per pass
     pairKernel->addArg(cc.getPaddedNumAtoms());
@@ -306,17 +280,17 @@ void CommonDynamics::pairForces(long long step, double dt, int terms, bool rebui
     pairKernel->setArg(14, (unsigned int) (uint64_t) step);
     pairKernel->setArg(15, (unsigned int) ((uint64_t) step >> 32));
     pairKernel->setArg(16, terms);
-    cells->setArgs(pairKernel, 19);
-    pairKernel->setArg(25, thermostatVirial != nullptr ? virialTerms : 0);
+    cells->setArgs(pairKernel, PAIR_CELL_ARGS);
+    pairKernel->setArg(PAIR_VIRIAL_TERMS_ARG, thermostatVirial != nullptr ? virialTerms : 0);
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    setMixedArg(cc, pairKernel, 28, parameters.getShearRate() * box[1][1]);
+    setMixedArg(cc, pairKernel, PAIR_IMAGE_VELOCITY_ARG, parameters.getShearRate() * box[1][1]);
     pairKernel->execute(numAtoms());
 }
 
 void CommonDynamics::startThermostatVirial() {
     if (thermostatVirial != nullptr && clearVirialRows(cc.getPaddedNumAtoms()))
-        pairKernel->setArg(27, virialRows);
+        pairKernel->setArg(PAIR_VIRIAL_ROWS_ARG, virialRows);
 }
 
 void CommonDynamics::finishThermostatVirial() {

@@ -9,6 +9,12 @@
 using namespace DPDPlugin;
 using namespace OpenMM;
 
+namespace {
+// Where the force kernel's cell-list arguments start, and those after them.
+constexpr int FORCE_CELL_ARGS = 16, FORCE_VIRIAL_ONLY_ARG = FORCE_CELL_ARGS + CommonCellList::NUM_ARGS,
+              FORCE_VIRIAL_ROWS_ARG = FORCE_VIRIAL_ONLY_ARG + 1;
+} // namespace
+
 void CommonMDPDKernel::initialize(const System& system, const MDPDForce& force) {
     const std::string owner = "MDPDForce on the " + getPlatform().getName() + " platform";
     if (!force.usesPeriodicBoundaryConditions())
@@ -32,7 +38,7 @@ void CommonMDPDKernel::createKernels(ComputeProgram& program) {
     addArrayArgs(densityKernel, {&cc.getPosq(), &posqCorrection, &cc.getAtomIndexArray(), &exclusionStart, &exclusions});
     densityKernel->addArg();  // densityParams: set per call
     densityKernel->addArg(density);
-    for (int k = 0; k < 6; k++)
+    for (int k = 0; k < CommonCellList::NUM_ARGS; k++)
         densityKernel->addArg();  // the cell list's
     forceKernel = program->createKernel("mdpdForce");
     forceKernel->addArg(cc.getNumAtoms());
@@ -42,7 +48,7 @@ void CommonMDPDKernel::createKernels(ComputeProgram& program) {
     for (int k = 0; k < 4; k++)
         forceKernel->addArg();  // numTypes, typeParams, typeB, densityParams: set per call
     addArrayArgs(forceKernel, {&density, &exclusionStart, &exclusions, &cc.getLongForceBuffer(), &cc.getEnergyBuffer()});
-    for (int k = 0; k < 6; k++)
+    for (int k = 0; k < CommonCellList::NUM_ARGS; k++)
         forceKernel->addArg();  // the cell list's
     virialRows.initialize(cc, 1, mixedIsDouble(cc) ? sizeof(double) : sizeof(float), "mdpdVirialRows");
     forceKernel->addArg();  // virialOnly: set per call
@@ -78,7 +84,7 @@ int CommonMDPDKernel::run(bool virialOnly) {
     const int energyThreads = std::min((int) cc.getEnergyBuffer().getSize(), std::max(cc.getNumAtoms(), 1));
     if (virialOnly && (int) virialRows.getSize() != 6 * energyThreads) {
         virialRows.resize(6 * energyThreads);
-        forceKernel->setArg(23, virialRows);
+        forceKernel->setArg(FORCE_VIRIAL_ROWS_ARG, virialRows);
     }
     if (virialOnly)
         cc.clearBuffer(virialRows);
@@ -87,8 +93,8 @@ int CommonMDPDKernel::run(bool virialOnly) {
     forceKernel->setArg(8, typeParams);
     forceKernel->setArg(9, typeB);
     setMixed4Arg(cc, forceKernel, 10, densityParams);
-    cells->setArgs(forceKernel, 16);
-    forceKernel->setArg(22, virialOnly ? 1 : 0);
+    cells->setArgs(forceKernel, FORCE_CELL_ARGS);
+    forceKernel->setArg(FORCE_VIRIAL_ONLY_ARG, virialOnly ? 1 : 0);
     forceKernel->execute(energyThreads);
     return energyThreads;
 }

@@ -30,8 +30,8 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     cellAtoms.initialize<int>(cc, n, "dpdSweepCellAtoms");
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
-            {&assignKernel, {"sweepAssign", 9}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
-            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 30}}, {&scatterKernel, {"scatterVelocities", 6}},
+            {&assignKernel, {"sweepAssign", 10}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
+            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 31}}, {&scatterKernel, {"scatterVelocities", 6}},
             {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels)
         *k.first = createKernelWithArgs(program, k.second.first, k.second.second);
@@ -87,24 +87,19 @@ void CommonSweepDynamics::velocityVerlet(ContextImpl& context, int forceGroups, 
 }
 
 void CommonSweepDynamics::buildGrid() {
-    Vec3 box[3], rows[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), box);
-    inverseBoxRows(box, rows);
+    Vec3 vectors[3];
+    cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
+    requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), vectors);
+    box = DeviceBox(vectors);
     int total = 1;
     for (int k = 0; k < 3; k++) {
         // As ReferencePairList::bin, to the bit: the same cells give the same pair order.
-        const double reach = parameters.getMaxCutoff() * std::sqrt(rows[k].dot(rows[k]));
+        const double reach = parameters.getMaxCutoff() * std::sqrt(box.rows[k].dot(box.rows[k]));
         numCells[k] = std::max(1, (int) std::floor(1.0 / reach));
         if (numCells[k] >= 3)
             numCells[k] -= numCells[k] % 3;
-        boxSize[k] = box[k][k];
-        invBoxSize[k] = rows[k][k];
         total *= numCells[k];
     }
-    // Under shear: b = (tilt, Ly, 0), and the fractional x takes y's share, rows[0][1].
-    boxSize[3] = box[1][0];
-    invBoxSize[3] = rows[0][1];
     if (total != totalCells) {
         if (!cellCount.isInitialized()) {
             cellCount.initialize<int>(cc, total, "dpdSweepCellCount");
@@ -116,7 +111,6 @@ void CommonSweepDynamics::buildGrid() {
         }
         totalCells = total;
     }
-    const double inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], invBoxSize[3]};
     const mm_int4 cells(numCells[0], numCells[1], numCells[2], 0);
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     clearKernel->setArg(0, total);
@@ -124,9 +118,10 @@ void CommonSweepDynamics::buildGrid() {
     clearKernel->execute(total);
     assignKernel->setArg(0, numAtoms());
     setArrayArgs(assignKernel, 1, {&cc.getPosq(), &posqCorrection, &cc.getAtomIndexArray()});
-    setMixed4Arg(cc, assignKernel, 4, inverse);
-    assignKernel->setArg(5, cells);
-    setArrayArgs(assignKernel, 6, {&position, &atomCell, &cellCount});
+    setMixed4Arg(cc, assignKernel, 4, box.rowX);
+    setMixed4Arg(cc, assignKernel, 5, box.rowYZ);
+    assignKernel->setArg(6, cells);
+    setArrayArgs(assignKernel, 7, {&position, &atomCell, &cellCount});
     assignKernel->execute(numAtoms());
     scan.execute(total, cellCount, cellStart);
     fillKernel->setArg(0, numAtoms());
@@ -141,8 +136,6 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
                                 long long step, bool reverse, bool partner) {
     gatherVelocities();
     buildGrid();
-    const double size[4] = {boxSize[0], boxSize[1], boxSize[2], boxSize[3]},
-                 inverse[4] = {invBoxSize[0], invBoxSize[1], invBoxSize[2], invBoxSize[3]};
     colourKernel->setArg(1, reverse ? 1 : 0);
     colourKernel->setArg(2, (int) rule);
     setMixedArg(cc, colourKernel, 3, h);
@@ -154,24 +147,25 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
     setArrayArgs(colourKernel, 9, {&position, &velocity, &atomType});
     colourKernel->setArg(12, parameters.getTable().getNumTypes());
     colourKernel->setArg(13, typeParams);
-    setMixed4Arg(cc, colourKernel, 14, size);
-    setMixed4Arg(cc, colourKernel, 15, inverse);
-    colourKernel->setArg(16, mm_int4(numCells[0], numCells[1], numCells[2], 0));
-    setArrayArgs(colourKernel, 17, {&cellStart, &cellAtoms});
-    colourKernel->setArg(19, partner ? 1 : 0);
-    setArrayArgs(colourKernel, 20, {&exceptionStart, &exceptionPartner, &exceptionFactor});
+    setMixed4Arg(cc, colourKernel, 14, box.size);
+    setMixed4Arg(cc, colourKernel, 15, box.inverse);
+    setMixed4Arg(cc, colourKernel, 16, box.c);
+    colourKernel->setArg(17, mm_int4(numCells[0], numCells[1], numCells[2], 0));
+    setArrayArgs(colourKernel, 18, {&cellStart, &cellAtoms});
+    colourKernel->setArg(20, partner ? 1 : 0);
+    setArrayArgs(colourKernel, 21, {&exceptionStart, &exceptionPartner, &exceptionFactor});
     const bool coloured = (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
     const int cellsPerColour = totalCells / 27, rows = (coloured ? cellsPerColour : 1);
     const bool virial = (thermostatVirial != nullptr);
     if (virial)
         clearVirialRows(rows);
-    colourKernel->setArg(23, virial ? 1 : 0);
-    colourKernel->setArg(24, rows);
-    colourKernel->setArg(25, virialRows);
-    setMixedArg(cc, colourKernel, 26, parameters.getShearRate() * boxSize[1]);
-    colourKernel->setArg(27, (unsigned int) transverseStream);
-    colourKernel->setArg(28, parameters.hasTransverse() ? 1 : 0);
-    colourKernel->setArg(29, transverseParams);
+    colourKernel->setArg(24, virial ? 1 : 0);
+    colourKernel->setArg(25, rows);
+    colourKernel->setArg(26, virialRows);
+    setMixedArg(cc, colourKernel, 27, parameters.getShearRate() * box.size[1]);
+    colourKernel->setArg(28, (unsigned int) transverseStream);
+    colourKernel->setArg(29, parameters.hasTransverse() ? 1 : 0);
+    colourKernel->setArg(30, transverseParams);
     for (int k = 0; k < (coloured ? 27 : 1); k++) {
         colourKernel->setArg(0, coloured ? (reverse ? 26 - k : k) : -1);
         colourKernel->execute(rows);

@@ -5,6 +5,7 @@
 #include "openmm/common/ComputeContext.h"
 #include "openmm/common/ComputeKernel.h"
 #include "openmm/common/ComputeProgram.h"
+#include "openmm/Vec3.h"
 #include <array>
 #include <initializer_list>
 #include <string>
@@ -32,17 +33,31 @@ private:
 };
 
 /**
+ * The periodic box as the kernels take it (kernels/utilities.cc, cellList.cc), OpenMM's reduced
+ * form: size = (Lx, Ly, Lz, b's tilt along x), inverse = (1/Lx, 1/Ly, 1/Lz, 0), c = the third
+ * vector, and the rows of the inverse box matrix that bin positions in fractional coordinates,
+ * rowX = rows[0] and rowYZ = (rows[1][1], rows[1][2], rows[2][2], 0).
+ */
+struct DeviceBox {
+    DeviceBox() = default;
+    explicit DeviceBox(const OpenMM::Vec3* box);
+    OpenMM::Vec3 rows[3];
+    double size[4] = {}, inverse[4] = {}, c[4] = {}, rowX[4] = {}, rowYZ[4] = {};
+};
+
+/**
  * A cell list on the device (kernels/cellList.cc), rebuilt at the current positions before
- * every pair pass: cells at least the cutoff wide in the periodic box, rectangular or with b
- * tilted along x (Lees-Edwards shear; the tilt is the box size's fourth component).  A pair
- * kernel takes its six arguments (box size, inverse box size, cell counts, each slot's cell,
- * cell starts, slots by cell), set by setArgs.
+ * every pair pass: cells at least the cutoff wide across, on the fractional axes of any
+ * periodic box of OpenMM's reduced form (rectangular, sheared or triclinic).  A pair kernel
+ * takes its NUM_ARGS arguments (box size, inverse box size, the box's c, cell counts, each
+ * slot's cell, cell starts, slots by cell), set by setArgs.
  */
 class CommonCellList {
 public:
+    static constexpr int NUM_ARGS = 7;
     /** @param program  a program compiled with kernels/cellList.cc; owner names the caller in errors */
     CommonCellList(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program, const std::string& owner);
-    /** Refuses (OpenMMException) a box tilted otherwise, or too small for the cutoff. */
+    /** Refuses (OpenMMException) a box too small for the cutoff. */
     void build(double cutoff);
     /** Set the cell-list arguments of a pair kernel, from argument index `first` on. */
     void setArgs(OpenMM::ComputeKernel& kernel, int first);
@@ -53,7 +68,7 @@ private:
     OpenMM::ComputeKernel clearKernel, assignKernel, fillKernel;
     CommonCellScan scan;
     OpenMM::ComputeArray atomCell, cellCount, cellStart, cellAtoms;
-    double boxSize[3], invBoxSize[3], tilt = 0;
+    DeviceBox box;
     int numCells[3], totalCells = 0;
 };
 

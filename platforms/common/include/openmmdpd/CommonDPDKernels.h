@@ -33,10 +33,7 @@ public:
         DynamicsStepKernel<Interface, Integrator, Dynamics>::initialize(system, integrator);
     }
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
-        OpenMM::Vec3 box[3];
-        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), Dynamics::supportsConstraints,
-                                          box);
+        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), Dynamics::supportsConstraints);
         DynamicsStepKernel<Interface, Integrator, Dynamics>::execute(context, integrator);
     }
 

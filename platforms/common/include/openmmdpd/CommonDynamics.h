@@ -56,15 +56,12 @@ public:
     void resetState();
     /**
      * Throws an OpenMMException, naming the platform, for what the device path does not do
-     * (constraints where the rule has none, virtual sites with the pressure tensor, a non-periodic System, a box under shear less than 3
-     * cutoffs high, OpenMM's own periodic forces under shear or with the pressure tensor);
-     * called before a Context is made (with the System's box) and before every step (with
-     * the Context's), so nothing has changed.
+     * (constraints where the rule has none, virtual sites with the pressure tensor, a non-periodic
+     * System, OpenMM's own periodic forces under shear or with the pressure tensor); called
+     * before a Context is made and before every step, so nothing has changed.
      */
     static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
                                   bool constraints);
-    static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                  bool constraints, const OpenMM::Vec3* box);
 
 protected:
     /** Whether the carried force holds for the Context's state (see CarriedForce). */

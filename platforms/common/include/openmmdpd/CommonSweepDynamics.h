@@ -49,7 +49,7 @@ private:
             conservativeKernel;
     OpenMM::ComputeArray position, atomCell, cellCount, cellStart, cellAtoms;
     int numCells[3] = {0, 0, 0}, totalCells = 0;
-    double boxSize[4], invBoxSize[4];  // the fourth: under shear, b's tilt and rows[0][1] (buildGrid)
+    DeviceBox box;  // the box of the last grid (buildGrid)
 };
 
 /** Shardlow's S1 and S2 (ShardlowIntegrator) on the device. */
