@@ -198,6 +198,23 @@ TEST(GpuPlatform, MDPDForceEqualsReference) {
         EXPECT_NEAR(pressure[1][c], pressure[0][c], 1e-4 * scale) << "component " << c;
 }
 
+namespace {
+
+// The forces and energy of a System on the device against the Reference's (float pair terms, as above).
+void expectForcesEqualReference(const System& system, const std::vector<Vec3>& positions, const std::string& label) {
+    VerletIntegrator first(0.001), second(0.001);
+    Context reference(system, first, Platform::getPlatformByName("Reference"));
+    Context device(system, second, Platform::getPlatformByName(GPU));
+    for (Context* context : {&reference, &device})
+        context->setPositions(positions);
+    const State expected = reference.getState(State::Forces | State::Energy);
+    const State actual = device.getState(State::Forces | State::Energy);
+    EXPECT_LT(maxDifference(expected.getForces(), actual.getForces()), 1e-5 * maxNorm(expected.getForces())) << label;
+    EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-5 * std::fabs(expected.getPotentialEnergy())) << label;
+}
+
+} // namespace
+
 // Tilted boxes: the one Lees-Edwards shear makes, b = (tilt, Ly, 0), at tilts up to OpenMM's
 // Lx/2, and triclinic ones with c tilted too.  The device bins them on their fractional axes
 // (kernels/cellList.cc) and takes images along c, b, a (kernels/utilities.cc).
@@ -214,19 +231,21 @@ TEST(GpuPlatform, PairForcesEqualReferenceInTiltedBoxes) {
         for (const std::array<double, 3>& tilt : tilts) {
             // The System's own box: OpenMM 8 refuses to tilt a Context made with a rectangular one.
             system->setDefaultPeriodicBoxVectors(a, Vec3(tilt[0], b[1], 0), Vec3(tilt[1], tilt[2], c[2]));
-            VerletIntegrator first(0.001), second(0.001);
-            Context reference(*system, first, Platform::getPlatformByName("Reference"));
-            Context device(*system, second, Platform::getPlatformByName(GPU));
-            for (Context* context : {&reference, &device})
-                context->setPositions(positions);
-            const State expected = reference.getState(State::Forces | State::Energy);
-            const State actual = device.getState(State::Forces | State::Energy);
             const std::string label = std::string(system == soft.get() ? "soft repulsion" : "MDPD") + ", tilts " +
                                       std::to_string(tilt[0]) + " " + std::to_string(tilt[1]) + " " + std::to_string(tilt[2]);
-            EXPECT_LT(maxDifference(expected.getForces(), actual.getForces()), 1e-5 * maxNorm(expected.getForces())) << label;
-            EXPECT_NEAR(actual.getPotentialEnergy(), expected.getPotentialEnergy(), 1e-5 * std::fabs(expected.getPotentialEnergy()))
-                    << label;
+            expectForcesEqualReference(*system, positions, label);
         }
+}
+
+// Open Systems (CutoffNonPeriodic): the grid spans the particles' bounding box, no images.
+TEST(GpuPlatform, PairForcesEqualReferenceInAnOpenSystem) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> soft(makeSoftSystem(600, positions)), mdpd(makeMDPDSystem(600, positions));
+    dynamic_cast<DPDSoftRepulsionForce&>(soft->getForce(0)).setNonbondedMethod(DPDSoftRepulsionForce::CutoffNonPeriodic);
+    dynamic_cast<MDPDForce&>(mdpd->getForce(0)).setNonbondedMethod(MDPDForce::CutoffNonPeriodic);
+    expectForcesEqualReference(*soft, positions, "soft repulsion, open");
+    expectForcesEqualReference(*mdpd, positions, "MDPD, open");
 }
 
 namespace {

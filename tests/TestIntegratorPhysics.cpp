@@ -1,9 +1,10 @@
 // The physics every platform must reproduce, written once for every integrator (TestSchemes.h)
 // and run on each platform: TestDPD runs it on Reference and CPU, TestDPDOpenCL on OpenCL and
-// TestDPDCUDA on CUDA.  Four variants of one System (a soft fluid of two particle types with
+// TestDPDCUDA on CUDA.  Five variants of one System (a soft fluid of two particle types with
 // their own type pairs, mixed masses, springs between a few pairs in force group 1, the fast
 // group of StaggeredDPDIntegrator): still, under Lees-Edwards shear at rate 0.5, with rigid
-// dimers (constraints) each carrying a virtual site at its middle, and in a triclinic box.
+// dimers (constraints) each carrying a virtual site at its middle, in a triclinic box, and
+// open (no periodic box: the fluid's cube in vacuum).
 //
 // - FollowsTheReference: positions and velocities after 1 and 3 steps equal the Reference
 //   platform's (CPU: 1e-10 relative, only the summation order differs; a device: 2e-5 of the
@@ -32,7 +33,7 @@ using namespace DPDPlugin;
 
 namespace {
 
-enum class Variant { Still, Sheared, Constrained, Triclinic };
+enum class Variant { Still, Sheared, Constrained, Triclinic, Open };
 
 struct PhysicsCase {
     std::string platform;
@@ -84,6 +85,8 @@ System* makeSystem(const PhysicsCase& c, std::vector<Vec3>& positions, std::vect
             system->setParticleMass(i, 2.0);
     }
     soft->addTypePair(0, 1, 30.0, 0.9);
+    if (c.variant == Variant::Open)
+        soft->setNonbondedMethod(DPDSoftRepulsionForce::CutoffNonPeriodic);
     system->addForce(soft);
     // Stiff springs (period ~20 steps), so that the staggered schemes' fast force matters.
     HarmonicBondForce* springs = new HarmonicBondForce();  // molecules are kept whole
@@ -262,13 +265,13 @@ std::vector<PhysicsCase> physicsCases() {
     std::vector<PhysicsCase> cases;
     for (const std::string& platform : testedPlatforms())
         for (const Scheme& scheme : schemes)
-            for (Variant variant : {Variant::Still, Variant::Sheared, Variant::Constrained, Variant::Triclinic})
+            for (Variant variant : {Variant::Still, Variant::Sheared, Variant::Constrained, Variant::Triclinic, Variant::Open})
                 cases.push_back({platform, scheme, variant});
     return cases;
 }
 
 std::string caseName(const testing::TestParamInfo<PhysicsCase>& info) {
-    static const char* variants[] = {"Still", "Sheared", "Constrained", "Triclinic"};
+    static const char* variants[] = {"Still", "Sheared", "Constrained", "Triclinic", "Open"};
     std::string name = info.param.platform + "_" + info.param.scheme.name + "_" + variants[(int) info.param.variant];
     for (char& ch : name)
         if (!std::isalnum((unsigned char) ch))

@@ -1,11 +1,13 @@
 /*
- * A cell list in a periodic box of OpenMM's reduced form (a along x, b in the xy plane,
- * c tilted or not: rectangular, sheared by Lees-Edwards, or triclinic), binned as the Reference
- * bins (ReferencePairList.h): in fractional coordinates s_k = rows[k] . r, taken modulo 1,
- * so that the box's faces, tilted or not, are the grid's.  Cells are at least the cutoff wide
- * across, so a particle's partners lie in its cell and the 26 around it; an axis with fewer
- * than three cells visits each cell once.  The rows of the inverse box matrix come as
- * rowX = rows[0] and rowYZ = (rows[1][1], rows[1][2], rows[2][2], unused).
+ * A cell list binned as the Reference bins (ReferencePairList.h), in fractional coordinates
+ * s_k = rows[k] . (r - origin).  In a periodic box of OpenMM's reduced form (a along x, b in
+ * the xy plane, c tilted or not: rectangular, sheared by Lees-Edwards, or triclinic) the rows
+ * are those of the inverse box matrix, the origin 0 and s taken modulo 1, so that the box's
+ * faces, tilted or not, are the grid's.  In an open System (numCells.w = 0) the grid spans
+ * the particles' bounding box from its lower corner, and has no cells beyond its edges.
+ * Cells are at least the cutoff wide across, so a particle's partners lie in its cell and
+ * the 26 around it; an axis with fewer than three cells visits each cell once.  The rows come
+ * as rowX = rows[0] and rowYZ = (rows[1][1], rows[1][2], rows[2][2], unused).
  */
 
 KERNEL void clearCells(int numCells, GLOBAL int* RESTRICT cellCount) {
@@ -13,24 +15,53 @@ KERNEL void clearCells(int numCells, GLOBAL int* RESTRICT cellCount) {
         cellCount[c] = 0;
 }
 
-/* The cell of n along an axis that holds the fractional coordinate f (taken modulo 1). */
-inline DEVICE int cellOfFraction(mixed f, int n) {
-    f -= floor(f);
+/* The cell of n along an axis that holds the fractional coordinate f (taken modulo 1 if periodic). */
+inline DEVICE int cellOfFraction(mixed f, int n, int periodic) {
+    if (periodic)
+        f -= floor(f);
     const int c = (int) (f*n);
     return (c < 0 ? 0 : (c >= n ? n-1 : c));  // also keeps a non-finite position inside the arrays
 }
 
 /* The cell of position r in a grid of numCells along the fractional axes. */
-inline DEVICE int fractionalCell(mixed4 r, mixed4 rowX, mixed4 rowYZ, int4 numCells) {
-    const mixed sx = rowX.x*r.x+rowX.y*r.y+rowX.z*r.z, sy = rowYZ.x*r.y+rowYZ.y*r.z, sz = rowYZ.z*r.z;
-    return cellOfFraction(sx, numCells.x) + numCells.x*(cellOfFraction(sy, numCells.y) + numCells.y*cellOfFraction(sz, numCells.z));
+inline DEVICE int fractionalCell(mixed4 r, mixed4 origin, mixed4 rowX, mixed4 rowYZ, int4 numCells) {
+    const mixed x = r.x-origin.x, y = r.y-origin.y, z = r.z-origin.z;
+    const mixed sx = rowX.x*x+rowX.y*y+rowX.z*z, sy = rowYZ.x*y+rowYZ.y*z, sz = rowYZ.z*z;
+    return cellOfFraction(sx, numCells.x, numCells.w) +
+           numCells.x*(cellOfFraction(sy, numCells.y, numCells.w) + numCells.y*cellOfFraction(sz, numCells.z, numCells.w));
 }
 
-KERNEL void assignCells(int numAtoms, GLOBAL const real4* RESTRICT posq, mixed4 rowX, mixed4 rowYZ, int4 numCells,
+/*
+ * The lowest and highest x, y, z of each of numSlots shares of the particles (those that
+ * move, 1/m != 0, if movingOnly), share t as bounds[6 t ...]; the host takes the extremes.  A
+ * share with no particle leaves +-huge.  (Shares, not work items: OpenMM may launch fewer.)
+ */
+KERNEL void findBounds(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
+        GLOBAL const mixed4* RESTRICT velm, int movingOnly, int numSlots, GLOBAL mixed* RESTRICT bounds) {
+    for (int t = GLOBAL_ID; t < numSlots; t += GLOBAL_SIZE) {
+        mixed lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+        for (int k = t; k < numAtoms; k += numSlots) {
+            if (movingOnly && velm[k].w == 0)
+                continue;
+            const mixed4 r = loadPosition(posq, posqCorrection, k);
+            const mixed x[3] = {r.x, r.y, r.z};
+            for (int d = 0; d < 3; d++) {
+                lo[d] = min(lo[d], x[d]);
+                hi[d] = max(hi[d], x[d]);
+            }
+        }
+        for (int d = 0; d < 3; d++) {
+            bounds[6*t+d] = lo[d];
+            bounds[6*t+3+d] = hi[d];
+        }
+    }
+}
+
+KERNEL void assignCells(int numAtoms, GLOBAL const real4* RESTRICT posq, mixed4 origin, mixed4 rowX, mixed4 rowYZ, int4 numCells,
         GLOBAL int* RESTRICT atomCell, GLOBAL int* RESTRICT cellCount) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const real4 r = posq[k];
-        const int c = fractionalCell(make_mixed4(r.x, r.y, r.z, 0), rowX, rowYZ, numCells);
+        const int c = fractionalCell(make_mixed4(r.x, r.y, r.z, 0), origin, rowX, rowYZ, numCells);
         atomCell[k] = c;
         ATOMIC_ADD(&cellCount[c], 1);
     }
@@ -103,7 +134,10 @@ KERNEL void fillCells(int numAtoms, GLOBAL const int* RESTRICT atomCell, GLOBAL 
     }
 }
 
-inline DEVICE int shiftCell(int c, int offset, int n) {
+/* The cell `offset` (-1..1) on from c of n along an axis; -1 for none (beyond an open edge, or one already visited). */
+inline DEVICE int shiftCell(int c, int offset, int n, int periodic) {
+    if (!periodic)
+        return (c+offset < 0 || c+offset >= n ? -1 : c+offset);
     if (n < 3 && (offset < 0 || (n == 1 && offset > 0)))
         return -1;
     return (c+offset+n)%n;
@@ -114,8 +148,8 @@ inline DEVICE int shiftCell(int c, int offset, int n) {
 
 /* The n-th (0..NEIGHBOUR_SLOTS-1) neighbour of a cell, itself included; -1 where there is none. */
 inline DEVICE int neighbourCell(int cell, int n, int4 numCells) {
-    const int x = shiftCell(cell%numCells.x, n%3-1, numCells.x);
-    const int y = shiftCell((cell/numCells.x)%numCells.y, (n/3)%3-1, numCells.y);
-    const int z = shiftCell(cell/(numCells.x*numCells.y), n/9-1, numCells.z);
+    const int x = shiftCell(cell%numCells.x, n%3-1, numCells.x, numCells.w);
+    const int y = shiftCell((cell/numCells.x)%numCells.y, (n/3)%3-1, numCells.y, numCells.w);
+    const int z = shiftCell(cell/(numCells.x*numCells.y), n/9-1, numCells.z, numCells.w);
     return (x < 0 || y < 0 || z < 0 ? -1 : x+numCells.x*(y+numCells.y*z));
 }

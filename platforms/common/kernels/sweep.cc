@@ -21,12 +21,12 @@
 
 /* Each atom's position and cell in the sweep grid, binned as the Reference bins (fractionalCell). */
 KERNEL void sweepAssign(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
-        GLOBAL const int* RESTRICT atomIndex, mixed4 rowX, mixed4 rowYZ, int4 numCells, GLOBAL mixed4* RESTRICT position,
+        GLOBAL const int* RESTRICT atomIndex, mixed4 origin, mixed4 rowX, mixed4 rowYZ, int4 numCells, GLOBAL mixed4* RESTRICT position,
         GLOBAL int* RESTRICT atomCell, GLOBAL int* RESTRICT cellCount) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         const mixed4 r = loadPosition(posq, posqCorrection, k);
-        const int c = fractionalCell(r, rowX, rowYZ, numCells);
+        const int c = fractionalCell(r, origin, rowX, rowYZ, numCells);
         position[a] = r;
         atomCell[a] = c;
         ATOMIC_ADD(&cellCount[c], 1);
@@ -45,9 +45,14 @@ KERNEL void sweepSortCells(int numCells, GLOBAL const int* RESTRICT cellStart, G
         }
 }
 
-/* The cell at offset (dx, dy, dz) in the periodic grid. */
+/* The cell at offset (dx, dy, dz) in the grid; -1 beyond the edge of an open one (n.w = 0). */
 inline DEVICE int sweepCellAt(int cell, int dx, int dy, int dz, int4 n) {
-    const int x = (cell%n.x+dx+n.x)%n.x, y = ((cell/n.x)%n.y+dy+n.y)%n.y, z = (cell/(n.x*n.y)+dz+n.z)%n.z;
+    int x = cell%n.x+dx, y = (cell/n.x)%n.y+dy, z = cell/(n.x*n.y)+dz;
+    if (!n.w && (x < 0 || x >= n.x || y < 0 || y >= n.y || z < 0 || z >= n.z))
+        return -1;
+    x = (x+n.x)%n.x;
+    y = (y+n.y)%n.y;
+    z = (z+n.z)%n.z;
     return x+n.x*(y+n.y*z);
 }
 
@@ -62,7 +67,8 @@ inline DEVICE int sweepNeighbours(int cell, int4 n, bool halfShell, int* out) {
     for (int m = (halfShell ? 13 : 0); m < 27; m++) {
         const int other = sweepCellAt(cell, m%3-1, (m/3)%3-1, m/9-1, n);
         if (halfShell) {
-            out[count++] = other;
+            if (other >= 0)
+                out[count++] = other;
             continue;
         }
         bool listed = (other < cell);
@@ -251,7 +257,8 @@ inline DEVICE void sweepCell(SweepRule s, int cell, bool reverse, bool halfShell
 
 /*
  * One colour's cells (colour (x mod 3) + 3 (y mod 3) + 9 (z mod 3)), a work item each; or,
- * colour < 0 (fewer than 3 cells on an axis), every cell in order in one work item.
+ * colour < 0 (fewer than 3 cells on an axis of a periodic grid), every cell in order in one
+ * work item.  An open grid is coloured whatever its size, as the Reference colours it.
  */
 KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, unsigned int seed, unsigned int stream,
         unsigned int stepLow, unsigned int stepHigh, GLOBAL const mixed4* RESTRICT position, GLOBAL mixed4* RESTRICT velocity,
@@ -287,10 +294,12 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
         }
         return;
     }
-    const int px = numCells.x/3, py = numCells.y/3, pz = numCells.z/3;
+    // The colour's cells along each axis: those of the axis's residue modulo 3.
+    const int px = (numCells.x-colour%3+2)/3, py = (numCells.y-(colour/3)%3+2)/3, pz = (numCells.z-colour/9+2)/3;
+    const bool halfShell = (numCells.x >= 3 && numCells.y >= 3 && numCells.z >= 3);
     for (int t = GLOBAL_ID; t < px*py*pz; t += GLOBAL_SIZE) {
         const int x = colour%3+3*(t%px), y = (colour/3)%3+3*((t/px)%py), z = colour/9+3*(t/(px*py));
-        sweepCell(s, x+numCells.x*(y+numCells.y*z), reverse, true, position, velocity, atomType, numTypes, typeParams,
+        sweepCell(s, x+numCells.x*(y+numCells.y*z), reverse, halfShell, position, velocity, atomType, numTypes, typeParams,
                   boxSize, invBoxSize, boxC, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor,
                   transverseParams, w);
     }

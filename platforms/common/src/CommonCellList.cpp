@@ -187,27 +187,80 @@ DeviceBox::DeviceBox(const Vec3* box) {
     rowYZ[2] = rows[2][2];
 }
 
-CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner) :
-        cc(cc), owner(owner), scan(cc, program) {
+DeviceBox DeviceBox::open(const Vec3& lo, const Vec3& extent) {
+    DeviceBox box;
+    box.periodic = false;
+    for (int d = 0; d < 3; d++) {
+        box.rows[d][d] = 1 / extent[d];
+        box.origin[d] = lo[d];
+    }
+    box.rowX[0] = box.rows[0][0];
+    box.rowYZ[0] = box.rows[1][1];
+    box.rowYZ[2] = box.rows[2][2];
+    return box;
+}
+
+int DeviceBox::cellsAcross(int k, double width) const {
+    return std::max(1, (int) std::floor(1 / (width * std::sqrt(rows[k].dot(rows[k])))));
+}
+
+constexpr int CommonParticleBounds::Slots;
+
+CommonParticleBounds::CommonParticleBounds(ComputeContext& cc, ComputeProgram program) : cc(cc) {
+    bounds.initialize(cc, 6 * Slots, mixedIsDouble(cc) ? sizeof(double) : sizeof(float), "dpdParticleBounds");
+    kernel = program->createKernel("findBounds");
+    kernel->addArg(cc.getNumAtoms());
+    kernel->addArg(cc.getPosq());
+    kernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
+    kernel->addArg(cc.getVelm());
+    kernel->addArg();  // movingOnly: set per call
+    kernel->addArg(Slots);
+    kernel->addArg(bounds);
+}
+
+DeviceBox CommonParticleBounds::openGrid(bool movingOnly, double cutoff) {
+    kernel->setArg(4, movingOnly ? 1 : 0);
+    kernel->execute(Slots);
+    const std::vector<double> values = downloadMixed(cc, bounds);
+    Vec3 lo(1e30, 1e30, 1e30), hi(-1e30, -1e30, -1e30);
+    for (int t = 0; t < Slots; t++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = std::min(lo[d], values[6 * t + d]);
+            hi[d] = std::max(hi[d], values[6 * t + 3 + d]);
+        }
+    Vec3 extent;
+    for (int d = 0; d < 3; d++) {
+        if (lo[d] > hi[d])  // nothing moves: any grid will do
+            lo[d] = hi[d] = 0;
+        extent[d] = std::max(hi[d] - lo[d], cutoff) * (1 + 1e-12);
+    }
+    return DeviceBox::open(lo, extent);
+}
+
+CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner, bool periodic) :
+        cc(cc), owner(owner), scan(cc, program), bounds(cc, program), periodic(periodic) {
     const int n = std::max(cc.getNumAtoms(), 1);
     atomCell.initialize<int>(cc, n, "dpdAtomCell");
     cellAtoms.initialize<int>(cc, n, "dpdCellAtoms");
     // Every argument is set at each build (the arrays are resized with the box).
     clearKernel = createKernelWithArgs(program, "clearCells", 2);
-    assignKernel = createKernelWithArgs(program, "assignCells", 7);
+    assignKernel = createKernelWithArgs(program, "assignCells", 8);
     fillKernel = createKernelWithArgs(program, "fillCells", 5);
 }
 
 void CommonCellList::build(double cutoff) {
-    Vec3 vectors[3];
-    cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
-    requireCutoffFitsBox(owner, "the cutoff", cutoff, vectors);
-    box = DeviceBox(vectors);
+    if (periodic) {
+        Vec3 vectors[3];
+        cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
+        requireCutoffFitsBox(owner, "the cutoff", cutoff, vectors);
+        box = DeviceBox(vectors);
+    }
+    else
+        box = bounds.openGrid(false, cutoff);
     int total = 1;
     for (int d = 0; d < 3; d++) {
         // A little wider than the cutoff: a position rounded into the next cell still finds its partners.
-        const double reach = cutoff * (1 + 1e-5) * std::sqrt(box.rows[d].dot(box.rows[d]));
-        numCells[d] = std::max(1, (int) std::floor(1 / reach));
+        numCells[d] = box.cellsAcross(d, cutoff * (1 + 1e-5));
         total *= numCells[d];
     }
     if (total != totalCells) {
@@ -227,11 +280,12 @@ void CommonCellList::build(double cutoff) {
     clearKernel->execute(total);
     assignKernel->setArg(0, n);
     assignKernel->setArg(1, cc.getPosq());
-    setMixed4Arg(cc, assignKernel, 2, box.rowX);
-    setMixed4Arg(cc, assignKernel, 3, box.rowYZ);
-    assignKernel->setArg(4, mm_int4(numCells[0], numCells[1], numCells[2], 0));
-    assignKernel->setArg(5, atomCell);
-    assignKernel->setArg(6, cellCount);
+    setMixed4Arg(cc, assignKernel, 2, box.origin);
+    setMixed4Arg(cc, assignKernel, 3, box.rowX);
+    setMixed4Arg(cc, assignKernel, 4, box.rowYZ);
+    assignKernel->setArg(5, mm_int4(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0));
+    assignKernel->setArg(6, atomCell);
+    assignKernel->setArg(7, cellCount);
     assignKernel->execute(n);
     scan.execute(total, cellCount, cellStart);
     fillKernel->setArg(0, n);
@@ -246,7 +300,7 @@ void CommonCellList::setArgs(ComputeKernel& kernel, int first) {
     setMixed4Arg(cc, kernel, first, box.size);
     setMixed4Arg(cc, kernel, first + 1, box.inverse);
     setMixed4Arg(cc, kernel, first + 2, box.c);
-    kernel->setArg(first + 3, mm_int4(numCells[0], numCells[1], numCells[2], 0));
+    kernel->setArg(first + 3, mm_int4(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0));
     kernel->setArg(first + 4, atomCell);
     kernel->setArg(first + 5, cellStart);
     kernel->setArg(first + 6, cellAtoms);

@@ -1,7 +1,6 @@
 #include "openmmdpd/CommonDPDKernels.h"
 #include "openmmdpd/ExcludedPairs.h"
 #include "CommonDPDKernelSources.h"
-#include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include <algorithm>
 
@@ -15,15 +14,12 @@ constexpr int CELL_ARGS = 13, VIRIAL_ONLY_ARG = CELL_ARGS + CommonCellList::NUM_
 
 void CommonSoftRepulsionKernel::initialize(const System& system, const DPDSoftRepulsionForce& force) {
     const std::string owner = "DPDSoftRepulsionForce on the " + getPlatform().getName() + " platform";
-    if (!force.usesPeriodicBoundaryConditions())
-        throw OpenMMException("DPDSoftRepulsionForce: CutoffNonPeriodic is not supported on the " + getPlatform().getName() +
-                              " platform; use CutoffPeriodic, or the Reference or CPU platform");
     ContextSelector selector(cc);
     atomType.initialize<int>(cc, std::max(cc.getNumAtoms(), 1), "dpdSoftType");
     uploadExclusions(force);
     setParameters(force);
     ComputeProgram program = compileDPDProgram(cc, {CommonDPDKernelSources::cellList, CommonDPDKernelSources::softRepulsion});
-    cells.reset(new CommonCellList(cc, program, owner));
+    cells.reset(new CommonCellList(cc, program, owner, force.usesPeriodicBoundaryConditions()));
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     kernel = program->createKernel("softRepulsion");
     kernel->addArg(cc.getNumAtoms());

@@ -47,8 +47,6 @@ void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& i
 
 void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
                                        bool constraints) {
-    if (!system.usesPeriodicBoundaryConditions())
-        refuse(integrator, platform, "a non-periodic System");
     if (system.getNumConstraints() > 0 && !constraints)
         refuse(integrator, platform, "a System with constraints");
     // How the device's strain moves virtual sites is not checked against the Reference: refused, not trusted.
@@ -94,7 +92,7 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     createSlideKernels(system);
     createConstraintKernel();
     if (withPairForces) {
-        cells.reset(new CommonCellList(cc, program, name));
+        cells.reset(new CommonCellList(cc, program, name, system.usesPeriodicBoundaryConditions()));
         createPairKernels();
     }
 }

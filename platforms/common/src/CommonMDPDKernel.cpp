@@ -2,7 +2,6 @@
 #include "openmmdpd/ExcludedPairs.h"
 #include "openmmdpd/MDPDParameters.h"
 #include "CommonDPDKernelSources.h"
-#include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include <algorithm>
 
@@ -17,9 +16,6 @@ constexpr int FORCE_CELL_ARGS = 16, FORCE_VIRIAL_ONLY_ARG = FORCE_CELL_ARGS + Co
 
 void CommonMDPDKernel::initialize(const System& system, const MDPDForce& force) {
     const std::string owner = "MDPDForce on the " + getPlatform().getName() + " platform";
-    if (!force.usesPeriodicBoundaryConditions())
-        throw OpenMMException("MDPDForce: CutoffNonPeriodic is not supported on the " + getPlatform().getName() +
-                              " platform; use CutoffPeriodic, or the Reference or CPU platform");
     ContextSelector selector(cc);
     const int n = std::max(cc.getNumAtoms(), 1);
     atomType.initialize<int>(cc, n, "mdpdType");
@@ -27,7 +23,7 @@ void CommonMDPDKernel::initialize(const System& system, const MDPDForce& force) 
     uploadPartnerLists(cc, cc.getNumAtoms(), exclusionPairs(force), exclusionStart, exclusions, "mdpdExclusions");
     setParameters(force);
     ComputeProgram program = compileDPDProgram(cc, {CommonDPDKernelSources::cellList, CommonDPDKernelSources::mdpd});
-    cells.reset(new CommonCellList(cc, program, owner));
+    cells.reset(new CommonCellList(cc, program, owner, force.usesPeriodicBoundaryConditions()));
     createKernels(program);
 }
 

@@ -22,7 +22,7 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
                                          const std::string& platform, const std::vector<std::string>& ruleSources,
                                          bool withPairForces) :
         CommonDynamics(cc, system, integrator, platform, withSweepSources(ruleSources), withPairForces),
-        scan(cc, program) {
+        scan(cc, program), bounds(cc, program), periodic(system.usesPeriodicBoundaryConditions()) {
     ContextSelector selector(cc);
     const int n = std::max(numAtoms(), 1);
     position.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdSweepPosition");
@@ -30,7 +30,7 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     cellAtoms.initialize<int>(cc, n, "dpdSweepCellAtoms");
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
-            {&assignKernel, {"sweepAssign", 10}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
+            {&assignKernel, {"sweepAssign", 11}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
             {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 31}}, {&scatterKernel, {"scatterVelocities", 6}},
             {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels)
@@ -87,16 +87,19 @@ void CommonSweepDynamics::velocityVerlet(ContextImpl& context, int forceGroups, 
 }
 
 void CommonSweepDynamics::buildGrid() {
-    Vec3 vectors[3];
-    cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
-    requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), vectors);
-    box = DeviceBox(vectors);
+    if (periodic) {
+        Vec3 vectors[3];
+        cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
+        requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), vectors);
+        box = DeviceBox(vectors);
+    }
+    else
+        box = bounds.openGrid(true, parameters.getMaxCutoff());
     int total = 1;
     for (int k = 0; k < 3; k++) {
         // As ReferencePairList::bin, to the bit: the same cells give the same pair order.
-        const double reach = parameters.getMaxCutoff() * std::sqrt(box.rows[k].dot(box.rows[k]));
-        numCells[k] = std::max(1, (int) std::floor(1.0 / reach));
-        if (numCells[k] >= 3)
+        numCells[k] = box.cellsAcross(k, parameters.getMaxCutoff());
+        if (periodic && numCells[k] >= 3)
             numCells[k] -= numCells[k] % 3;
         total *= numCells[k];
     }
@@ -111,17 +114,18 @@ void CommonSweepDynamics::buildGrid() {
         }
         totalCells = total;
     }
-    const mm_int4 cells(numCells[0], numCells[1], numCells[2], 0);
+    const mm_int4 cells(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0);
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     clearKernel->setArg(0, total);
     clearKernel->setArg(1, cellCount);
     clearKernel->execute(total);
     assignKernel->setArg(0, numAtoms());
     setArrayArgs(assignKernel, 1, {&cc.getPosq(), &posqCorrection, &cc.getAtomIndexArray()});
-    setMixed4Arg(cc, assignKernel, 4, box.rowX);
-    setMixed4Arg(cc, assignKernel, 5, box.rowYZ);
-    assignKernel->setArg(6, cells);
-    setArrayArgs(assignKernel, 7, {&position, &atomCell, &cellCount});
+    setMixed4Arg(cc, assignKernel, 4, box.origin);
+    setMixed4Arg(cc, assignKernel, 5, box.rowX);
+    setMixed4Arg(cc, assignKernel, 6, box.rowYZ);
+    assignKernel->setArg(7, cells);
+    setArrayArgs(assignKernel, 8, {&position, &atomCell, &cellCount});
     assignKernel->execute(numAtoms());
     scan.execute(total, cellCount, cellStart);
     fillKernel->setArg(0, numAtoms());
@@ -150,12 +154,14 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
     setMixed4Arg(cc, colourKernel, 14, box.size);
     setMixed4Arg(cc, colourKernel, 15, box.inverse);
     setMixed4Arg(cc, colourKernel, 16, box.c);
-    colourKernel->setArg(17, mm_int4(numCells[0], numCells[1], numCells[2], 0));
+    colourKernel->setArg(17, mm_int4(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0));
     setArrayArgs(colourKernel, 18, {&cellStart, &cellAtoms});
     colourKernel->setArg(20, partner ? 1 : 0);
     setArrayArgs(colourKernel, 21, {&exceptionStart, &exceptionPartner, &exceptionFactor});
-    const bool coloured = (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
-    const int cellsPerColour = totalCells / 27, rows = (coloured ? cellsPerColour : 1);
+    // As the Reference: an open grid is always coloured, a periodic one with 3 cells or more on every axis.
+    const bool coloured = !periodic || (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
+    const int cellsPerColour = ((numCells[0] + 2) / 3) * ((numCells[1] + 2) / 3) * ((numCells[2] + 2) / 3);
+    const int rows = (coloured ? cellsPerColour : 1);
     const bool virial = (thermostatVirial != nullptr);
     if (virial)
         clearVirialRows(rows);

@@ -33,31 +33,61 @@ private:
 };
 
 /**
- * The periodic box as the kernels take it (kernels/utilities.cc, cellList.cc), OpenMM's reduced
- * form: size = (Lx, Ly, Lz, b's tilt along x), inverse = (1/Lx, 1/Ly, 1/Lz, 0), c = the third
- * vector, and the rows of the inverse box matrix that bin positions in fractional coordinates,
- * rowX = rows[0] and rowYZ = (rows[1][1], rows[1][2], rows[2][2], 0).
+ * The box as the kernels take it (kernels/utilities.cc, cellList.cc).  A periodic box of
+ * OpenMM's reduced form: size = (Lx, Ly, Lz, b's tilt along x), inverse = (1/Lx, 1/Ly, 1/Lz, 0),
+ * c = the third vector, and the rows of the inverse box matrix that bin positions in
+ * fractional coordinates, rowX = rows[0] and rowYZ = (rows[1][1], rows[1][2], rows[2][2], 0),
+ * from origin 0.  An open System's grid (open()): the particles' bounding box as the rows and
+ * origin, and size, inverse and c all 0, which leaves every pair at its own displacement.
  */
 struct DeviceBox {
     DeviceBox() = default;
     explicit DeviceBox(const OpenMM::Vec3* box);
+    /** The grid over [lo, lo + extent) along each axis, with no periodic images. */
+    static DeviceBox open(const OpenMM::Vec3& lo, const OpenMM::Vec3& extent);
+    /** The cells along axis k at least `width` wide across. */
+    int cellsAcross(int k, double width) const;
     OpenMM::Vec3 rows[3];
-    double size[4] = {}, inverse[4] = {}, c[4] = {}, rowX[4] = {}, rowYZ[4] = {};
+    bool periodic = true;
+    double size[4] = {}, inverse[4] = {}, c[4] = {}, rowX[4] = {}, rowYZ[4] = {}, origin[4] = {};
+};
+
+/**
+ * The grid of an open System as the Reference takes it (ReferencePairList::bin): the bounding
+ * box of the particles (those that move, 1/m != 0, if movingOnly), found on the device and
+ * read back, at least `cutoff` wide along each axis.
+ */
+class CommonParticleBounds {
+public:
+    /** @param program  a program compiled with kernels/cellList.cc */
+    CommonParticleBounds(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program);
+    DeviceBox openGrid(bool movingOnly, double cutoff);
+
+private:
+    static constexpr int Slots = 1024;  // the particles' shares, each bounded by one work item
+    OpenMM::ComputeContext& cc;
+    OpenMM::ComputeKernel kernel;
+    OpenMM::ComputeArray bounds;
 };
 
 /**
  * A cell list on the device (kernels/cellList.cc), rebuilt at the current positions before
  * every pair pass: cells at least the cutoff wide across, on the fractional axes of any
- * periodic box of OpenMM's reduced form (rectangular, sheared or triclinic).  A pair kernel
+ * periodic box of OpenMM's reduced form (rectangular, sheared or triclinic), or of an open
+ * System's bounding box.  A pair kernel
  * takes its NUM_ARGS arguments (box size, inverse box size, the box's c, cell counts, each
  * slot's cell, cell starts, slots by cell), set by setArgs.
  */
 class CommonCellList {
 public:
     static constexpr int NUM_ARGS = 7;
-    /** @param program  a program compiled with kernels/cellList.cc; owner names the caller in errors */
-    CommonCellList(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program, const std::string& owner);
-    /** Refuses (OpenMMException) a box too small for the cutoff. */
+    /**
+     * @param program   a program compiled with kernels/cellList.cc
+     * @param owner     names the caller in errors
+     * @param periodic  the periodic box, or an open System's bounding box
+     */
+    CommonCellList(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program, const std::string& owner, bool periodic);
+    /** Refuses (OpenMMException) a periodic box too small for the cutoff. */
     void build(double cutoff);
     /** Set the cell-list arguments of a pair kernel, from argument index `first` on. */
     void setArgs(OpenMM::ComputeKernel& kernel, int first);
@@ -67,6 +97,8 @@ private:
     std::string owner;
     OpenMM::ComputeKernel clearKernel, assignKernel, fillKernel;
     CommonCellScan scan;
+    CommonParticleBounds bounds;
+    bool periodic;
     OpenMM::ComputeArray atomCell, cellCount, cellStart, cellAtoms;
     DeviceBox box;
     int numCells[3], totalCells = 0;

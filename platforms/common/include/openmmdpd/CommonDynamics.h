@@ -56,8 +56,8 @@ public:
     void resetState();
     /**
      * Throws an OpenMMException, naming the platform, for what the device path does not do
-     * (constraints where the rule has none, virtual sites with the pressure tensor, a non-periodic
-     * System, OpenMM's own periodic forces under shear or with the pressure tensor); called
+     * (constraints where the rule has none, virtual sites with the pressure tensor, OpenMM's own
+     * periodic forces under shear or with the pressure tensor); called
      * before a Context is made and before every step, so nothing has changed.
      */
     static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,

@@ -45,6 +45,8 @@ private:
     /** The Reference's grid at the current positions, each cell's atoms in index order. */
     void buildGrid();
     CommonCellScan scan;
+    CommonParticleBounds bounds;
+    bool periodic;
     OpenMM::ComputeKernel assignKernel, clearKernel, fillKernel, sortKernel, colourKernel, scatterKernel, kickDriftKernel,
             conservativeKernel;
     OpenMM::ComputeArray position, atomCell, cellCount, cellStart, cellAtoms;
