@@ -25,6 +25,10 @@ parameter differently, the case says so and maps it:
   adds dt F / 2m to them.  Ours are velocity Verlet; the State's velocities are on-step and
   KE + PE is the conserved energy as it stands.
 
+The cases that name a platform also run on OpenCL, in double precision so that OpenMM's
+tolerances apply: slow, since OpenCL here is POCL on the CPU.  There EDPD has no kernels and
+the sweeps refuse constraints; the constraint case is left to the Reference and CPU (see it).
+
 Fast: every case takes a few seconds at most on the CPU platform, one thread.  The
 temperature and diffusion cases are statistical: each states its sigma and asserts within
 3 sigma; their long versions (OpenMM's own run lengths) are marked slow.  `pytest -s` prints
@@ -40,11 +44,13 @@ from pymbar import timeseries
 
 import openmmdpd
 
-from dpdtest import momentum, platform, properties
+import dpdtest
+from dpdtest import have_opencl, momentum, platform
 
 BOLTZ = unit.MOLAR_GAS_CONSTANT_R.value_in_unit(unit.kilojoule_per_mole / unit.kelvin)
 NM_PS = unit.nanometer / unit.picosecond
-PLATFORMS = ["Reference", "CPU"]
+PLATFORMS = ["Reference", "CPU",
+             pytest.param("OpenCL", marks=[pytest.mark.slow, pytest.mark.skipif(not have_opencl(), reason="no OpenCL platform")])]
 
 # PairOUMid: the pair OU thermostat between the half drifts, the splitting OpenMM's own
 # DPDIntegrator uses.
@@ -85,6 +91,15 @@ def give_staggered_a_fast_group(name, system, integrator):
     fast.setUsesPeriodicBoundaryConditions(system.usesPeriodicBoundaryConditions())
     system.addForce(fast)
     integrator.setPolymerParticles(STAGGERED_POLYMER)
+
+
+def properties(platform_name):
+    return {"Precision": "double"} if platform_name == "OpenCL" else dpdtest.properties(platform_name)
+
+
+def skip_where_the_device_has_no_kernels(name, platform_name):
+    if platform_name == "OpenCL" and name == "EDPD":
+        pytest.skip("EDPDIntegrator has no device kernels")
 
 
 def context_for(system, integrator, positions, platform_name):
@@ -160,6 +175,7 @@ def test_conservation_laws(name, platform_name):
     positions (at the thermostat, as LangevinMiddleIntegrator): its energy counts the on-step
     velocities v + dt/2m F, as OpenMM's own case does for its DPDIntegrator, and at friction 0
     it is leap-frog Verlet."""
+    skip_where_the_device_has_no_kernels(name, platform_name)
     n, box, dt = 8, 5.0, 0.002
     system = periodic_system(n, box, 2.0)
     system.addForce(charged_lj(n, 1.0, 1.0, 5.0, openmm.NonbondedForce.CutoffPeriodic, 2.5))
@@ -356,6 +372,7 @@ def test_type_pairs(name, platform_name):
     first cluster is beyond the cutoff.  Lowe: Gamma = 50/ps (Gamma dt = 0.5), so that each of
     the first cluster's 6 pairs collides within 10 steps (at OpenMM's 1/ps, Gamma dt = 0.01,
     the cluster would most likely not move at all)."""
+    skip_where_the_device_has_no_kernels(name, platform_name)
     n = 8
     integrator = make_integrator(name, 100.0, 50.0 if name == "Lowe" else 1.0, 2.0, 0.01)
     system = openmm.System()
@@ -401,6 +418,7 @@ def trajectory_end(name, seed, platform_name):
 def test_random_seed(name, platform_name):
     """The same seed gives the same trajectory (1e-7); another seed changes every coordinate.
     (A fresh Context per run where OpenMM reinitializes one: the same thing for a seed.)"""
+    skip_where_the_device_has_no_kernels(name, platform_name)
     first, again = trajectory_end(name, 5, platform_name), trajectory_end(name, 5, platform_name)
     other, other_again = trajectory_end(name, 10, platform_name), trajectory_end(name, 10, platform_name)
     assert np.abs(first - again).max() <= 1e-7
@@ -443,6 +461,7 @@ def test_force_groups(name, platform_name):
     T = 0: one step moves it towards -x only (y and z exactly 0).  Staggered: group 1 is its fast
     group too (the default), and the particle, which group 1's CustomExternalForce lists, its
     polymer; no empty force is needed."""
+    skip_where_the_device_has_no_kernels(name, platform_name)
     system = openmm.System()
     system.addParticle(1.0)
     for group, energy in ((1, "x"), (2, "y")):
@@ -480,7 +499,12 @@ def constrained_chains():
 @pytest.mark.parametrize("name", CONSTRAINED)
 def test_constraints(name, platform_name):
     """T = 100 K, friction 2, cutoff 1.5, dt = 0.01, tolerance 1e-5: over 1000 steps every
-    constraint holds to 1e-4 nm."""
+    constraint holds to 1e-4 nm.  On OpenCL (POCL, double precision) OpenMM's own device
+    constraints hold this System to only ~3e-4 nm, with its LangevinMiddleIntegrator too, so
+    the case is left to the Reference and CPU; constrained trajectories on the device are
+    compared with the Reference's in TestIntegratorPhysics.cpp."""
+    if platform_name == "OpenCL":
+        pytest.skip("OpenMM's device constraints do not reach 1e-4 nm here (see the docstring)")
     system, positions, velocities = constrained_chains()
     integrator = make_integrator(name, 100.0, 2.0, 1.5, 0.01)
     integrator.setConstraintTolerance(1e-5)
