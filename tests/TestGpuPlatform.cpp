@@ -876,6 +876,11 @@ TEST(GpuPlatform, VirtualSitesFollowReference) {
     sampling.setPressureTensorEnabled(true);
     expectErrorNaming([&] { makeContext(*system, sampling, GPU, positions); },
                       "the pressure tensor of a System with virtual sites is not supported on the " + GPU);
+    sampling.setPressureTensorEnabled(false);  // and switched on in a running Context
+    std::unique_ptr<Context> context = makeContext(*system, sampling, GPU, positions);
+    sampling.step(1);
+    sampling.setPressureTensorEnabled(true);
+    expectErrorNaming([&] { sampling.step(1); }, "the pressure tensor of a System with virtual sites is not supported");
 }
 
 // Rigid dimers (OpenMM's constraints on the device, tolerance 1e-5) with their sites under

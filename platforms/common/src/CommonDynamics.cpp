@@ -45,14 +45,20 @@ void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& i
 
 } // namespace
 
+bool CommonDynamics::hasVirtualSite(const System& system) {
+    for (int i = 0; i < system.getNumParticles(); i++)
+        if (system.isVirtualSite(i))
+            return true;
+    return false;
+}
+
 void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                       bool constraints) {
+                                       bool constraints, bool virtualSites) {
     if (system.getNumConstraints() > 0 && !constraints)
         refuse(integrator, platform, "a System with constraints");
     // How the device's strain moves virtual sites is not checked against the Reference: refused, not trusted.
-    for (int i = 0; i < system.getNumParticles() && integrator.getPressureTensorEnabled(); i++)
-        if (system.isVirtualSite(i))
-            refuse(integrator, platform, "the pressure tensor of a System with virtual sites");
+    if (virtualSites && integrator.getPressureTensorEnabled())
+        refuse(integrator, platform, "the pressure tensor of a System with virtual sites");
     if (integrator.getShearRate() != 0 || integrator.getPressureTensorEnabled())
         refusePeriodicForces(system, integrator, platform);
 }
@@ -62,8 +68,7 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
         cc(cc), name(std::string(integrator.className()) + " on the " + platform + " platform"), parameters(system, integrator),
         random(PairRandom::seedFor(integrator.getRandomNumberSeed())), carried(system.getNumParticles()) {
     ContextSelector selector(cc);
-    for (int i = 0; i < system.getNumParticles(); i++)
-        hasVirtualSites = hasVirtualSites || system.isVirtualSite(i);
+    hasVirtualSites = hasVirtualSite(system);
     hasConstraints = (system.getNumConstraints() > 0);
     const int n = std::max(numAtoms(), 1);
     atomType.initialize<int>(cc, n, "dpdAtomType");

@@ -25,7 +25,8 @@ public:
     CommonStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
             DynamicsStepKernel<Interface, Integrator, Dynamics>(name, platform), cc(cc) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
-        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName(), Dynamics::supportsConstraints);
+        virtualSites = CommonDynamics::hasVirtualSite(system);
+        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName(), Dynamics::supportsConstraints, virtualSites);
         // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do
         // the same): until then the Context has no particle arrays.
         cc.initializeContexts();
@@ -33,7 +34,8 @@ public:
         DynamicsStepKernel<Interface, Integrator, Dynamics>::initialize(system, integrator);
     }
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
-        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), Dynamics::supportsConstraints);
+        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), Dynamics::supportsConstraints,
+                                          virtualSites);
         DynamicsStepKernel<Interface, Integrator, Dynamics>::execute(context, integrator);
     }
 
@@ -44,6 +46,7 @@ protected:
 
 private:
     OpenMM::ComputeContext& cc;
+    bool virtualSites = false;
 };
 
 using CommonIntegrateDPDVVStepKernel = CommonStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, CommonDPDVVDynamics>;

@@ -58,10 +58,12 @@ public:
      * Throws an OpenMMException, naming the platform, for what the device path does not do
      * (constraints where the rule has none, virtual sites with the pressure tensor, OpenMM's own
      * periodic forces under shear or with the pressure tensor); called
-     * before a Context is made and before every step, so nothing has changed.
+     * before a Context is made and before every step, so nothing has changed.  virtualSites:
+     * whether the System has any (hasVirtualSite, looked up once, not at every step).
      */
     static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                  bool constraints);
+                                  bool constraints, bool virtualSites);
+    static bool hasVirtualSite(const OpenMM::System& system);
 
 protected:
     /** Whether the carried force holds for the Context's state (see CarriedForce). */
