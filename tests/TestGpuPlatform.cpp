@@ -747,6 +747,25 @@ TEST(GpuPlatform, ShearedSweepsFollowReference) {
     expectFollowsReference(sheared(dpdvv(DPDVVIntegrator::GrootWarren), 0.5), 100, "GW sheared, 2 cutoffs high");
 }
 
+// Open grids with fewer than 3 cells on an axis, which the Reference still colours and sweeps
+// over each cell's full shell: 100 particles in a cube of 2.9 nm (2 cells a side), and 600 in
+// a slab 0.8 nm thick (5 x 5 x 1 cells, whose colour order is not the cells' index order).
+TEST(GpuPlatform, SweepsOnSmallOpenGridsFollowReference) {
+    REQUIRE_DEVICE();
+    const MakeIntegrator lowe = loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::AfterVerlet);
+    for (int n : {100, 600}) {
+        std::vector<Vec3> positions;
+        std::unique_ptr<System> system(makeSoftSystem(n, positions));
+        dynamic_cast<DPDSoftRepulsionForce&>(system->getForce(0)).setNonbondedMethod(DPDSoftRepulsionForce::CutoffNonPeriodic);
+        if (n == 600)
+            for (Vec3& r : positions)
+                r[2] *= 0.15;
+        const std::string grid = (n == 100 ? ", open cube" : ", open slab");
+        expectFollowsReference(*system, positions, shardlow(2), "S2" + grid);
+        expectFollowsReference(*system, positions, lowe, "Lowe" + grid);
+    }
+}
+
 // Transverse friction in mixed precision (single precision's pow, as for the weight exponents),
 // sheared too, and the pressure tensor's parts, whose thermostat part is then not symmetric.
 TEST(GpuPlatform, TransverseFrictionFollowsReference) {
@@ -787,6 +806,43 @@ TEST(GpuPlatform, RefusesOpenMMPeriodicForcesUnderShearOrStrain) {
         integrator->setPressureTensorEnabled(!shear);
         expectErrorNaming([&] { makeContext(*system, *integrator, GPU, positions); }, "OpenMM's periodic PeriodicSprings (force 2");
     }
+}
+
+// Made with a tilted box, OpenMM compiles its device kernels for any box: its own periodic
+// pair force (here the soft repulsion as a CustomNonbondedForce) then takes the sliding box
+// and the pressure tensor's strains, and follows the Reference (its energy's strain
+// derivative is the whole conservative virial).
+TEST(GpuPlatform, OpenMMPeriodicForcesTakeTheSlidingBoxOfATiltedSystem) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    std::unique_ptr<System> system(makeFluid(600, 0, positions));
+    system->removeForce(0);
+    CustomNonbondedForce* soft = new CustomNonbondedForce("12.5*(1-r)^2");
+    soft->setNonbondedMethod(CustomNonbondedForce::CutoffPeriodic);
+    soft->setCutoffDistance(1.0);
+    for (int i = 0; i < 600; i++)
+        soft->addParticle();
+    system->addForce(soft);
+    Vec3 a, b, c;
+    system->getDefaultPeriodicBoxVectors(a, b, c);
+    system->setDefaultPeriodicBoxVectors(a, Vec3(0.1, b[1], 0), c);
+    const MakeIntegrator gw = sheared(dpdvv(DPDVVIntegrator::GrootWarren), 0.5);
+    expectFollowsReference(*system, positions, gw, "GW sheared, OpenMM's periodic force");
+    // In mixed precision: all of this force's virial comes from strained energies, which single
+    // precision sums to ~1e-4 of the virial here.
+    std::vector<std::vector<std::vector<double>>> parts;
+    for (const std::string& platform : {std::string("Reference"), GPU}) {
+        std::unique_ptr<DPDThermostatIntegrator> integrator = gw(600);
+        integrator->setPressureTensorEnabled(true);
+        std::map<std::string, std::string> properties;
+        if (platform == GPU)
+            properties["Precision"] = "mixed";
+        Context context(*system, *integrator, Platform::getPlatformByName(platform), properties);
+        context.setPositions(positions);
+        integrator->step(1);
+        parts.push_back(pressureParts(*integrator));
+    }
+    expectPressurePartsNear(parts[0], parts[1], 1e-4, "GW sheared, OpenMM's periodic force");
 }
 
 // The strain puts the positions back to the bit and the virials change nothing: the same

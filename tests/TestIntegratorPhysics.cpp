@@ -4,7 +4,7 @@
 // their own type pairs, mixed masses, springs between a few pairs in force group 1, the fast
 // group of StaggeredDPDIntegrator): still, under Lees-Edwards shear at rate 0.5, with rigid
 // dimers (constraints) each carrying a virtual site at its middle, in a triclinic box, and
-// open (no periodic box: the fluid's cube in vacuum).
+// open (no periodic box: the fluid's cube in vacuum, beside ten frozen particles).
 //
 // - FollowsTheReference: positions and velocities after 1 and 3 steps equal the Reference
 //   platform's (CPU: 1e-10 relative, only the summation order differs; a device: 2e-5 of the
@@ -48,6 +48,7 @@ void PrintTo(const PhysicsCase& c, std::ostream* out) {
 
 constexpr int NUM_PARTICLES = 600;  // a box of 5.31 nm at density 4: 3 cells or more on every axis, so the sweeps run by colour
 constexpr int NUM_DIMERS = 30;      // particles 0-89 as (bead, bead, site) with the Constrained variant
+constexpr int NUM_FROZEN = 10;      // the last particles, with the Open variant
 
 std::vector<std::string> testedPlatforms() {
 #if OPENMMDPD_TEST_CUDA
@@ -86,8 +87,17 @@ System* makeSystem(const PhysicsCase& c, std::vector<Vec3>& positions, std::vect
             system->setParticleMass(i, 2.0);
     }
     soft->addTypePair(0, 1, 30.0, 0.9);
-    if (c.variant == Variant::Open)
+    if (c.variant == Variant::Open) {
         soft->setNonbondedMethod(DPDSoftRepulsionForce::CutoffNonPeriodic);
+        // Ten frozen particles (mass 0) beside the cube: in the soft force's bounding box,
+        // not in the thermostat's, which holds only the particles that move.
+        Vec3 a, b, cVector;
+        system->getDefaultPeriodicBoxVectors(a, b, cVector);
+        for (int i = NUM_PARTICLES - NUM_FROZEN; i < NUM_PARTICLES; i++) {
+            system->setParticleMass(i, 0.0);
+            positions[i][0] = a[0] + 0.4;
+        }
+    }
     system->addForce(soft);
     // Stiff springs (period ~20 steps), so that the staggered schemes' fast force matters.
     HarmonicBondForce* springs = new HarmonicBondForce();  // molecules are kept whole

@@ -57,11 +57,10 @@ KERNEL void findBounds(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL c
     }
 }
 
-KERNEL void assignCells(int numAtoms, GLOBAL const real4* RESTRICT posq, mixed4 origin, mixed4 rowX, mixed4 rowYZ, int4 numCells,
-        GLOBAL int* RESTRICT atomCell, GLOBAL int* RESTRICT cellCount) {
+KERNEL void assignCells(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection, mixed4 origin,
+        mixed4 rowX, mixed4 rowYZ, int4 numCells, GLOBAL int* RESTRICT atomCell, GLOBAL int* RESTRICT cellCount) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
-        const real4 r = posq[k];
-        const int c = fractionalCell(make_mixed4(r.x, r.y, r.z, 0), origin, rowX, rowYZ, numCells);
+        const int c = fractionalCell(loadPosition(posq, posqCorrection, k), origin, rowX, rowYZ, numCells);
         atomCell[k] = c;
         ATOMIC_ADD(&cellCount[c], 1);
     }

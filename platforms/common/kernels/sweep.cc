@@ -5,8 +5,9 @@
  * (ReferencePairList.h), so that the device follows the Reference's trajectory: colour by colour, cell by cell, each particle i of a
  * cell in index order, its neighbour cells in order, their particles j in index order (in
  * i's own cell those after i).  Cells of one colour touch disjoint particles, so one
- * launch sweeps a colour with a work item per cell; with fewer than 3 cells on an axis
- * there are no colours and one work item sweeps every cell in order.
+ * launch sweeps a colour with a work item per cell; in a periodic grid with fewer than 3
+ * cells on an axis there are no colours and one work item sweeps every cell in order (an
+ * open grid, without wrap-around, is coloured whatever its size, as the Reference's).
  *
  * Everything here is indexed by atom: position[a] at the sweep, velocity[a] = (v, 1/m)
  * (1/m = 0: a particle the thermostat leaves alone), cellAtoms sorted by atom index.

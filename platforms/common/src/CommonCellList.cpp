@@ -189,7 +189,6 @@ DeviceBox::DeviceBox(const Vec3* box) {
 
 DeviceBox DeviceBox::open(const Vec3& lo, const Vec3& extent) {
     DeviceBox box;
-    box.periodic = false;
     for (int d = 0; d < 3; d++) {
         box.rows[d][d] = 1 / extent[d];
         box.origin[d] = lo[d];
@@ -201,7 +200,8 @@ DeviceBox DeviceBox::open(const Vec3& lo, const Vec3& extent) {
 }
 
 int DeviceBox::cellsAcross(int k, double width) const {
-    return std::max(1, (int) std::floor(1 / (width * std::sqrt(rows[k].dot(rows[k])))));
+    const double cells = std::floor(1 / (width * std::sqrt(rows[k].dot(rows[k]))));
+    return (int) std::max(1.0, std::min(cells, (double) MaxCellsAcross));
 }
 
 constexpr int CommonParticleBounds::Slots;
@@ -237,14 +237,17 @@ DeviceBox CommonParticleBounds::openGrid(bool movingOnly, double cutoff) {
     return DeviceBox::open(lo, extent);
 }
 
-CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner, bool periodic) :
-        cc(cc), owner(owner), scan(cc, program), bounds(cc, program), periodic(periodic) {
+CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner, bool periodic,
+                               bool boundsOfMoving) :
+        cc(cc), owner(owner), scan(cc, program), periodic(periodic), boundsOfMoving(boundsOfMoving) {
+    if (!periodic)
+        bounds.reset(new CommonParticleBounds(cc, program));
     const int n = std::max(cc.getNumAtoms(), 1);
     atomCell.initialize<int>(cc, n, "dpdAtomCell");
     cellAtoms.initialize<int>(cc, n, "dpdCellAtoms");
     // Every argument is set at each build (the arrays are resized with the box).
     clearKernel = createKernelWithArgs(program, "clearCells", 2);
-    assignKernel = createKernelWithArgs(program, "assignCells", 8);
+    assignKernel = createKernelWithArgs(program, "assignCells", 9);
     fillKernel = createKernelWithArgs(program, "fillCells", 5);
 }
 
@@ -256,13 +259,18 @@ void CommonCellList::build(double cutoff) {
         box = DeviceBox(vectors);
     }
     else
-        box = bounds.openGrid(false, cutoff);
-    int total = 1;
-    for (int d = 0; d < 3; d++) {
-        // A little wider than the cutoff: a position rounded into the next cell still finds its partners.
+        box = bounds->openGrid(boundsOfMoving, cutoff);
+    // A little wider than the cutoff: a position rounded into the next cell still finds its partners.
+    for (int d = 0; d < 3; d++)
         numCells[d] = box.cellsAcross(d, cutoff * (1 + 1e-5));
-        total *= numCells[d];
+    // The grid grows with the box, an open System's with its bounding box: one particle far
+    // out would make millions of empty cells.  Wider cells serve as well; keep a few per particle.
+    const long long limit = 8LL * std::max(cc.getNumAtoms(), 8);
+    while ((long long) numCells[0] * numCells[1] * numCells[2] > limit) {
+        int& widest = *std::max_element(numCells, numCells + 3);
+        widest = (widest + 1) / 2;
     }
+    const int total = numCells[0] * numCells[1] * numCells[2];
     if (total != totalCells) {
         totalCells = total;
         if (!cellCount.isInitialized()) {
@@ -280,12 +288,13 @@ void CommonCellList::build(double cutoff) {
     clearKernel->execute(total);
     assignKernel->setArg(0, n);
     assignKernel->setArg(1, cc.getPosq());
-    setMixed4Arg(cc, assignKernel, 2, box.origin);
-    setMixed4Arg(cc, assignKernel, 3, box.rowX);
-    setMixed4Arg(cc, assignKernel, 4, box.rowYZ);
-    assignKernel->setArg(5, mm_int4(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0));
-    assignKernel->setArg(6, atomCell);
-    assignKernel->setArg(7, cellCount);
+    assignKernel->setArg(2, cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
+    setMixed4Arg(cc, assignKernel, 3, box.origin);
+    setMixed4Arg(cc, assignKernel, 4, box.rowX);
+    setMixed4Arg(cc, assignKernel, 5, box.rowYZ);
+    assignKernel->setArg(6, mm_int4(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0));
+    assignKernel->setArg(7, atomCell);
+    assignKernel->setArg(8, cellCount);
     assignKernel->execute(n);
     scan.execute(total, cellCount, cellStart);
     fillKernel->setArg(0, n);

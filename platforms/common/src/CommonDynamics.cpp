@@ -26,12 +26,17 @@ constexpr int PAIR_CELL_ARGS = 19, PAIR_VIRIAL_TERMS_ARG = PAIR_CELL_ARGS + Comm
 }
 
 /**
- * OpenMM's own device kernels take the box as the Context was made, rectangular: a periodic
- * force of its own would ignore the tilt of a sheared box, or of the pressure tensor's
- * strains.  (Our own pair forces take the box's tilt; an empty CustomBondForce, which only
- * makes a System periodic, has nothing to compute.)
+ * OpenMM compiles its own device kernels for the box the Context was made with: for a
+ * rectangular one, a periodic force of its own would ignore the tilt of a sheared box, or of
+ * the pressure tensor's strains.  A System made with a triclinic box has kernels that take any
+ * box.  (Our own pair forces take the box's tilt; an empty CustomBondForce, which only makes a
+ * System periodic, has nothing to compute.)
  */
 void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform) {
+    Vec3 a, b, c;
+    system.getDefaultPeriodicBoxVectors(a, b, c);
+    if (b[0] != 0 || c[0] != 0 || c[1] != 0)
+        return;
     for (int k = 0; k < system.getNumForces(); k++) {
         const Force& force = system.getForce(k);
         const CustomBondForce* bonds = dynamic_cast<const CustomBondForce*>(&force);
@@ -39,7 +44,8 @@ void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& i
             dynamic_cast<const MDPDForce*>(&force) != nullptr || (bonds != nullptr && bonds->getNumBonds() == 0))
             continue;
         refuse(integrator, platform, "Lees-Edwards shear or the pressure tensor with OpenMM's periodic " + force.getName() +
-               " (force " + std::to_string(k) + ": its device kernels take a rectangular box)");
+               " (force " + std::to_string(k) + ") in a System whose default box is rectangular (OpenMM's device kernels "
+               "then take only such a box; give the System a tilted default box, e.g. b = (0.1 nm, Ly, 0))");
     }
 }
 
@@ -97,7 +103,7 @@ CommonDynamics::CommonDynamics(ComputeContext& cc, const System& system, const D
     createSlideKernels(system);
     createConstraintKernel();
     if (withPairForces) {
-        cells.reset(new CommonCellList(cc, program, name, system.usesPeriodicBoundaryConditions()));
+        cells.reset(new CommonCellList(cc, program, name, system.usesPeriodicBoundaryConditions(), true));
         createPairKernels();
     }
 }

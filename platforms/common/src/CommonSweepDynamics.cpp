@@ -1,10 +1,9 @@
 #include "openmmdpd/CommonSweepDynamics.h"
 #include "CommonDPDKernelSources.h"
-#include "openmmdpd/BoxGeometry.h"
 #include "openmmdpd/internal/ParameterChecks.h"
+#include "openmm/OpenMMException.h"
 #include "openmm/common/ComputeVectorTypes.h"
 #include "openmm/common/ContextSelector.h"
-#include <cmath>
 
 using namespace DPDPlugin;
 using namespace OpenMM;
@@ -22,7 +21,9 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
                                          const std::string& platform, const std::vector<std::string>& ruleSources,
                                          bool withPairForces) :
         CommonDynamics(cc, system, integrator, platform, withSweepSources(ruleSources), withPairForces),
-        scan(cc, program), bounds(cc, program), periodic(system.usesPeriodicBoundaryConditions()) {
+        scan(cc, program), periodic(system.usesPeriodicBoundaryConditions()) {
+    if (!periodic)
+        bounds.reset(new CommonParticleBounds(cc, program));
     ContextSelector selector(cc);
     const int n = std::max(numAtoms(), 1);
     position.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdSweepPosition");
@@ -94,15 +95,21 @@ void CommonSweepDynamics::buildGrid() {
         box = DeviceBox(vectors);
     }
     else
-        box = bounds.openGrid(true, parameters.getMaxCutoff());
-    int total = 1;
+        box = bounds->openGrid(true, parameters.getMaxCutoff());
     for (int k = 0; k < 3; k++) {
-        // As ReferencePairList::bin, to the bit: the same cells give the same pair order.
+        // As ReferencePairList::bin: the same cells give the same pair order.  (An open grid's
+        // to a rounding: the Reference divides by the extent, the device multiplies by its inverse.)
         numCells[k] = box.cellsAcross(k, parameters.getMaxCutoff());
         if (periodic && numCells[k] >= 3)
             numCells[k] -= numCells[k] % 3;
-        total *= numCells[k];
     }
+    // The Reference's grid cannot be widened: a grid too large to hold is an error.
+    const long long numGridCells = (long long) numCells[0] * numCells[1] * numCells[2];
+    if (numGridCells > MaxGridCells)
+        throw OpenMMException(name + ": a sweep grid of " + std::to_string(numCells[0]) + " x " + std::to_string(numCells[1]) +
+                              " x " + std::to_string(numCells[2]) + " cells of a cutoff, more than " + std::to_string(MaxGridCells) +
+                              " (in an open System: has a particle escaped?)");
+    const int total = (int) numGridCells;
     if (total != totalCells) {
         if (!cellCount.isInitialized()) {
             cellCount.initialize<int>(cc, total, "dpdSweepCellCount");

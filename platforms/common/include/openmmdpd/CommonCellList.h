@@ -8,6 +8,7 @@
 #include "openmm/Vec3.h"
 #include <array>
 #include <initializer_list>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -45,10 +46,10 @@ struct DeviceBox {
     explicit DeviceBox(const OpenMM::Vec3* box);
     /** The grid over [lo, lo + extent) along each axis, with no periodic images. */
     static DeviceBox open(const OpenMM::Vec3& lo, const OpenMM::Vec3& extent);
-    /** The cells along axis k at least `width` wide across. */
+    /** The cells along axis k at least `width` wide across, at most MaxCellsAcross. */
     int cellsAcross(int k, double width) const;
+    static constexpr int MaxCellsAcross = 1 << 20;
     OpenMM::Vec3 rows[3];
-    bool periodic = true;
     double size[4] = {}, inverse[4] = {}, c[4] = {}, rowX[4] = {}, rowYZ[4] = {}, origin[4] = {};
 };
 
@@ -82,11 +83,14 @@ class CommonCellList {
 public:
     static constexpr int NUM_ARGS = 7;
     /**
-     * @param program   a program compiled with kernels/cellList.cc
-     * @param owner     names the caller in errors
-     * @param periodic  the periodic box, or an open System's bounding box
+     * @param program         a program compiled with kernels/cellList.cc
+     * @param owner           names the caller in errors
+     * @param periodic        the periodic box, or an open System's bounding box
+     * @param boundsOfMoving  in an open System, the bounding box of the particles that move
+     *                        only (a thermostat's: the others take no part in its pairs)
      */
-    CommonCellList(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program, const std::string& owner, bool periodic);
+    CommonCellList(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program, const std::string& owner, bool periodic,
+                   bool boundsOfMoving = false);
     /** Refuses (OpenMMException) a periodic box too small for the cutoff. */
     void build(double cutoff);
     /** Set the cell-list arguments of a pair kernel, from argument index `first` on. */
@@ -97,8 +101,8 @@ private:
     std::string owner;
     OpenMM::ComputeKernel clearKernel, assignKernel, fillKernel;
     CommonCellScan scan;
-    CommonParticleBounds bounds;
-    bool periodic;
+    std::unique_ptr<CommonParticleBounds> bounds;  // an open System's
+    bool periodic, boundsOfMoving;
     OpenMM::ComputeArray atomCell, cellCount, cellStart, cellAtoms;
     DeviceBox box;
     int numCells[3], totalCells = 0;

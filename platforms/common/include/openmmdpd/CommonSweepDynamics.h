@@ -11,9 +11,10 @@ namespace DPDPlugin {
  * Velocity Verlet with the conservative force, split with pairwise-sequential sweeps, on
  * the device, step for step as ReferenceSweepDynamics (kernels/sweep.cc).  The carried
  * force is the conservative force FC at the current positions.  A sweep visits the pairs
- * in ReferencePairList's order, the Reference's grid (n_k = floor(L_k / cutoff), lowered
- * to a multiple of 3) and not the cell list of the pair forces: one launch per colour, or
- * one work item for every cell where an axis has fewer than 3 cells.
+ * in ReferencePairList's order, on the Reference's grid and not the cell list of the pair
+ * forces: in a periodic box n_k = floor(L_k / cutoff) lowered to a multiple of 3, one launch
+ * per colour, or one work item for every cell where an axis has fewer than 3 cells; in an
+ * open System the bounding box of the particles that move, always coloured.
  */
 class CommonSweepDynamics : public CommonDynamics {
 protected:
@@ -45,7 +46,8 @@ private:
     /** The Reference's grid at the current positions, each cell's atoms in index order. */
     void buildGrid();
     CommonCellScan scan;
-    CommonParticleBounds bounds;
+    static constexpr long long MaxGridCells = 1LL << 27;
+    std::unique_ptr<CommonParticleBounds> bounds;  // an open System's
     bool periodic;
     OpenMM::ComputeKernel assignKernel, clearKernel, fillKernel, sortKernel, colourKernel, scatterKernel, kickDriftKernel,
             conservativeKernel;
