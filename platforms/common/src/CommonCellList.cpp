@@ -204,22 +204,33 @@ int DeviceBox::cellsAcross(int k, double width) const {
     return (int) std::max(1.0, std::min(cells, (double) MaxCellsAcross));
 }
 
-constexpr int CommonParticleBounds::Slots;
+constexpr int CommonGridBox::Slots;
 
-CommonParticleBounds::CommonParticleBounds(ComputeContext& cc, ComputeProgram program) : cc(cc) {
+CommonGridBox::CommonGridBox(ComputeContext& cc, ComputeProgram program, const std::string& owner, bool periodic, bool movingOnly) :
+        cc(cc), owner(owner), periodic(periodic), movingOnly(movingOnly) {
+    if (periodic)
+        return;
     bounds.initialize(cc, 6 * Slots, mixedIsDouble(cc) ? sizeof(double) : sizeof(float), "dpdParticleBounds");
     kernel = program->createKernel("findBounds");
     kernel->addArg(cc.getNumAtoms());
     kernel->addArg(cc.getPosq());
     kernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
     kernel->addArg(cc.getVelm());
-    kernel->addArg();  // movingOnly: set per call
+    kernel->addArg(movingOnly ? 1 : 0);
     kernel->addArg(Slots);
     kernel->addArg(bounds);
 }
 
-DeviceBox CommonParticleBounds::openGrid(bool movingOnly, double cutoff) {
-    kernel->setArg(4, movingOnly ? 1 : 0);
+DeviceBox CommonGridBox::current(double cutoff, const std::string& what) {
+    if (!periodic)
+        return openGrid(cutoff);
+    Vec3 vectors[3];
+    cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
+    requireCutoffFitsBox(owner, what, cutoff, vectors);
+    return DeviceBox(vectors);
+}
+
+DeviceBox CommonGridBox::openGrid(double cutoff) {
     kernel->execute(Slots);
     const std::vector<double> values = downloadMixed(cc, bounds);
     Vec3 lo(1e30, 1e30, 1e30), hi(-1e30, -1e30, -1e30);
@@ -239,9 +250,7 @@ DeviceBox CommonParticleBounds::openGrid(bool movingOnly, double cutoff) {
 
 CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const std::string& owner, bool periodic,
                                bool boundsOfMoving) :
-        cc(cc), owner(owner), scan(cc, program), periodic(periodic), boundsOfMoving(boundsOfMoving) {
-    if (!periodic)
-        bounds.reset(new CommonParticleBounds(cc, program));
+        cc(cc), owner(owner), scan(cc, program), grid(cc, program, owner, periodic, boundsOfMoving) {
     const int n = std::max(cc.getNumAtoms(), 1);
     atomCell.initialize<int>(cc, n, "dpdAtomCell");
     cellAtoms.initialize<int>(cc, n, "dpdCellAtoms");
@@ -252,14 +261,7 @@ CommonCellList::CommonCellList(ComputeContext& cc, ComputeProgram program, const
 }
 
 void CommonCellList::build(double cutoff) {
-    if (periodic) {
-        Vec3 vectors[3];
-        cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
-        requireCutoffFitsBox(owner, "the cutoff", cutoff, vectors);
-        box = DeviceBox(vectors);
-    }
-    else
-        box = bounds->openGrid(boundsOfMoving, cutoff);
+    box = grid.current(cutoff, "the cutoff");
     // A little wider than the cutoff: a position rounded into the next cell still finds its partners.
     for (int d = 0; d < 3; d++)
         numCells[d] = box.cellsAcross(d, cutoff * (1 + 1e-5));
@@ -292,7 +294,7 @@ void CommonCellList::build(double cutoff) {
     setMixed4Arg(cc, assignKernel, 3, box.origin);
     setMixed4Arg(cc, assignKernel, 4, box.rowX);
     setMixed4Arg(cc, assignKernel, 5, box.rowYZ);
-    assignKernel->setArg(6, mm_int4(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0));
+    assignKernel->setArg(6, mm_int4(numCells[0], numCells[1], numCells[2], grid.isPeriodic() ? 1 : 0));
     assignKernel->setArg(7, atomCell);
     assignKernel->setArg(8, cellCount);
     assignKernel->execute(n);
@@ -309,7 +311,7 @@ void CommonCellList::setArgs(ComputeKernel& kernel, int first) {
     setMixed4Arg(cc, kernel, first, box.size);
     setMixed4Arg(cc, kernel, first + 1, box.inverse);
     setMixed4Arg(cc, kernel, first + 2, box.c);
-    kernel->setArg(first + 3, mm_int4(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0));
+    kernel->setArg(first + 3, mm_int4(numCells[0], numCells[1], numCells[2], grid.isPeriodic() ? 1 : 0));
     kernel->setArg(first + 4, atomCell);
     kernel->setArg(first + 5, cellStart);
     kernel->setArg(first + 6, cellAtoms);

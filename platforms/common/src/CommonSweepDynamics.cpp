@@ -1,6 +1,5 @@
 #include "openmmdpd/CommonSweepDynamics.h"
 #include "CommonDPDKernelSources.h"
-#include "openmmdpd/internal/ParameterChecks.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ComputeVectorTypes.h"
 #include "openmm/common/ContextSelector.h"
@@ -21,9 +20,7 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
                                          const std::string& platform, const std::vector<std::string>& ruleSources,
                                          bool withPairForces) :
         CommonDynamics(cc, system, integrator, platform, withSweepSources(ruleSources), withPairForces),
-        scan(cc, program), periodic(system.usesPeriodicBoundaryConditions()) {
-    if (!periodic)
-        bounds.reset(new CommonParticleBounds(cc, program));
+        scan(cc, program), grid(cc, program, name, system.usesPeriodicBoundaryConditions(), true) {
     ContextSelector selector(cc);
     const int n = std::max(numAtoms(), 1);
     position.initialize(cc, n, mixedIsDouble(cc) ? 4 * sizeof(double) : 4 * sizeof(float), "dpdSweepPosition");
@@ -88,19 +85,12 @@ void CommonSweepDynamics::velocityVerlet(ContextImpl& context, int forceGroups, 
 }
 
 void CommonSweepDynamics::buildGrid() {
-    if (periodic) {
-        Vec3 vectors[3];
-        cc.getPeriodicBoxVectors(vectors[0], vectors[1], vectors[2]);
-        requireCutoffFitsBox(name, "the thermostat cutoff", parameters.getMaxCutoff(), vectors);
-        box = DeviceBox(vectors);
-    }
-    else
-        box = bounds->openGrid(true, parameters.getMaxCutoff());
+    box = grid.current(parameters.getMaxCutoff(), "the thermostat cutoff");
     for (int k = 0; k < 3; k++) {
         // As ReferencePairList::bin: the same cells give the same pair order.  (An open grid's
         // to a rounding: the Reference divides by the extent, the device multiplies by its inverse.)
         numCells[k] = box.cellsAcross(k, parameters.getMaxCutoff());
-        if (periodic && numCells[k] >= 3)
+        if (grid.isPeriodic() && numCells[k] >= 3)
             numCells[k] -= numCells[k] % 3;
     }
     // The Reference's grid cannot be widened: a grid too large to hold is an error.
@@ -121,7 +111,7 @@ void CommonSweepDynamics::buildGrid() {
         }
         totalCells = total;
     }
-    const mm_int4 cells(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0);
+    const mm_int4 cells(numCells[0], numCells[1], numCells[2], grid.isPeriodic() ? 1 : 0);
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
     clearKernel->setArg(0, total);
     clearKernel->setArg(1, cellCount);
@@ -161,12 +151,12 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
     setMixed4Arg(cc, colourKernel, 14, box.size);
     setMixed4Arg(cc, colourKernel, 15, box.inverse);
     setMixed4Arg(cc, colourKernel, 16, box.c);
-    colourKernel->setArg(17, mm_int4(numCells[0], numCells[1], numCells[2], periodic ? 1 : 0));
+    colourKernel->setArg(17, mm_int4(numCells[0], numCells[1], numCells[2], grid.isPeriodic() ? 1 : 0));
     setArrayArgs(colourKernel, 18, {&cellStart, &cellAtoms});
     colourKernel->setArg(20, partner ? 1 : 0);
     setArrayArgs(colourKernel, 21, {&exceptionStart, &exceptionPartner, &exceptionFactor});
     // As the Reference: an open grid is always coloured, a periodic one with 3 cells or more on every axis.
-    const bool coloured = !periodic || (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
+    const bool coloured = !grid.isPeriodic() || (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
     const int cellsPerColour = ((numCells[0] + 2) / 3) * ((numCells[1] + 2) / 3) * ((numCells[2] + 2) / 3);
     const int rows = (coloured ? cellsPerColour : 1);
     const bool virial = (thermostatVirial != nullptr);

@@ -8,7 +8,6 @@
 #include "openmm/Vec3.h"
 #include <array>
 #include <initializer_list>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,20 +53,27 @@ struct DeviceBox {
 };
 
 /**
- * The grid of an open System as the Reference takes it (ReferencePairList::bin): the bounding
- * box of the particles (those that move, 1/m != 0, if movingOnly), found on the device and
- * read back, at least `cutoff` wide along each axis.
+ * The box a grid is built in, at the current positions: the Context's periodic box, or in an
+ * open System, as the Reference takes it (ReferencePairList::bin), the bounding box of the
+ * particles (those that move, 1/m != 0, if movingOnly), found on the device and read back,
+ * at least the cutoff wide along each axis.
  */
-class CommonParticleBounds {
+class CommonGridBox {
 public:
-    /** @param program  a program compiled with kernels/cellList.cc */
-    CommonParticleBounds(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program);
-    DeviceBox openGrid(bool movingOnly, double cutoff);
+    /** @param program  a program compiled with kernels/cellList.cc; owner names the caller in errors */
+    CommonGridBox(OpenMM::ComputeContext& cc, OpenMM::ComputeProgram program, const std::string& owner, bool periodic,
+                  bool movingOnly);
+    bool isPeriodic() const { return periodic; }
+    /** Refuses (OpenMMException) a periodic box too small for `cutoff`, which `what` names. */
+    DeviceBox current(double cutoff, const std::string& what);
 
 private:
+    DeviceBox openGrid(double cutoff);
     static constexpr int Slots = 1024;  // the particles' shares, each bounded by one work item
     OpenMM::ComputeContext& cc;
-    OpenMM::ComputeKernel kernel;
+    std::string owner;
+    bool periodic, movingOnly;
+    OpenMM::ComputeKernel kernel;  // an open System's
     OpenMM::ComputeArray bounds;
 };
 
@@ -101,8 +107,7 @@ private:
     std::string owner;
     OpenMM::ComputeKernel clearKernel, assignKernel, fillKernel;
     CommonCellScan scan;
-    std::unique_ptr<CommonParticleBounds> bounds;  // an open System's
-    bool periodic, boundsOfMoving;
+    CommonGridBox grid;
     OpenMM::ComputeArray atomCell, cellCount, cellStart, cellAtoms;
     DeviceBox box;
     int numCells[3], totalCells = 0;

@@ -47,8 +47,7 @@ private:
     void buildGrid();
     CommonCellScan scan;
     static constexpr long long MaxGridCells = 1LL << 27;
-    std::unique_ptr<CommonParticleBounds> bounds;  // an open System's
-    bool periodic;
+    CommonGridBox grid;
     OpenMM::ComputeKernel assignKernel, clearKernel, fillKernel, sortKernel, colourKernel, scatterKernel, kickDriftKernel,
             conservativeKernel;
     OpenMM::ComputeArray position, atomCell, cellCount, cellStart, cellAtoms;
