@@ -92,20 +92,18 @@ struct AuxiliaryRecurrence {
      * h(r') - h(r) for h = phi(r) = rc/2 (1 - wR^2) (rc/2 beyond the cutoff, phi' = wR),
      * from the pair's wR^2 before and after (0 out of range).
      */
-    static double dh(double cutoff, double wR2Old, double wR2New) { return -0.5 * cutoff * (wR2New - wR2Old); }
+    static double dh(double cutoff, double wR2Old, double wR2New) { return edpdPotentialChange(cutoff, wR2Old, wR2New); }
     /** s at the next step from s, lambda, dh = h' - h and the step's normal number w. */
     double next(double s, double lambda, double dh, double w) const {
-        return rho * s + (lambda * dh + std::sqrt(lambda) * noisePerLambda * w) * invD;
+        return edpdNextValue(s, rho, invD, lambda, dh, noisePerLambda, w);
     }
     /**
      * s after `gap` steps with h constant, from s (exact in distribution), given the
      * stationary variance and a normal number; drawn anew if unknown or forgotten.
      */
     double recall(bool known, double s, long long gap, double variance, double xi) const {
-        if (!known || gap < 0 || gap >= forgetSteps)
-            return std::sqrt(variance) * xi;
-        const double decay = std::pow(rho, (double) gap);
-        return decay * s + std::sqrt(variance * (1 - decay * decay)) * xi;
+        const bool forgotten = (!known || gap < 0 || gap >= forgetSteps);
+        return edpdCaughtUp(s, forgotten ? 0.0 : std::pow(rho, (double) gap), variance, xi);
     }
     double alpha, rho, invD, noisePerLambda, variancePerLambda;
     long long forgetSteps;

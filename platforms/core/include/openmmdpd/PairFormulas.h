@@ -146,6 +146,30 @@ OPENMMDPD_FORMULA mdpdDensityEnergy(Real density, Scalar b, Scalar energyFactor)
     return energyFactor * b * density * density;
 }
 
+/*
+ * Extended DPD (docs/theory/edpd.md): the change of a pair's potential h = rc/2 (1 - w^2)
+ * (rc/2 beyond the cutoff, h' = w) between two states, from its w^2 in each (0 out of range).
+ */
+OPENMMDPD_FORMULA edpdPotentialChange(Scalar cutoff, Real w2Old, Real w2New) {
+    return -0.5f * cutoff * (w2New - w2Old);
+}
+
+/*
+ * One step of a pair variable's recurrence: s' = rho s + (lambda dh + sqrt(lambda) c w) / d,
+ * with invD = 1/d, c = noisePerLambda and w the step's normal number (the scheme sets rho and d).
+ */
+OPENMMDPD_FORMULA edpdNextValue(Real s, Scalar rho, Scalar invD, Real lambda, Real dh, Scalar noisePerLambda, Real w) {
+    return rho * s + (lambda * dh + sqrt(lambda) * noisePerLambda * w) * invD;
+}
+
+/*
+ * A pair variable after steps with h constant, exact in distribution: decay = rho^steps,
+ * variance the stationary one, xi a normal number (decay 0: a fresh draw).
+ */
+OPENMMDPD_FORMULA edpdCaughtUp(Real s, Real decay, Real variance, Real xi) {
+    return decay * s + sqrt(variance * (1 - decay * decay)) * xi;
+}
+
 #ifdef OPENMMDPD_DEVICE_CODE
 #undef Real
 #undef Scalar
