@@ -9,6 +9,7 @@
 // differs from the Reference (double) by ~1e-6 relative.  We ask for 2e-5 relative (to the box
 // for positions, to the largest speed for velocities): any error in the rule or the random
 // numbers (a wrong Philox word moves a particle by sigma dt^1.5 ~ 1e-2 nm) is 1000x that.
+#include "CheckpointTesting.h"
 #include "TestHelpers.h"
 #include "openmmdpd/Checkpoints.h"
 #include "openmmdpd/CommonPairRandomCheck.h"
@@ -26,6 +27,7 @@
 #include "openmm/VirtualSite.h"
 #include "openmm/internal/ContextImpl.h"
 #include <array>
+#include <limits>
 #if OPENMMDPD_TEST_CUDA
 #include "openmmdpd/CudaDPDKernelFactory.h"
 #else
@@ -439,9 +441,124 @@ TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
     system->addConstraint(0, 1, 0.5);
     ShardlowIntegrator constrained(KT_KELVIN, 4.5, 1.0, 0.02);  // the velocity-Verlet family has them on the device
     expectErrorNaming([&] { makeContext(*system, constrained, GPU, positions); }, "constraints is not supported on the " + GPU);
-    // An integrator with no device kernels: OpenMM's own refusal, when the Context is made.
-    EDPDIntegrator edpd(KT_KELVIN, 4.5, 1.0, 1.0, 0.02);
-    expectErrorNaming([&] { makeContext(*system, edpd, GPU, positions); }, "does not support all required kernels");
+}
+
+// A checkpoint of extended DPD on the device with one field of its pair variables damaged
+// (behind a valid checksum): each is refused, and the next steps are a new Context's.
+TEST(GpuPlatform, DamagedPairVariablesAreRefused) {
+    REQUIRE_DEVICE();
+    namespace ct = CheckpointTesting;
+    const ct::Scheme& scheme = ct::schemeNamed("EDPD-OneSided");
+    ct::Simulation run(scheme, GPU, 20);
+    const std::string bytes = run.checkpoint();
+    // After the seed, flag and force: particles (int32), step (int64), then per particle its
+    // count and (partner int32, state int32, s, w^2, archived s, its step int64) each.
+    const size_t memory = ct::IntegratorPart(bytes).state + 13 + 24 * ct::NUM_PARTICLES;
+    const size_t count = memory + 12, first = count + 8, second = first + 40;
+    uint64_t entries;
+    std::memcpy(&entries, &bytes[count], 8);
+    ASSERT_GE(entries, 2u);
+    int32_t partner;
+    std::memcpy(&partner, &bytes[first], 4);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"partner 10^6", ct::withField<int32_t>(bytes, first, 1000000)},
+        {"partner = its particle", ct::withField<int32_t>(bytes, first, 0)},
+        {"a pair twice", ct::withField<int32_t>(bytes, second, partner)},
+        {"state 0", ct::withField<int32_t>(bytes, first + 4, 0)},
+        {"state 4", ct::withField<int32_t>(bytes, first + 4, 4)},
+        {"s NaN", ct::withField<double>(bytes, first + 8, nan)},
+        {"w^2 = 2", ct::withField<double>(bytes, first + 16, 2.0)},
+        {"archived s NaN", ct::withField<double>(bytes, first + 24, nan)},
+        {"archived step in the future", ct::withField<int64_t>(ct::withField<int32_t>(bytes, first + 4, 3), first + 32, 1000)},
+        {"count 10^18", ct::withField<uint64_t>(bytes, count, 1000000000000000000ULL)},
+        {"particles N + 1", ct::withField<int32_t>(bytes, memory, ct::NUM_PARTICLES + 1)},
+        {"step 2^63 - 1", ct::withField<int64_t>(bytes, memory + 4, std::numeric_limits<int64_t>::max())},
+    };
+    for (const auto& c : cases)
+        run.expectRefused(c.second, c.first);
+    ct::expectStepsLikeANewContext(run, scheme, GPU);
+}
+
+namespace {
+
+/** Whether two EDPD integrators hold the same pair variables for the pairs (i < 30, j): present alike, of one step, values within `tolerance`. */
+void expectSamePairVariables(const EDPDIntegrator& expected, const EDPDIntegrator& actual, int n, double tolerance,
+                             const std::string& label) {
+    int present = 0;
+    for (int i = 0; i < 30; i++)
+        for (int j = i + 1; j < n; j++) {
+            const double s = expected.getPairVariable(i, j);
+            ASSERT_EQ(std::isnan(s), std::isnan(actual.getPairVariable(i, j))) << label << ": pair (" << i << ", " << j << ")";
+            if (std::isnan(s))
+                continue;
+            present++;
+            ASSERT_EQ(expected.getPairVariableStep(i, j), actual.getPairVariableStep(i, j)) << label << ": pair (" << i << ", " << j << ")";
+            ASSERT_NEAR(actual.getPairVariable(i, j), s, tolerance) << label << ": pair (" << i << ", " << j << ")";
+        }
+    EXPECT_GT(present, 300) << label;
+}
+
+} // namespace
+
+// Extended DPD's pair memory over 60 steps, in double precision, against the Reference's: pairs
+// leave their cutoff, come back (caught up) and are forgotten (alpha 50: after 28 steps), the
+// table outgrows its first capacity (alpha 1: nothing forgotten for 900 steps, so every
+// partner met is kept), and the step count is set from outside halfway.  The number of
+// variables is the Reference's, and so is each variable of 30 particles, with its step.  A
+// checkpoint continues bit for bit, also in a new Context (whose table must grow to take it).
+TEST(GpuPlatform, EDPDPairMemoryFollowsReference) {
+    REQUIRE_DEVICE();
+    std::vector<Vec3> positions;
+    const int n = 300;
+    std::unique_ptr<System> system(makeSoftSystem(n, positions));
+    Vec3 a, b, c;
+    system->getDefaultPeriodicBoxVectors(a, b, c);
+    const double box = a[0];
+    auto start = [&](Integrator& integrator, const std::string& platform) {
+        std::map<std::string, std::string> properties;
+        if (platform == GPU)
+            properties["Precision"] = "double";
+        std::unique_ptr<Context> context(new Context(*system, integrator, Platform::getPlatformByName(platform), properties));
+        context->setPositions(positions);
+        context->setVelocitiesToTemperature(KT_KELVIN, 11);
+        return context;
+    };
+    for (auto run : {std::make_pair(50.0, EDPDIntegrator::OneSided), std::make_pair(1.0, EDPDIntegrator::Symmetric)}) {
+        const std::string label = "alpha " + std::to_string(run.first);
+        auto make = [&]() {
+            EDPDIntegrator* integrator = new EDPDIntegrator(KT_KELVIN, 4.5, 1.0, run.first, 0.02);
+            integrator->setScheme(run.second);
+            integrator->setRandomNumberSeed(77);
+            return integrator;
+        };
+        std::unique_ptr<EDPDIntegrator> reference(make()), device(make()), restored(make());
+        std::unique_ptr<Context> onReference = start(*reference, "Reference"), onDevice = start(*device, GPU);
+        for (int half = 0; half < 2; half++) {
+            reference->step(30);
+            device->step(30);
+            if (half == 0) {
+                onReference->setStepCount(5000);
+                onDevice->setStepCount(5000);
+            }
+        }
+        EXPECT_EQ(device->getNumPairVariables(), reference->getNumPairVariables()) << label;
+        const State expected = onReference->getState(State::Positions);
+        EXPECT_LT(maxImageDifference(onDevice->getState(State::Positions).getPositions(), expected.getPositions(), box), 1e-6 * box) << label;
+        expectSamePairVariables(*reference, *device, n, 1e-6, label);
+        std::stringstream checkpoint;
+        onDevice->createCheckpoint(checkpoint);
+        device->step(20);
+        const State first = onDevice->getState(State::Positions | State::Velocities);
+        std::unique_ptr<Context> fresh = start(*restored, GPU);
+        fresh->loadCheckpoint(checkpoint);
+        EXPECT_EQ(restored->getNumPairVariables(), reference->getNumPairVariables()) << label << ", restored";
+        restored->step(20);
+        const State second = fresh->getState(State::Positions | State::Velocities);
+        EXPECT_EQ(first.getPositions(), second.getPositions()) << label << ", continued from a checkpoint";
+        EXPECT_EQ(first.getVelocities(), second.getVelocities()) << label << ", continued from a checkpoint";
+        expectSamePairVariables(*device, *restored, n, 0, label + ", continued from a checkpoint");
+    }
 }
 
 namespace {

@@ -64,13 +64,11 @@ bool isDevice(const std::string& platform) { return platform == "OpenCL" || plat
 
 bool startsWith(const std::string& text, const std::string& prefix) { return text.compare(0, prefix.size(), prefix) == 0; }
 
-/** What a platform may refuse: on a device, extended DPD (no kernels) and constraints in the sweeps. */
+/** What a platform may refuse: on a device, constraints in the sweeps. */
 bool refusedOn(const PhysicsCase& c) {
     if (!isDevice(c.platform))
         return false;
     const std::string& name = c.scheme.name;
-    if (startsWith(name, "EDPD"))
-        return true;
     const bool sweep = startsWith(name, "S1") || startsWith(name, "S2") || startsWith(name, "Lowe") || startsWith(name, "PairOU");
     return sweep && c.variant == Variant::Constrained;
 }

@@ -18,6 +18,8 @@ KernelImpl* CommonDPDKernelFactory::createKernelImpl(std::string name, const Pla
         return new CommonIntegrateStaggeredDPDStepKernel(name, platform, cc);
     if (name == IntegrateDenOtterClarkeStepKernel::Name())
         return new CommonIntegrateDenOtterClarkeStepKernel(name, platform, cc);
+    if (name == IntegrateEDPDStepKernel::Name())
+        return new CommonIntegrateEDPDStepKernel(name, platform, cc);
     if (name == CalcDPDSoftRepulsionForceKernel::Name())
         return new CommonSoftRepulsionKernel(name, platform, cc);
     if (name == CalcMDPDForceKernel::Name())
@@ -36,7 +38,7 @@ void CommonDPDKernelFactory::registerWith(const std::string& platformName, const
     KernelFactory* factory = new CommonDPDKernelFactory(plugin, find);
     for (const std::string& name : {IntegrateDPDVVStepKernel::Name(), IntegrateShardlowStepKernel::Name(),
                                     IntegrateLoweAndersenStepKernel::Name(), IntegrateDenOtterClarkeStepKernel::Name(),
-                                    IntegrateStaggeredDPDStepKernel::Name(),
+                                    IntegrateStaggeredDPDStepKernel::Name(), IntegrateEDPDStepKernel::Name(),
                                     CalcDPDSoftRepulsionForceKernel::Name(),
                                     CalcMDPDForceKernel::Name()})
         platform->registerKernelFactory(name, factory);

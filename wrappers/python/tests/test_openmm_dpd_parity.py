@@ -26,8 +26,8 @@ parameter differently, the case says so and maps it:
   KE + PE is the conserved energy as it stands.
 
 The cases that name a platform also run on OpenCL, in double precision so that OpenMM's
-tolerances apply: slow, since OpenCL here is POCL on the CPU.  There EDPD has no kernels and
-the sweeps refuse constraints; the constraint case is left to the Reference and CPU (see it).
+tolerances apply: slow, since OpenCL here is POCL on the CPU.  There the sweeps refuse
+constraints; the constraint case is left to the Reference and CPU (see it).
 
 Fast: every case takes a few seconds at most on the CPU platform, one thread.  The
 temperature and diffusion cases are statistical: each states its sigma and asserts within
@@ -95,11 +95,6 @@ def give_staggered_a_fast_group(name, system, integrator):
 
 def properties(platform_name):
     return {"Precision": "double"} if platform_name == "OpenCL" else dpdtest.properties(platform_name)
-
-
-def skip_where_the_device_has_no_kernels(name, platform_name):
-    if platform_name == "OpenCL" and name == "EDPD":
-        pytest.skip("EDPDIntegrator has no device kernels")
 
 
 def context_for(system, integrator, positions, platform_name):
@@ -175,7 +170,6 @@ def test_conservation_laws(name, platform_name):
     positions (at the thermostat, as LangevinMiddleIntegrator): its energy counts the on-step
     velocities v + dt/2m F, as OpenMM's own case does for its DPDIntegrator, and at friction 0
     it is leap-frog Verlet."""
-    skip_where_the_device_has_no_kernels(name, platform_name)
     n, box, dt = 8, 5.0, 0.002
     system = periodic_system(n, box, 2.0)
     system.addForce(charged_lj(n, 1.0, 1.0, 5.0, openmm.NonbondedForce.CutoffPeriodic, 2.5))
@@ -372,7 +366,6 @@ def test_type_pairs(name, platform_name):
     first cluster is beyond the cutoff.  Lowe: Gamma = 50/ps (Gamma dt = 0.5), so that each of
     the first cluster's 6 pairs collides within 10 steps (at OpenMM's 1/ps, Gamma dt = 0.01,
     the cluster would most likely not move at all)."""
-    skip_where_the_device_has_no_kernels(name, platform_name)
     n = 8
     integrator = make_integrator(name, 100.0, 50.0 if name == "Lowe" else 1.0, 2.0, 0.01)
     system = openmm.System()
@@ -418,7 +411,6 @@ def trajectory_end(name, seed, platform_name):
 def test_random_seed(name, platform_name):
     """The same seed gives the same trajectory (1e-7); another seed changes every coordinate.
     (A fresh Context per run where OpenMM reinitializes one: the same thing for a seed.)"""
-    skip_where_the_device_has_no_kernels(name, platform_name)
     first, again = trajectory_end(name, 5, platform_name), trajectory_end(name, 5, platform_name)
     other, other_again = trajectory_end(name, 10, platform_name), trajectory_end(name, 10, platform_name)
     assert np.abs(first - again).max() <= 1e-7
@@ -461,7 +453,6 @@ def test_force_groups(name, platform_name):
     T = 0: one step moves it towards -x only (y and z exactly 0).  Staggered: group 1 is its fast
     group too (the default), and the particle, which group 1's CustomExternalForce lists, its
     polymer; no empty force is needed."""
-    skip_where_the_device_has_no_kernels(name, platform_name)
     system = openmm.System()
     system.addParticle(1.0)
     for group, energy in ((1, "x"), (2, "y")):

@@ -4,6 +4,7 @@
 #include "openmmdpd/CommonCellList.h"
 #include "openmmdpd/CommonDPDVVDynamics.h"
 #include "openmmdpd/CommonDenOtterClarkeDynamics.h"
+#include "openmmdpd/CommonEDPDDynamics.h"
 #include "openmmdpd/CommonStaggeredDynamics.h"
 #include "openmmdpd/CommonSweepDynamics.h"
 #include "openmmdpd/DPDKernels.h"
@@ -58,6 +59,15 @@ using CommonIntegrateStaggeredDPDStepKernel =
         CommonStepKernel<IntegrateStaggeredDPDStepKernel, StaggeredDPDIntegrator, CommonStaggeredDynamics>;
 using CommonIntegrateDenOtterClarkeStepKernel =
         MeasuringStepKernel<CommonStepKernel<IntegrateDenOtterClarkeStepKernel, DenOtterClarkeIntegrator, CommonDenOtterClarkeDynamics>>;
+
+class CommonIntegrateEDPDStepKernel : public CommonStepKernel<IntegrateEDPDStepKernel, EDPDIntegrator, CommonEDPDDynamics> {
+public:
+    using CommonStepKernel::CommonStepKernel;
+    bool getPairVariable(int i, int j, double& value, long long& step) const override {
+        return this->dynamics->getPairVariable(i, j, value, step);
+    }
+    long long getNumPairVariables() const override { return this->dynamics->getNumPairVariables(); }
+};
 
 /** DPDSoftRepulsionForce on a ComputeContext: a gather over a cell list, forces in fixed point (kernels/softRepulsion.cc). */
 class CommonSoftRepulsionKernel : public CalcDPDSoftRepulsionForceKernel {
