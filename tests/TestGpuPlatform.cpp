@@ -438,9 +438,6 @@ TEST(GpuPlatform, RefusesWhatItDoesNotDo) {
     integrator.setShearRate(0);
     EXPECT_EQ(context->getState(State::Positions).getPositions(), before.getPositions()) << "nothing changed";
     EXPECT_EQ(context->getState(0).getStepCount(), 1);
-    system->addConstraint(0, 1, 0.5);
-    ShardlowIntegrator constrained(KT_KELVIN, 4.5, 1.0, 0.02);  // the velocity-Verlet family has them on the device
-    expectErrorNaming([&] { makeContext(*system, constrained, GPU, positions); }, "constraints is not supported on the " + GPU);
 }
 
 // A checkpoint of extended DPD on the device with one field of its pair variables damaged
@@ -1007,10 +1004,6 @@ TEST(GpuPlatform, SweepIntegratorsRefuseWhatTheyDoNotDo) {
     EXPECT_EQ(after.getPositions(), before.getPositions()) << "nothing changed";
     EXPECT_EQ(after.getVelocities(), before.getVelocities()) << "nothing changed";
     EXPECT_EQ(after.getStepCount(), 1);
-    system->addConstraint(0, 1, 0.5);
-    std::unique_ptr<DPDThermostatIntegrator> lowe = loweAndersen(LoweAndersenIntegrator::Lowe, LoweAndersenIntegrator::Middle)(100);
-    expectErrorNaming([&] { makeContext(*system, *lowe, GPU, positions); },
-                      "LoweAndersenIntegrator: a System with constraints is not supported on the " + GPU + " platform");
 }
 
 namespace {

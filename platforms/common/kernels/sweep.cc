@@ -16,6 +16,9 @@
  * OpenMM's reduced form; under Lees-Edwards shear (b = (tilt, Ly, 0), tilt = boxSize.w) a
  * pair across the y boundary sees its partner's image move at n U.
  *
+ * With constraints a pair's impulse also moves the particles its constraints tie to i and j
+ * (pairConstraints.cc), so one work item sweeps each colour's cells in order.
+ *
  * For the pressure tensor, a sweep can also add the virial r J e e^T of the impulse J each
  * pair receives to the row of the work item that swept it (6 components virialStride apart).
  */
@@ -98,6 +101,7 @@ typedef struct {
     int virial;   /* whether to add the pairs' impulse virials */
     unsigned int transverseStream;  /* the stream of transverse friction's noise vectors (same step) */
     int transverse;  /* whether any type pair has transverse friction */
+    SweepConstraints constraints;  /* a System's constraints (active = 0 without) */
 } SweepRule;
 
 /* The relative velocity along e of i and the image of j, which moves at images U along x. */
@@ -114,6 +118,13 @@ inline DEVICE void applyImpulse(mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixe
     (*vj).x -= ex*jj;
     (*vj).y -= ey*jj;
     (*vj).z -= ez*jj;
+}
+
+/* The impulse J along e on the pair, with the constraint forces it calls up (addConstraintForces). */
+inline DEVICE void kickPair(SweepRule s, int i, int j, mixed4* vi, mixed4* vj, mixed ex, mixed ey, mixed ez, mixed J,
+        GLOBAL mixed4* RESTRICT velocity) {
+    applyImpulse(vi, vj, ex, ey, ez, J);
+    addConstraintForces(s.constraints, i, j, vi, vj, ex, ey, ez, J, velocity);
 }
 
 /* An impulse J in any direction (across e): v_i += J/m_i, v_j -= J/m_j (FreePairImpulse::applyAcross). */
@@ -189,8 +200,13 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed4 d, mixed4 p, mixe
     const mixed r = sqrt(r2);
     const mixed ex = dx/r, ey = dy/r, ez = dz/r;
     const mixed weight = pairLinearWeight(r, p.y), wR = pairRandomWeight(weight, p.z);
-    const mixed mu = 1/(vi.w+vj.w);
-    const mixed gamma = 2*p.x*mu*f;  // 2 mu friction f
+    const mixed freeMu = 1/(vi.w+vj.w);
+    const mixed gamma = 2*p.x*freeMu*f;  // 2 mu friction f
+    // The reduced mass the impulse sees: mu_eff with constraints (1/mu_eff = 0: they hold the pair rigid).
+    const mixed inverseMu = (s.constraints.active ? constrainedInverseMu(s.constraints, i, j, ex, ey, ez, velocity) : vi.w+vj.w);
+    if (inverseMu == 0)
+        return;
+    const mixed mu = (s.constraints.active ? 1/inverseMu : freeMu);
     const mixed xi = (s.partner ? boxMullerPartner(w) : boxMuller(w));
     const mixed imagesU = d.w*s.imageVelocity;
     mixed u = normalVelocity(vi, vj, ex, ey, ez, imagesU);
@@ -199,22 +215,22 @@ inline DEVICE void sweepPair(SweepRule s, int i, int j, mixed4 d, mixed4 p, mixe
         const mixed noise = pairNoiseAmplitude(gamma, s.kT)*wR*xi*sqrt(s.h);
         const mixed friction = gamma*pairDissipativeWeight(wR)*s.h;
         J = shardlowExplicitHalf(noise, friction, u);
-        applyImpulse(&vi, &vj, ex, ey, ez, J);
+        kickPair(s, i, j, &vi, &vj, ex, ey, ez, J, velocity);
         u = normalVelocity(vi, vj, ex, ey, ez, imagesU);
         const mixed J2 = shardlowImplicitHalf(noise, friction, mu, u);
-        applyImpulse(&vi, &vj, ex, ey, ez, J2);
+        kickPair(s, i, j, &vi, &vj, ex, ey, ez, J2, velocity);
         J += J2;
     }
     else if (s.rule == SWEEP_LOWE) {
         J = loweImpulse(u, xi, mu, s.kT/mu);
-        applyImpulse(&vi, &vj, ex, ey, ez, J);
+        kickPair(s, i, j, &vi, &vj, ex, ey, ez, J, velocity);
     }
     else {
         // 1 - decay^2 as -expm1(-2x): in float, 1 - decay*decay loses its digits when decay is near 1 (small wR).
         const mixed x = gamma*pairDissipativeWeight(wR)*s.h/mu;
         const mixed target = pairOUVelocity(u, exp(-x), sqrt(-s.kT/mu*expm1(-2*x)), xi);
         J = mu*(target-u);
-        applyImpulse(&vi, &vj, ex, ey, ez, J);
+        kickPair(s, i, j, &vi, &vj, ex, ey, ez, J, velocity);
     }
     mixed across[3] = {0, 0, 0};
     if (tp.x != 0 && s.rule != SWEEP_LOWE)
@@ -268,8 +284,12 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
         int partner,
         GLOBAL const int* RESTRICT exceptionStart, GLOBAL const int* RESTRICT exceptionPartner, GLOBAL const mixed* RESTRICT exceptionFactor,
         int virial, int virialStride, GLOBAL mixed* RESTRICT virialRows, mixed imageVelocity, unsigned int transverseStream,
-        int transverse, GLOBAL const mixed4* RESTRICT transverseParams) {
+        int transverse, GLOBAL const mixed4* RESTRICT transverseParams, int constrained, GLOBAL const int* RESTRICT clusterOf,
+        GLOBAL const int* RESTRICT clusterStart, GLOBAL const int2* RESTRICT constraintAtoms, GLOBAL const mixed4* RESTRICT constraintDirection,
+        GLOBAL const int* RESTRICT matrixStart, GLOBAL const mixed* RESTRICT clusterMatrix) {
     SweepRule s;
+    const SweepConstraints constraints = {constrained, clusterOf, clusterStart, constraintAtoms, constraintDirection, matrixStart, clusterMatrix};
+    s.constraints = constraints;
     s.rule = rule;
     s.h = h;
     s.kT = kT;
@@ -295,16 +315,19 @@ KERNEL void sweepColour(int colour, int reverse, int rule, mixed h, mixed kT, un
         }
         return;
     }
-    // The colour's cells along each axis: those of the axis's residue modulo 3.
+    // The colour's cells along each axis: those of the axis's residue modulo 3.  With
+    // constraints an impulse reaches beyond its pair, so one work item sweeps them in order.
     const int px = (numCells.x-colour%3+2)/3, py = (numCells.y-(colour/3)%3+2)/3, pz = (numCells.z-colour/9+2)/3;
     const bool halfShell = (numCells.x >= 3 && numCells.y >= 3 && numCells.z >= 3);
-    for (int t = GLOBAL_ID; t < px*py*pz; t += GLOBAL_SIZE) {
+    const int cells = px*py*pz;
+    for (int m = (constrained ? 0 : GLOBAL_ID); m < (constrained && GLOBAL_ID > 0 ? 0 : cells); m += (constrained ? 1 : GLOBAL_SIZE)) {
+        const int t = (constrained && reverse ? cells-1-m : m);
         const int x = colour%3+3*(t%px), y = (colour/3)%3+3*((t/px)%py), z = colour/9+3*(t/(px*py));
         sweepCell(s, x+numCells.x*(y+numCells.y*z), reverse, halfShell, position, velocity, atomType, numTypes, typeParams,
                   boxSize, invBoxSize, boxC, numCells, cellStart, cellAtoms, exceptionStart, exceptionPartner, exceptionFactor,
                   transverseParams, w);
     }
-    if (virial && GLOBAL_ID < px*py*pz)
+    if (virial && GLOBAL_ID < (constrained ? 1 : cells))
         addVirialRow(virialRows, GLOBAL_ID, virialStride, w);
 }
 
@@ -318,16 +341,18 @@ KERNEL void scatterVelocities(int numAtoms, GLOBAL const mixed4* RESTRICT veloci
     }
 }
 
-/* v += kick/m F ; r += drift v, with F the carried force (by atom). */
+/* v += kick/m F ; r += driftTime v, with F the carried force (by atom); with constraints the move goes to posDelta (drift). */
 KERNEL void kickDrift(int numAtoms, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm,
-        GLOBAL const int* RESTRICT atomIndex, GLOBAL const mm_long* RESTRICT carried, mixed kick, mixed drift, mixed maxMove2,
-        GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue) {
+        GLOBAL const int* RESTRICT atomIndex, GLOBAL const mm_long* RESTRICT carried, mixed kick, mixed driftTime, mixed maxMove2,
+        GLOBAL int* RESTRICT status, GLOBAL float* RESTRICT moveValue, int constrained, GLOBAL mixed4* RESTRICT posDelta,
+        GLOBAL mixed4* RESTRICT driftMove) {
     for (int k = GLOBAL_ID; k < numAtoms; k += GLOBAL_SIZE) {
         const int a = atomIndex[k];
         mixed4 v = velm[k];
         v = addScaledForce(v, carried, a, numAtoms, kick*v.w);
         velm[k] = v;
-        movePosition(posq, posqCorrection, k, make_mixed4(v.x*drift, v.y*drift, v.z*drift, 0), maxMove2, status, moveValue);
+        drift(posq, posqCorrection, k, make_mixed4(v.x*driftTime, v.y*driftTime, v.z*driftTime, 0), maxMove2, status, moveValue,
+              constrained, posDelta, driftMove);
     }
 }
 

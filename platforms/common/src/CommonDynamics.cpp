@@ -59,9 +59,7 @@ bool CommonDynamics::hasVirtualSite(const System& system) {
 }
 
 void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                       bool constraints, bool virtualSites) {
-    if (system.getNumConstraints() > 0 && !constraints)
-        refuse(integrator, platform, "a System with constraints");
+                                       bool virtualSites) {
     // How the device's strain moves virtual sites is not checked against the Reference: refused, not trusted.
     if (virtualSites && integrator.getPressureTensorEnabled())
         refuse(integrator, platform, "the pressure tensor of a System with virtual sites");

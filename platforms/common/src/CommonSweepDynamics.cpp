@@ -3,6 +3,7 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ComputeVectorTypes.h"
 #include "openmm/common/ContextSelector.h"
+#include "openmm/common/IntegrationUtilities.h"
 
 using namespace DPDPlugin;
 using namespace OpenMM;
@@ -10,7 +11,8 @@ using namespace OpenMM;
 namespace {
 
 std::vector<std::string> withSweepSources(std::vector<std::string> ruleSources) {
-    ruleSources.insert(ruleSources.begin(), {CommonDPDKernelSources::dpdvv, CommonDPDKernelSources::sweep});
+    ruleSources.insert(ruleSources.begin(),
+                       {CommonDPDKernelSources::dpdvv, CommonDPDKernelSources::pairConstraints, CommonDPDKernelSources::sweep});
     return ruleSources;
 }
 
@@ -29,8 +31,8 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     // The arguments that change with the grid, the box or the step are set where they are used.
     const std::vector<std::pair<ComputeKernel*, std::pair<std::string, int>>> kernels = {
             {&assignKernel, {"sweepAssign", 11}}, {&clearKernel, {"clearCells", 2}}, {&fillKernel, {"fillCells", 5}},
-            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 31}}, {&scatterKernel, {"scatterVelocities", 6}},
-            {&kickDriftKernel, {"kickDrift", 11}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
+            {&sortKernel, {"sweepSortCells", 3}}, {&colourKernel, {"sweepColour", 39}}, {&scatterKernel, {"scatterVelocities", 6}},
+            {&kickDriftKernel, {"kickDrift", 14}}, {&conservativeKernel, {"takeConservativeForce", 9}}};
     for (const auto& k : kernels)
         *k.first = createKernelWithArgs(program, k.second.first, k.second.second);
     ArrayInterface& posqCorrection = cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq();
@@ -42,6 +44,9 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     kickDriftKernel->setArg(5, carriedForce);
     kickDriftKernel->setArg(9, status);
     kickDriftKernel->setArg(10, moveValue);
+    kickDriftKernel->setArg(11, hasConstraints ? 1 : 0);
+    kickDriftKernel->setArg(12, cc.getIntegrationUtilities().getPosDelta());
+    kickDriftKernel->setArg(13, driftMove);
     conservativeKernel->setArg(0, numAtoms());
     conservativeKernel->setArg(1, cc.getPaddedNumAtoms());
     conservativeKernel->setArg(2, cc.getVelm());
@@ -54,6 +59,55 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
     scatterKernel->setArg(2, cc.getAtomIndexArray());
     scatterKernel->setArg(3, cc.getVelm());
     scatterKernel->setArg(5, status);
+    createConstraintClusters(system);
+}
+
+void CommonSweepDynamics::createConstraintClusters(const System& system) {
+    // The clusters are the connected components of the constraint graph, as ConstrainedPairImpulse's.
+    const int n = std::max(numAtoms(), 1);
+    std::vector<int> parent(n);
+    for (int i = 0; i < n; i++)
+        parent[i] = i;
+    auto root = [&](int i) {
+        while (parent[i] != i)
+            i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    std::vector<std::pair<int, int>> constraints(system.getNumConstraints());
+    for (int k = 0; k < system.getNumConstraints(); k++) {
+        double distance;
+        system.getConstraintParameters(k, constraints[k].first, constraints[k].second, distance);
+        parent[root(constraints[k].first)] = root(constraints[k].second);
+    }
+    std::vector<std::vector<int>> members(n);
+    for (int k = 0; k < (int) constraints.size(); k++)
+        members[root(constraints[k].first)].push_back(k);
+    std::vector<int> clusterOf(n, -1), start(1, 0), matrixStart(1, 0);
+    std::vector<mm_int2> atoms;
+    for (const std::vector<int>& cluster : members) {
+        if (cluster.empty())
+            continue;
+        for (int k : cluster) {
+            atoms.push_back(mm_int2(constraints[k].first, constraints[k].second));
+            clusterOf[constraints[k].first] = clusterOf[constraints[k].second] = (int) start.size() - 1;
+        }
+        start.push_back((int) atoms.size());
+        matrixStart.push_back(matrixStart.back() + (int) (cluster.size() * cluster.size()));
+    }
+    numClusters = (int) start.size() - 1;
+    uploadInts(cc, clusterOfAtom, clusterOf, "dpdClusterOf");
+    uploadInts(cc, clusterStart, start, "dpdClusterStart");
+    uploadInts(cc, clusterMatrixStart, matrixStart, "dpdClusterMatrixStart");
+    constraintAtoms.initialize<mm_int2>(cc, std::max((int) atoms.size(), 1), "dpdConstraintAtoms");
+    if (!atoms.empty())
+        constraintAtoms.upload(atoms);
+    const int mixedSize = mixedIsDouble(cc) ? sizeof(double) : sizeof(float);
+    constraintDirection.initialize(cc, std::max((int) atoms.size(), 1), 4 * mixedSize, "dpdConstraintDirection");
+    clusterMatrix.initialize(cc, std::max(matrixStart.back(), 1), mixedSize, "dpdClusterMatrix");
+    factorKernel = program->createKernel("factorConstraintClusters");
+    factorKernel->addArg(numClusters);
+    addArrayArgs(factorKernel, {&clusterStart, &constraintAtoms, &position, &velocity, &clusterMatrixStart, &constraintDirection,
+                                &clusterMatrix});
 }
 
 void CommonSweepDynamics::ensureCarriedForce(ContextImpl& context, int forceGroups) {
@@ -68,8 +122,10 @@ void CommonSweepDynamics::kickDrift(double kick, double drift) {
     setMixedArg(cc, kickDriftKernel, 7, drift);
     setMixedArg(cc, kickDriftKernel, 8, maxMove2());
     kickDriftKernel->execute(numAtoms());
-    if (drift != 0)
+    if (drift != 0) {
+        constrainDrift(drift, constraintTolerance);
         finishDrift(drift, false);  // the sweeps gather the velocities afresh
+    }
 }
 
 void CommonSweepDynamics::takeConservativeForce(ContextImpl& context, int forceGroups, double kick) {
@@ -82,6 +138,7 @@ void CommonSweepDynamics::takeConservativeForce(ContextImpl& context, int forceG
 void CommonSweepDynamics::velocityVerlet(ContextImpl& context, int forceGroups, double dt) {
     kickDrift(0.5 * dt, dt);
     takeConservativeForce(context, forceGroups, 0.5 * dt);
+    constrainVelocities(constraintTolerance);
 }
 
 void CommonSweepDynamics::buildGrid() {
@@ -137,6 +194,8 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
                                 long long step, bool reverse, bool partner) {
     gatherVelocities();
     buildGrid();
+    if (numClusters > 0)
+        factorKernel->execute(numClusters);
     colourKernel->setArg(1, reverse ? 1 : 0);
     colourKernel->setArg(2, (int) rule);
     setMixedArg(cc, colourKernel, 3, h);
@@ -158,7 +217,7 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
     // As the Reference: an open grid is always coloured, a periodic one with 3 cells or more on every axis.
     const bool coloured = !grid.isPeriodic() || (numCells[0] >= 3 && numCells[1] >= 3 && numCells[2] >= 3);
     const int cellsPerColour = ((numCells[0] + 2) / 3) * ((numCells[1] + 2) / 3) * ((numCells[2] + 2) / 3);
-    const int rows = (coloured ? cellsPerColour : 1);
+    const int rows = (coloured && numClusters == 0 ? cellsPerColour : 1);  // with constraints: one work item (kernels/sweep.cc)
     const bool virial = (thermostatVirial != nullptr);
     if (virial)
         clearVirialRows(rows);
@@ -169,6 +228,9 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
     colourKernel->setArg(28, (unsigned int) transverseStream);
     colourKernel->setArg(29, parameters.hasTransverse() ? 1 : 0);
     colourKernel->setArg(30, transverseParams);
+    colourKernel->setArg(31, numClusters > 0 ? 1 : 0);
+    setArrayArgs(colourKernel, 32, {&clusterOfAtom, &clusterStart, &constraintAtoms, &constraintDirection, &clusterMatrixStart,
+                                    &clusterMatrix});
     for (int k = 0; k < (coloured ? 27 : 1); k++) {
         colourKernel->setArg(0, coloured ? (reverse ? 26 - k : k) : -1);
         colourKernel->execute(rows);
@@ -177,10 +239,12 @@ void CommonSweepDynamics::sweep(Rule rule, double h, double dt, PairRandom::Stre
         addVirialRows(rows, 1 / dt);
     setMixedArg(cc, scatterKernel, 4, velocityBound());
     scatterKernel->execute(numAtoms());
+    constrainVelocities(constraintTolerance);
 }
 
 void CommonShardlowDynamics::step(ContextImpl& context, const ShardlowIntegrator& integrator) {
     ContextSelector selector(cc);
+    constraintTolerance = integrator.getConstraintTolerance();
     const double dt = integrator.getStepSize();
     const int forceGroups = integrator.getIntegrationForceGroups();
     // Every random number of the step is keyed by the step it starts from (but S2's second
@@ -202,6 +266,7 @@ void CommonShardlowDynamics::step(ContextImpl& context, const ShardlowIntegrator
 
 void CommonLoweAndersenDynamics::step(ContextImpl& context, const LoweAndersenIntegrator& integrator) {
     ContextSelector selector(cc);
+    constraintTolerance = integrator.getConstraintTolerance();
     const double dt = integrator.getStepSize();
     const int forceGroups = integrator.getIntegrationForceGroups();
     const long long current = cc.getStepCount(), next = current + 1;

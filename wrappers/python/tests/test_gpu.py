@@ -138,9 +138,12 @@ def test_opencl_staggered_kT_agrees_with_cpu(base):
     assert abs(device - cpu) <= 3 * np.hypot(device_sigma, cpu_sigma)
 
 
-def test_constraints_in_the_sweeps_are_refused_on_opencl():
-    """A sweep integrator in a System with constraints fails when the Context is made, naming the platform."""
+def test_pressure_tensor_with_virtual_sites_is_refused_on_opencl():
+    """What the device does not do fails when the Context is made, naming the platform."""
     scene = ideal_scene(num_particles=200)
-    scene.system.addConstraint(0, 1, 0.5)
-    with pytest.raises(openmm.OpenMMException, match="constraints is not supported on the OpenCL platform"):
-        make_context(scene, openmmdpd.ShardlowIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, 0.01), "OpenCL")
+    scene.system.setParticleMass(2, 0)
+    scene.system.setVirtualSite(2, openmm.TwoParticleAverageSite(0, 1, 0.5, 0.5))
+    integrator = openmmdpd.DPDVVIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, 0.01)
+    integrator.setPressureTensorEnabled(True)
+    with pytest.raises(openmm.OpenMMException, match="virtual sites is not supported on the OpenCL platform"):
+        make_context(scene, integrator, "OpenCL")

@@ -26,8 +26,8 @@ parameter differently, the case says so and maps it:
   KE + PE is the conserved energy as it stands.
 
 The cases that name a platform also run on OpenCL, in double precision so that OpenMM's
-tolerances apply: slow, since OpenCL here is POCL on the CPU.  There the sweeps refuse
-constraints; the constraint case is left to the Reference and CPU (see it).
+tolerances apply: slow, since OpenCL here is POCL on the CPU.  The constraint case is left
+to the Reference and CPU (see it).
 
 Fast: every case takes a few seconds at most on the CPU platform, one thread.  The
 temperature and diffusion cases are statistical: each states its sigma and asserts within

@@ -27,7 +27,7 @@ public:
             DynamicsStepKernel<Interface, Integrator, Dynamics>(name, platform), cc(cc) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
         virtualSites = CommonDynamics::hasVirtualSite(system);
-        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName(), Dynamics::supportsConstraints, virtualSites);
+        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName(), virtualSites);
         // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do
         // the same): until then the Context has no particle arrays.
         cc.initializeContexts();
@@ -35,8 +35,7 @@ public:
         DynamicsStepKernel<Interface, Integrator, Dynamics>::initialize(system, integrator);
     }
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
-        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), Dynamics::supportsConstraints,
-                                          virtualSites);
+        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), virtualSites);
         DynamicsStepKernel<Interface, Integrator, Dynamics>::execute(context, integrator);
     }
 

@@ -13,7 +13,6 @@ namespace DPDPlugin {
  */
 class CommonDPDVVDynamics : public CommonDynamics {
 public:
-    static constexpr bool supportsConstraints = true;
     CommonDPDVVDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const DPDVVIntegrator& integrator,
                         const std::string& platform);
     void step(OpenMM::ContextImpl& context, const DPDVVIntegrator& integrator);

@@ -15,7 +15,6 @@ namespace DPDPlugin {
  */
 class CommonDenOtterClarkeDynamics : public CommonDynamics {
 public:
-    static constexpr bool supportsConstraints = true;
     CommonDenOtterClarkeDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const DenOtterClarkeIntegrator& integrator,
                                  const std::string& platform);
     void step(OpenMM::ContextImpl& context, const DenOtterClarkeIntegrator& integrator);

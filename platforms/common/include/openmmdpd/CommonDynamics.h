@@ -30,8 +30,6 @@ namespace DPDPlugin {
  */
 class CommonDynamics {
 public:
-    /** Whether the update rule applies constraints (a subclass that does says so). */
-    static constexpr bool supportsConstraints = false;
     /**
      * Refuses (OpenMMException naming `platform`) what the device path does not do.
      * @param ruleSources     the kernel sources of the subclass's update rule
@@ -56,13 +54,13 @@ public:
     void resetState();
     /**
      * Throws an OpenMMException, naming the platform, for what the device path does not do
-     * (constraints where the rule has none, virtual sites with the pressure tensor, OpenMM's own
-     * periodic forces under shear or with the pressure tensor); called
+     * (virtual sites with the pressure tensor, OpenMM's own periodic forces under shear or with
+     * the pressure tensor); called
      * before a Context is made and before every step, so nothing has changed.  virtualSites:
      * whether the System has any (hasVirtualSite, looked up once, not at every step).
      */
     static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                  bool constraints, bool virtualSites);
+                                  bool virtualSites);
     static bool hasVirtualSite(const OpenMM::System& system);
 
 protected:

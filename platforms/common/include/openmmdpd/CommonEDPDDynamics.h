@@ -17,7 +17,6 @@ namespace DPDPlugin {
  */
 class CommonEDPDDynamics : public CommonDynamics {
 public:
-    static constexpr bool supportsConstraints = true;
     CommonEDPDDynamics(OpenMM::ComputeContext& cc, const OpenMM::System& system, const EDPDIntegrator& integrator,
                        const std::string& platform);
     void step(OpenMM::ContextImpl& context, const EDPDIntegrator& integrator);

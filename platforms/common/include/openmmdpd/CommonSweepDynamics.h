@@ -42,15 +42,22 @@ protected:
     void sweep(Rule rule, double h, double dt, PairRandom::Stream stream, PairRandom::Stream transverseStream, long long step,
                bool reverse, bool partner = false);
 
+    double constraintTolerance = 1e-5;  // the integrator's, set at each step
+
 private:
     /** The Reference's grid at the current positions, each cell's atoms in index order. */
     void buildGrid();
+    /** The constraint clusters of the System for the sweeps' impulses (kernels/pairConstraints.cc). */
+    void createConstraintClusters(const OpenMM::System& system);
     CommonCellScan scan;
     static constexpr long long MaxGridCells = 1LL << 27;
     CommonGridBox grid;
     OpenMM::ComputeKernel assignKernel, clearKernel, fillKernel, sortKernel, colourKernel, scatterKernel, kickDriftKernel,
             conservativeKernel;
     OpenMM::ComputeArray position, atomCell, cellCount, cellStart, cellAtoms;
+    OpenMM::ComputeKernel factorKernel;
+    OpenMM::ComputeArray clusterOfAtom, clusterStart, constraintAtoms, constraintDirection, clusterMatrixStart, clusterMatrix;
+    int numClusters = 0;
     int numCells[3] = {0, 0, 0}, totalCells = 0;
     DeviceBox box;  // the box of the last grid (buildGrid)
 };
