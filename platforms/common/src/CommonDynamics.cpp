@@ -49,20 +49,16 @@ void refusePeriodicForces(const System& system, const DPDThermostatIntegrator& i
     }
 }
 
-} // namespace
-
-bool CommonDynamics::hasVirtualSite(const System& system) {
+bool hasVirtualSite(const System& system) {
     for (int i = 0; i < system.getNumParticles(); i++)
         if (system.isVirtualSite(i))
             return true;
     return false;
 }
 
-void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                       bool virtualSites) {
-    // How the device's strain moves virtual sites is not checked against the Reference: refused, not trusted.
-    if (virtualSites && integrator.getPressureTensorEnabled())
-        refuse(integrator, platform, "the pressure tensor of a System with virtual sites");
+} // namespace
+
+void CommonDynamics::refuseUnsupported(const System& system, const DPDThermostatIntegrator& integrator, const std::string& platform) {
     if (integrator.getShearRate() != 0 || integrator.getPressureTensorEnabled())
         refusePeriodicForces(system, integrator, platform);
 }

@@ -138,12 +138,15 @@ def test_opencl_staggered_kT_agrees_with_cpu(base):
     assert abs(device - cpu) <= 3 * np.hypot(device_sigma, cpu_sigma)
 
 
-def test_pressure_tensor_with_virtual_sites_is_refused_on_opencl():
-    """What the device does not do fails when the Context is made, naming the platform."""
+def test_periodic_openmm_force_under_shear_in_a_rectangular_box_is_refused_on_opencl():
+    """What the device cannot do fails when the Context is made, naming the platform: OpenMM's
+    device kernels for a System made with a rectangular box ignore the sliding box's tilt."""
     scene = ideal_scene(num_particles=200)
-    scene.system.setParticleMass(2, 0)
-    scene.system.setVirtualSite(2, openmm.TwoParticleAverageSite(0, 1, 0.5, 0.5))
+    springs = openmm.HarmonicBondForce()
+    springs.addBond(0, 1, 0.5, 100.0)
+    springs.setUsesPeriodicBoundaryConditions(True)
+    scene.system.addForce(springs)
     integrator = openmmdpd.DPDVVIntegrator(openmmdpd.KT_TEMPERATURE, 4.5, 1.0, 0.01)
-    integrator.setPressureTensorEnabled(True)
-    with pytest.raises(openmm.OpenMMException, match="virtual sites is not supported on the OpenCL platform"):
+    integrator.setShearRate(0.5 / unit.picosecond)
+    with pytest.raises(openmm.OpenMMException, match="default box is rectangular.*not supported on the OpenCL platform"):
         make_context(scene, integrator, "OpenCL")

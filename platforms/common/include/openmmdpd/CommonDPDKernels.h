@@ -26,8 +26,7 @@ public:
     CommonStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc) :
             DynamicsStepKernel<Interface, Integrator, Dynamics>(name, platform), cc(cc) {}
     void initialize(const OpenMM::System& system, const Integrator& integrator) override {
-        virtualSites = CommonDynamics::hasVirtualSite(system);
-        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName(), virtualSites);
+        CommonDynamics::refuseUnsupported(system, integrator, this->getPlatform().getName());
         // The integrator's kernel finishes the platform's set-up (OpenMM's own integrators do
         // the same): until then the Context has no particle arrays.
         cc.initializeContexts();
@@ -35,7 +34,7 @@ public:
         DynamicsStepKernel<Interface, Integrator, Dynamics>::initialize(system, integrator);
     }
     void execute(OpenMM::ContextImpl& context, const Integrator& integrator) override {
-        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName(), virtualSites);
+        CommonDynamics::refuseUnsupported(context.getSystem(), integrator, this->getPlatform().getName());
         DynamicsStepKernel<Interface, Integrator, Dynamics>::execute(context, integrator);
     }
 
@@ -46,7 +45,6 @@ protected:
 
 private:
     OpenMM::ComputeContext& cc;
-    bool virtualSites = false;
 };
 
 using CommonIntegrateDPDVVStepKernel = CommonStepKernel<IntegrateDPDVVStepKernel, DPDVVIntegrator, CommonDPDVVDynamics>;

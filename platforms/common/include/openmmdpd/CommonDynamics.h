@@ -53,15 +53,12 @@ public:
     void loadCheckpoint(OpenMM::ContextImpl& context, CheckpointReader& reader);
     void resetState();
     /**
-     * Throws an OpenMMException, naming the platform, for what the device path does not do
-     * (virtual sites with the pressure tensor, OpenMM's own periodic forces under shear or with
-     * the pressure tensor); called
-     * before a Context is made and before every step, so nothing has changed.  virtualSites:
-     * whether the System has any (hasVirtualSite, looked up once, not at every step).
+     * Throws an OpenMMException, naming the platform, for what the device path cannot do
+     * (OpenMM's own periodic forces under shear or with the pressure tensor where OpenMM's
+     * kernels take only a rectangular box); called before a Context is made and before every
+     * step, so nothing has changed.
      */
-    static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform,
-                                  bool virtualSites);
-    static bool hasVirtualSite(const OpenMM::System& system);
+    static void refuseUnsupported(const OpenMM::System& system, const DPDThermostatIntegrator& integrator, const std::string& platform);
 
 protected:
     /** Whether the carried force holds for the Context's state (see CarriedForce). */
