@@ -569,6 +569,15 @@ void configureSweep(DPDThermostatIntegrator& integrator, int numParticles) {
     integrator.addTypePair(0, 1, 6.0, 0.9);
 }
 
+MakeIntegrator edpd(EDPDIntegrator::Scheme scheme) {
+    return [scheme](int numParticles) {
+        std::unique_ptr<EDPDIntegrator> integrator(new EDPDIntegrator(KT_KELVIN, 4.5, 1.0, 10.0, 0.02));
+        integrator->setScheme(scheme);
+        configureSweep(*integrator, numParticles);
+        return std::unique_ptr<DPDThermostatIntegrator>(std::move(integrator));
+    };
+}
+
 MakeIntegrator shardlow(int order) {
     return [order](int numParticles) {
         std::unique_ptr<ShardlowIntegrator> integrator(new ShardlowIntegrator(KT_KELVIN, 4.5, 1.0, 0.02));
@@ -662,6 +671,7 @@ TEST(GpuPlatform, ThermostatExceptionsFollowReference) {
                            "Lowe, exceptions");
     expectFollowsReference(withExceptions(loweAndersen(LoweAndersenIntegrator::PairOrnsteinUhlenbeck, LoweAndersenIntegrator::Middle)),
                            900, "pair OU, exceptions");
+    expectFollowsReference(withExceptions(edpd(EDPDIntegrator::OneSided)), 600, "EDPD, exceptions");
 }
 
 TEST(GpuPlatform, WeightExponentsFollowReference) {
