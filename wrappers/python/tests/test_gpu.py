@@ -37,7 +37,8 @@ MAX_SIGMA = 0.003
 pytestmark = pytest.mark.skipif(not have_opencl(), reason="no OpenCL platform or no openmmdpd OpenCL plugin")
 
 SCENES = {"ideal": ideal_scene, "soft": soft_scene}
-GPU_INTEGRATORS = ["GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU", "OC", "EDPD-OneSided", "EDPD-Symmetric"]
+GPU_INTEGRATORS = ["GW", "DPD-VV", "SC-VV", "S1", "S2", "Lowe", "PairOU", "Lowe-mid", "PairOU-mid", "OC", "EDPD-OneSided",
+                   "EDPD-Symmetric"]
 EDPD_ALPHA = 10.0  # /ps: alpha dt = 0.4
 # The symmetric scheme damps the kinetic energy's fluctuations more slowly: 4 times the samples keep sigma <= 0.003.
 SAMPLE_FACTOR = {"EDPD-Symmetric": 4}
