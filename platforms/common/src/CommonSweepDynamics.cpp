@@ -1,4 +1,5 @@
 #include "openmmdpd/CommonSweepDynamics.h"
+#include "openmmdpd/ConstrainedPairImpulse.h"
 #include "CommonDPDKernelSources.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ComputeVectorTypes.h"
@@ -63,33 +64,15 @@ CommonSweepDynamics::CommonSweepDynamics(ComputeContext& cc, const System& syste
 }
 
 void CommonSweepDynamics::createConstraintClusters(const System& system) {
-    // The clusters are the connected components of the constraint graph, as ConstrainedPairImpulse's.
-    const int n = std::max(numAtoms(), 1);
-    std::vector<int> parent(n);
-    for (int i = 0; i < n; i++)
-        parent[i] = i;
-    auto root = [&](int i) {
-        while (parent[i] != i)
-            i = parent[i] = parent[parent[i]];
-        return i;
-    };
-    std::vector<std::pair<int, int>> constraints(system.getNumConstraints());
-    for (int k = 0; k < system.getNumConstraints(); k++) {
-        double distance;
-        system.getConstraintParameters(k, constraints[k].first, constraints[k].second, distance);
-        parent[root(constraints[k].first)] = root(constraints[k].second);
-    }
-    std::vector<std::vector<int>> members(n);
-    for (int k = 0; k < (int) constraints.size(); k++)
-        members[root(constraints[k].first)].push_back(k);
-    std::vector<int> clusterOf(n, -1), start(1, 0), matrixStart(1, 0);
+    std::vector<int> clusterOf(std::max(numAtoms(), 1), -1), start(1, 0), matrixStart(1, 0);
     std::vector<mm_int2> atoms;
-    for (const std::vector<int>& cluster : members) {
-        if (cluster.empty())
-            continue;
+    for (const std::vector<int>& cluster : findConstraintClusters(system)) {
         for (int k : cluster) {
-            atoms.push_back(mm_int2(constraints[k].first, constraints[k].second));
-            clusterOf[constraints[k].first] = clusterOf[constraints[k].second] = (int) start.size() - 1;
+            int a, b;
+            double distance;
+            system.getConstraintParameters(k, a, b, distance);
+            atoms.push_back(mm_int2(a, b));
+            clusterOf[a] = clusterOf[b] = (int) start.size() - 1;
         }
         start.push_back((int) atoms.size());
         matrixStart.push_back(matrixStart.back() + (int) (cluster.size() * cluster.size()));

@@ -17,14 +17,8 @@ int findRoot(std::vector<int>& parent, int i) {
 
 } // namespace
 
-ConstrainedPairImpulse::ConstrainedPairImpulse(const OpenMM::System& system) :
-        inverseMasses(system.getNumParticles()), clusterOf(system.getNumParticles(), -1) {
+std::vector<std::vector<int>> DPDPlugin::findConstraintClusters(const OpenMM::System& system) {
     const int n = system.getNumParticles();
-    for (int i = 0; i < n; i++) {
-        const double mass = system.getParticleMass(i);
-        inverseMasses[i] = (mass > 0 ? 1 / mass : 0);
-    }
-    // The clusters are the connected components of the constraint graph.
     std::vector<int> parent(n);
     std::iota(parent.begin(), parent.end(), 0);
     for (int k = 0; k < system.getNumConstraints(); k++) {
@@ -34,6 +28,7 @@ ConstrainedPairImpulse::ConstrainedPairImpulse(const OpenMM::System& system) :
         parent[findRoot(parent, a)] = findRoot(parent, b);
     }
     std::vector<int> clusterOfRoot(n, -1);
+    std::vector<std::vector<int>> clusters;
     for (int k = 0; k < system.getNumConstraints(); k++) {
         int a, b;
         double distance;
@@ -43,8 +38,26 @@ ConstrainedPairImpulse::ConstrainedPairImpulse(const OpenMM::System& system) :
             cluster = (int) clusters.size();
             clusters.emplace_back();
         }
-        clusters[cluster].constraints.push_back(Constraint{a, b, Vec3()});
-        clusterOf[a] = clusterOf[b] = cluster;
+        clusters[cluster].push_back(k);
+    }
+    return clusters;
+}
+
+ConstrainedPairImpulse::ConstrainedPairImpulse(const OpenMM::System& system) :
+        inverseMasses(system.getNumParticles()), clusterOf(system.getNumParticles(), -1) {
+    for (int i = 0; i < system.getNumParticles(); i++) {
+        const double mass = system.getParticleMass(i);
+        inverseMasses[i] = (mass > 0 ? 1 / mass : 0);
+    }
+    for (const std::vector<int>& members : findConstraintClusters(system)) {
+        clusters.emplace_back();
+        for (int k : members) {
+            int a, b;
+            double distance;
+            system.getConstraintParameters(k, a, b, distance);
+            clusters.back().constraints.push_back(Constraint{a, b, Vec3()});
+            clusterOf[a] = clusterOf[b] = (int) clusters.size() - 1;
+        }
     }
 }
 

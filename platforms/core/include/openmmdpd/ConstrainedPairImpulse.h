@@ -11,6 +11,13 @@
 namespace DPDPlugin {
 
 /**
+ * The constraint clusters of a System (particles joined by constraints): the connected
+ * components of its constraint graph, each as its constraint indices in increasing order,
+ * the clusters in the order of their first constraint.
+ */
+std::vector<std::vector<int>> findConstraintClusters(const OpenMM::System& system);
+
+/**
  * A pair impulse in a System with constraints: J along e at i and -J at j, with the
  * constraint forces it calls up, so that the velocities stay on the constraints.  In mass
  * metric the velocity change is J d with d = M^-1 (g - C^T lambda), g the impulse's
