@@ -48,7 +48,8 @@ SAMPLE = 0.5  # time between samples of the chain's shape
 # long); equilibrate and time: each run's time before and while sampling
 FULL = dict(particles=5184, chain=30, dt=0.04, salt=[0, 100, 300, None], equilibrate=[40.0, 20.0, 20.0, 20.0],
             time=[200.0, 140.0, 120.0, 400.0])
-QUICK = dict(particles=648, chain=10, dt=0.04, salt=[0, 60, None], equilibrate=[3.0, 3.0, 3.0], time=[30.0, 30.0, 30.0])
+QUICK = dict(particles=648, chain=10, dt=0.04, salt=[0, 60, None], equilibrate=[3.0, 3.0, 3.0],
+             time=[120.0, 120.0, 120.0])
 
 
 def valences(args, salt):
@@ -119,7 +120,8 @@ def measure(args, salt, equilibrate, time_span, positions, seed):
                 debye_length=math.inf if ions == 0 else 1 / math.sqrt(4 * math.pi * BJERRUM * ions / volume),
                 ree2=float(ree2.mean()), ree2_err=standard_error(ree2), ree2_err_blocks=block_average(ree2, 8)[1],
                 rg2=float(rg2.mean()), rg2_err=standard_error(rg2), rg2_err_blocks=block_average(rg2, 8)[1],
-                ratio=float(ree2.mean() / rg2.mean()), bond=float(np.mean(bond_lengths)), samples=len(ree2),
+                ratio=float(ree2.mean() / rg2.mean()), bond=float(np.mean(bond_lengths)),
+                bond_err=standard_error(bond_lengths), samples=len(ree2),
                 kT=float(np.mean(temperatures)), kT_err=standard_error(temperatures)), positions
 
 
@@ -127,14 +129,14 @@ def measure_all(args):
     """The runs in turn, each from the last one's end: the chain shrinks from run to run, so each
     starts nearer its own state than from a random walk, and what it keeps of the last can only
     make the fall with salt smaller."""
-    rows, positions = [], first_positions(args, 41)
+    rows, positions = [], first_positions(args, args.seed)
     for k, (salt, equilibrate, span) in enumerate(zip(args.salt, args.equilibrate, args.time)):
         t0 = time.perf_counter()
-        row, positions = measure(args, salt, equilibrate, span, positions, seed=41 + k)
+        row, positions = measure(args, salt, equilibrate, span, positions, seed=args.seed + k)
         row["seconds"] = time.perf_counter() - t0
         rows.append(row)
         print(f"{label(row)}: Debye length {row['debye_length']:.3g}, <R_ee^2> {row['ree2']:.2f} +- {row['ree2_err']:.2f}, "
-              f"<R_g^2> {row['rg2']:.3f} +- {row['rg2_err']:.3f}, bond {row['bond']:.3f}, kT {row['kT']:.4f}; "
+              f"<R_g^2> {row['rg2']:.3f} +- {row['rg2_err']:.3f}, bond {row['bond']:.3f} +- {row['bond_err']:.3f}, kT {row['kT']:.4f}; "
               f"{row['seconds']:.0f} s", flush=True)
     return rows
 
@@ -180,6 +182,7 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="seconds: a short chain in a small box, short runs")
     parser.add_argument("--out", default=OUT, help="output folder")
     parser.add_argument("--threads", type=int, default=2, help="CPU platform threads")
+    parser.add_argument("--seed", type=int, default=41, help="the first run's random seed; run k takes seed + k")
     args = parser.parse_args(argv)
     for key, value in (QUICK if args.quick else FULL).items():
         setattr(args, key, value)
