@@ -18,6 +18,8 @@ DOCS = os.path.join(ROOT, "docs")
 SMALLER = [
     (re.compile(r"num_particles=\d+"), lambda m: "num_particles=500"),
     (re.compile(r"\.step\((\d+)\)"), lambda m: f".step({min(int(m.group(1)), 200)})"),
+    (re.compile(r"(calibrate_den_otter_clarke\([^()]*)\)"),
+     lambda m: f"{m.group(1)}, equilibration_steps=100, num_blocks=4, block_steps=50)"),
 ]
 
 
