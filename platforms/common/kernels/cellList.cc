@@ -152,3 +152,20 @@ inline DEVICE int neighbourCell(int cell, int n, int4 numCells) {
     const int z = shiftCell(cell/(numCells.x*numCells.y), n/9-1, numCells.z, numCells.w);
     return (x < 0 || y < 0 || z < 0 ? -1 : x+numCells.x*(y+numCells.y*z));
 }
+
+/*
+ * Every slot s of cellAtoms in the cells around `cell`, itself included, for the statement
+ * that follows: a particle's partners within the cutoff lie among them.
+ */
+#define FOR_EACH_NEIGHBOUR_SLOT(s, cell, numCells, cellStart) \
+    for (int neighbour_ = 0; neighbour_ < NEIGHBOUR_SLOTS; neighbour_++) \
+        for (int cell_ = neighbourCell(cell, neighbour_, numCells), s = (cell_ < 0 ? 0 : cellStart[cell_]), \
+                 end_ = (cell_ < 0 ? 0 : cellStart[cell_+1]); s < end_; s++)
+
+/* Whether the pair (a, b) is in a's exclusions (exclusions[exclusionStart[a] .. exclusionStart[a+1]-1]). */
+inline DEVICE bool isExcluded(int a, int b, GLOBAL const int* RESTRICT exclusionStart, GLOBAL const int* RESTRICT exclusions) {
+    bool excluded = false;
+    for (int e = exclusionStart[a]; e < exclusionStart[a+1]; e++)
+        excluded = excluded || (exclusions[e] == b);
+    return excluded;
+}

@@ -91,11 +91,8 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mm_long fd[3] = {0, 0, 0}, fr[3] = {0, 0, 0};
         mixed w[6] = {0, 0, 0, 0, 0, 0};
-        for (int n = 0; n < NEIGHBOUR_SLOTS && va.w != 0; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells);
-            if (cell < 0)
-                continue;
-            for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
+        if (va.w != 0)
+            FOR_EACH_NEIGHBOUR_SLOT(s, atomCell[k], numCells, cellStart) {
                 const int k2 = cellAtoms[s];
                 const int b = atomIndex[k2];
                 const mixed4 vb = velocity[b];
@@ -138,7 +135,6 @@ KERNEL void dpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBA
                     addVirialOuter(w, dx, dy, dz, across[0], across[1], across[2]);
                 }
             }
-        }
         storeSums(a, k, numAtoms, paddedNumAtoms, terms, virialTerms, fd, fr, w, outD, outR, virial);
     }
 }

@@ -101,32 +101,27 @@ inline DEVICE int edpdPairsInRange(int k, int a, mixed4 ra, GLOBAL const real4* 
         GLOBAL int* RESTRICT candidatePartner, GLOBAL mixed* RESTRICT candidateWeight2) {
     const int row = a*capacity;
     int count = 0;
-    for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
-        const int cell = neighbourCell(atomCell[k], n, numCells);
-        if (cell < 0)
+    FOR_EACH_NEIGHBOUR_SLOT(s, atomCell[k], numCells, cellStart) {
+        const int k2 = cellAtoms[s];
+        const int b = atomIndex[k2];
+        if (b <= a || velocity[b].w == 0)
             continue;
-        for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
-            const int k2 = cellAtoms[s];
-            const int b = atomIndex[k2];
-            if (b <= a || velocity[b].w == 0)
-                continue;
-            const mixed4 d = nearestDisplacement(ra, loadPosition(posq, posqCorrection, k2), boxSize, invBoxSize, boxC);
-            const mixed4 p = typeParams[atomType[a]*numTypes+atomType[b]];  // friction, rc, s, rc^2
-            const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
-            if (r2 >= p.w || r2 == 0)
-                continue;
-            const mixed w = pairLinearWeight(sqrt(r2), p.y);
-            if (count < capacity) {  // insertion by partner
-                int at = count;
-                for (; at > 0 && candidatePartner[row+at-1] > b; at--) {
-                    candidatePartner[row+at] = candidatePartner[row+at-1];
-                    candidateWeight2[row+at] = candidateWeight2[row+at-1];
-                }
-                candidatePartner[row+at] = b;
-                candidateWeight2[row+at] = w*w;
+        const mixed4 d = nearestDisplacement(ra, loadPosition(posq, posqCorrection, k2), boxSize, invBoxSize, boxC);
+        const mixed4 p = typeParams[atomType[a]*numTypes+atomType[b]];  // friction, rc, s, rc^2
+        const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
+        if (r2 >= p.w || r2 == 0)
+            continue;
+        const mixed w = pairLinearWeight(sqrt(r2), p.y);
+        if (count < capacity) {  // insertion by partner
+            int at = count;
+            for (; at > 0 && candidatePartner[row+at-1] > b; at--) {
+                candidatePartner[row+at] = candidatePartner[row+at-1];
+                candidateWeight2[row+at] = candidateWeight2[row+at-1];
             }
-            count++;
+            candidatePartner[row+at] = b;
+            candidateWeight2[row+at] = w*w;
         }
+        count++;
     }
     return count;
 }
@@ -174,11 +169,13 @@ KERNEL void edpdMergePairs(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOB
                 e = stored;
                 io++;
             }
-            const mixed lambda = edpdLambda(a, b, velocity, atomType, numTypes, typeParams, exceptionStart, exceptionPartner,
-                                            exceptionFactor, alpha);
-            e = edpdStepEntry(e, bNew == b, bNew == b ? candidateWeight2[row+ic] : 0, typeParams[atomType[a]*numTypes+atomType[b]].y,
+            const int inRangeNow = (bNew == b);
+            // An entry that is only archived just ages: it needs no lambda.
+            const mixed lambda = (inRangeNow || (e.flags & EDPD_IN_RANGE) ?
+                    edpdLambda(a, b, velocity, atomType, numTypes, typeParams, exceptionStart, exceptionPartner, exceptionFactor, alpha) : 0);
+            e = edpdStepEntry(e, inRangeNow, inRangeNow ? candidateWeight2[row+ic] : 0, typeParams[atomType[a]*numTypes+atomType[b]].y,
                               lambda, st, a, b);
-            ic += (bNew == b ? 1 : 0);
+            ic += inRangeNow;
             if (e.flags != 0 && out < capacity) {
                 newPartner[row+out] = b;
                 newFlags[row+out] = e.flags;
@@ -231,18 +228,15 @@ KERNEL void edpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOB
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mm_long f[3] = {0, 0, 0};
         mixed w6[6] = {0, 0, 0, 0, 0, 0};
-        for (int n = 0; n < NEIGHBOUR_SLOTS && velocity[a].w != 0; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells);
-            if (cell < 0)
-                continue;
-            for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
+        if (velocity[a].w != 0)
+            FOR_EACH_NEIGHBOUR_SLOT(s, atomCell[k], numCells, cellStart) {
                 const int k2 = cellAtoms[s];
                 const int b = atomIndex[k2];
                 if (k2 == k || velocity[b].w == 0)
                     continue;
                 const mixed4 rb = loadPosition(posq, posqCorrection, k2);
                 const bool aIsLo = (a < b);
-                const mixed4 d = nearestDisplacement(aIsLo ? ra : rb, aIsLo ? rb : ra, boxSize, invBoxSize, boxC);
+                const mixed4 d = loHiDisplacement(aIsLo, ra, rb, boxSize, invBoxSize, boxC);
                 const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
                 const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
                 if (r2 >= p.w || r2 == 0)
@@ -260,7 +254,6 @@ KERNEL void edpdPairForces(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOB
                 if (aIsLo && virial)
                     addVirialAlong(w6, d.x, d.y, d.z, c/r);
             }
-        }
         for (int d = 0; d < 3; d++)
             out[a+d*numAtoms] = f[d];
         if (virial)

@@ -7,12 +7,6 @@
  * the energy buffer of the thread.  typeParams: (A, rc, 1/rc, rc^2) per type pair; typeB: B
  * per type; densityParams: (norm, 1/rd, rd^2, energyFactor).
  */
-inline DEVICE bool mdpdExcluded(int a, int b, GLOBAL const int* RESTRICT exclusionStart, GLOBAL const int* RESTRICT exclusions) {
-    bool excluded = false;
-    for (int e = exclusionStart[a]; e < exclusionStart[a+1]; e++)
-        excluded = excluded || (exclusions[e] == b);
-    return excluded;
-}
 
 KERNEL void mdpdDensity(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL const real4* RESTRICT posqCorrection,
         GLOBAL const int* RESTRICT atomIndex, GLOBAL const int* RESTRICT exclusionStart, GLOBAL const int* RESTRICT exclusions,
@@ -22,19 +16,14 @@ KERNEL void mdpdDensity(int numAtoms, GLOBAL const real4* RESTRICT posq, GLOBAL 
         const int a = atomIndex[k];
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mixed rho = 0;
-        for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells);
-            if (cell < 0)
+        FOR_EACH_NEIGHBOUR_SLOT(s, atomCell[k], numCells, cellStart) {
+            const int k2 = cellAtoms[s];
+            if (k2 == k)
                 continue;
-            for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
-                const int k2 = cellAtoms[s];
-                if (k2 == k)
-                    continue;
-                const mixed4 d = nearestDisplacement(ra, loadPosition(posq, posqCorrection, k2), boxSize, invBoxSize, boxC);
-                const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
-                if (r2 < densityParams.z && !mdpdExcluded(a, atomIndex[k2], exclusionStart, exclusions))
-                    rho += mdpdDensityWeight(sqrt(r2), densityParams.x, densityParams.y);
-            }
+            const mixed4 d = nearestDisplacement(ra, loadPosition(posq, posqCorrection, k2), boxSize, invBoxSize, boxC);
+            const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
+            if (r2 < densityParams.z && !isExcluded(a, atomIndex[k2], exclusionStart, exclusions))
+                rho += mdpdDensityWeight(sqrt(r2), densityParams.x, densityParams.y);
         }
         density[k] = rho;
     }
@@ -58,37 +47,28 @@ KERNEL void mdpdForce(int numAtoms, int paddedNumAtoms, int energyThreads, GLOBA
         const mixed repulsionA = typeB[atomType[a]]*density[k];
         energy += mdpdDensityEnergy(density[k], typeB[atomType[a]], densityParams.w);
         mm_long f[3] = {0, 0, 0};
-        for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells);
-            if (cell < 0)
+        FOR_EACH_NEIGHBOUR_SLOT(s, atomCell[k], numCells, cellStart) {
+            const int k2 = cellAtoms[s];
+            const int b = atomIndex[k2];
+            if (k2 == k)
                 continue;
-            for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
-                const int k2 = cellAtoms[s];
-                const int b = atomIndex[k2];
-                if (k2 == k)
-                    continue;
-                const mixed4 rb = loadPosition(posq, posqCorrection, k2);
-                const bool aIsLo = (a < b);
-                const mixed4 d = (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize, boxC)
-                                        : nearestDisplacement(rb, ra, boxSize, invBoxSize, boxC));
-                const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
-                const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
-                if (r2 >= p.w || r2 == 0 || mdpdExcluded(a, b, exclusionStart, exclusions))
-                    continue;
-                const mixed r = sqrt(r2);
-                const mixed repulsionB = typeB[atomType[b]]*density[k2];
-                mixed along = softRepulsionAlongE(r, p.x, p.z);
-                if (r2 < densityParams.z)
-                    along += mdpdRepulsionAlongE(r, aIsLo ? repulsionA+repulsionB : repulsionB+repulsionA, densityParams.y);
-                const mixed scale = along/r;
-                const mm_long sign = (aIsLo ? 1 : -1);
-                f[0] += sign*toFixed(d.x*scale);
-                f[1] += sign*toFixed(d.y*scale);
-                f[2] += sign*toFixed(d.z*scale);
-                if (aIsLo) {
-                    energy += softRepulsionEnergy(r, p.x, p.y);
-                    addVirialAlong(w, d.x, d.y, d.z, scale);
-                }
+            const mixed4 rb = loadPosition(posq, posqCorrection, k2);
+            const bool aIsLo = (a < b);
+            const mixed4 d = loHiDisplacement(aIsLo, ra, rb, boxSize, invBoxSize, boxC);
+            const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
+            const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
+            if (r2 >= p.w || r2 == 0 || isExcluded(a, b, exclusionStart, exclusions))
+                continue;
+            const mixed r = sqrt(r2);
+            const mixed repulsionB = typeB[atomType[b]]*density[k2];
+            mixed along = softRepulsionAlongE(r, p.x, p.z);
+            if (r2 < densityParams.z)
+                along += mdpdRepulsionAlongE(r, aIsLo ? repulsionA+repulsionB : repulsionB+repulsionA, densityParams.y);
+            const mixed scale = along/r;
+            addFixedAlong(f, aIsLo ? 1 : -1, d, scale);
+            if (aIsLo) {
+                energy += softRepulsionEnergy(r, p.x, p.y);
+                addVirialAlong(w, d.x, d.y, d.z, scale);
             }
         }
         for (int c = 0; c < 3 && !virialOnly; c++)

@@ -25,39 +25,24 @@ KERNEL void softRepulsion(int numAtoms, int paddedNumAtoms, int energyThreads, G
         const int a = atomIndex[k];
         const mixed4 ra = loadPosition(posq, posqCorrection, k);
         mm_long f[3] = {0, 0, 0};
-        for (int n = 0; n < NEIGHBOUR_SLOTS; n++) {
-            const int cell = neighbourCell(atomCell[k], n, numCells);
-            if (cell < 0)
+        FOR_EACH_NEIGHBOUR_SLOT(s, atomCell[k], numCells, cellStart) {
+            const int k2 = cellAtoms[s];
+            const int b = atomIndex[k2];
+            if (k2 == k)
                 continue;
-            for (int s = cellStart[cell]; s < cellStart[cell+1]; s++) {
-                const int k2 = cellAtoms[s];
-                const int b = atomIndex[k2];
-                if (k2 == k)
-                    continue;
-                const mixed4 rb = loadPosition(posq, posqCorrection, k2);
-                const bool aIsLo = (a < b);
-                const mixed4 d = (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize, boxC)
-                                        : nearestDisplacement(rb, ra, boxSize, invBoxSize, boxC));
-                const mixed dx = d.x, dy = d.y, dz = d.z;
-                const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
-                const mixed r2 = dx*dx+dy*dy+dz*dz;
-                if (r2 >= p.w || r2 == 0)
-                    continue;
-                bool excluded = false;
-                for (int e = exclusionStart[a]; e < exclusionStart[a+1]; e++)
-                    excluded = excluded || (exclusions[e] == b);
-                if (excluded)
-                    continue;
-                const mixed r = sqrt(r2);
-                const mixed scale = softRepulsionAlongE(r, p.x, p.z)/r;
-                const mm_long sign = (aIsLo ? 1 : -1);
-                f[0] += sign*toFixed(dx*scale);
-                f[1] += sign*toFixed(dy*scale);
-                f[2] += sign*toFixed(dz*scale);
-                if (aIsLo) {
-                    energy += softRepulsionEnergy(r, p.x, p.y);
-                    addVirialAlong(w, dx, dy, dz, scale);
-                }
+            const mixed4 rb = loadPosition(posq, posqCorrection, k2);
+            const bool aIsLo = (a < b);
+            const mixed4 d = loHiDisplacement(aIsLo, ra, rb, boxSize, invBoxSize, boxC);
+            const mixed4 p = typeParams[atomType[aIsLo ? a : b]*numTypes+atomType[aIsLo ? b : a]];
+            const mixed r2 = d.x*d.x+d.y*d.y+d.z*d.z;
+            if (r2 >= p.w || r2 == 0 || isExcluded(a, b, exclusionStart, exclusions))
+                continue;
+            const mixed r = sqrt(r2);
+            const mixed scale = softRepulsionAlongE(r, p.x, p.z)/r;
+            addFixedAlong(f, aIsLo ? 1 : -1, d, scale);
+            if (aIsLo) {
+                energy += softRepulsionEnergy(r, p.x, p.y);
+                addVirialAlong(w, d.x, d.y, d.z, scale);
             }
         }
         for (int d = 0; d < 3 && !virialOnly; d++)

@@ -63,6 +63,21 @@ inline DEVICE mixed4 nearestDisplacement(mixed4 ra, mixed4 rb, mixed4 boxSize, m
 }
 
 /*
+ * The displacement of a pair seen from either of its particles (a at ra, b at rb) as from the
+ * lower index, r_lo - r_hi: both particles then take the same rounding.
+ */
+inline DEVICE mixed4 loHiDisplacement(bool aIsLo, mixed4 ra, mixed4 rb, mixed4 boxSize, mixed4 invBoxSize, mixed4 boxC) {
+    return (aIsLo ? nearestDisplacement(ra, rb, boxSize, invBoxSize, boxC) : nearestDisplacement(rb, ra, boxSize, invBoxSize, boxC));
+}
+
+/* f += sign d scale in fixed point: with sign +1 on the lower index and -1 on the higher, a pair adds exactly opposite forces. */
+inline DEVICE void addFixedAlong(mm_long* f, mm_long sign, mixed4 d, mixed scale) {
+    f[0] += sign*toFixed(d.x*scale);
+    f[1] += sign*toFixed(d.y*scale);
+    f[2] += sign*toFixed(d.z*scale);
+}
+
+/*
  * Finite and below `bound` (also false for NaN).  Written as one ordered comparison because
  * OpenMM compiles with fast math, under which isnan() and isinf() may be folded away.
  */
