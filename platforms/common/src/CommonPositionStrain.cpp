@@ -42,6 +42,11 @@ void CommonPositionStrain::restore(ContextImpl& context) {
         return;
     ContextSelector selector(cc);
     restoreKernel->execute(cc.getNumAtoms());
+    // Nothing of the sample is left queued when it returns: an OpenCL runtime on the CPU (POCL)
+    // builds a kernel at its first launch, and a program that exits during the build crashes.
+    ComputeEvent restored = cc.createEvent();
+    restored->enqueue();
+    restored->wait();
     saved = false;
 }
 
